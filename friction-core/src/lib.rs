@@ -1,0 +1,21 @@
+#![doc = include_str!("../README.md")]
+#![no_std]
+#![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing, clippy::panic))]
+
+#[cfg(test)]
+extern crate std;
+
+pub mod model;
+pub mod models;
+pub mod observer;
+pub mod scalar;
+pub mod stribeck;
+
+pub use model::{FrictionModel, ParamError, VELOCITY_LIMIT};
+pub use models::lugre::{LuGre, LuGreParams, LuGreState};
+pub use observer::{Observable, Observer};
+pub use scalar::Scalar;
+pub use stribeck::{
+    CoulombParams, CoulombViscous, CoulombViscousParams, Karnopp, StribeckCurve, StribeckMap,
+    StribeckMapParams, StribeckParams,
+};

@@ -1,0 +1,142 @@
+//! The shape every model follows, and the error its parameters can raise.
+//!
+//! A model comes in three parts (after quartiq/idsp):
+//!
+//! - `XxxParams`: design-time parameters in `f64`, checked by `validate()`;
+//! - `Xxx<S>`: the built run-time form (`XxxParams::build::<S>()`), immutable,
+//!   with reciprocals precomputed, shared by any number of states;
+//! - `XxxState<S>`: the mutable internal state (`Default` is at rest).
+//!
+//! The hot path, [`FrictionModel::step`], never fails and never panics.
+
+use crate::Scalar;
+use core::fmt;
+
+/// Why a parameter set was rejected. Each variant names the parameter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ParamError {
+    /// The parameter is NaN or infinite.
+    NotFinite(&'static str),
+    /// The parameter must be strictly positive.
+    NotPositive(&'static str),
+    /// The parameter must not be negative.
+    Negative(&'static str),
+    /// The static (breakaway) friction `fs` is below the Coulomb level `fc`.
+    StaticBelowCoulomb,
+    /// The parameter is finite in `f64` but not representable in the chosen scalar type.
+    NotRepresentable(&'static str),
+}
+
+impl fmt::Display for ParamError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NotFinite(name) => write!(f, "parameter `{name}` is not finite"),
+            Self::NotPositive(name) => write!(f, "parameter `{name}` must be > 0"),
+            Self::Negative(name) => write!(f, "parameter `{name}` must be >= 0"),
+            Self::StaticBelowCoulomb => {
+                write!(f, "parameter `fs` must be >= `fc` (static friction below Coulomb)")
+            }
+            Self::NotRepresentable(name) => {
+                write!(f, "parameter `{name}` overflows the chosen scalar type")
+            }
+        }
+    }
+}
+
+impl core::error::Error for ParamError {}
+
+/// Checks that `value` is finite and `> 0`.
+pub(crate) fn positive(name: &'static str, value: f64) -> Result<f64, ParamError> {
+    if !value.is_finite() {
+        Err(ParamError::NotFinite(name))
+    } else if value <= 0.0 {
+        Err(ParamError::NotPositive(name))
+    } else {
+        Ok(value)
+    }
+}
+
+/// Checks that `value` is finite and `>= 0`.
+pub(crate) fn non_negative(name: &'static str, value: f64) -> Result<f64, ParamError> {
+    if !value.is_finite() {
+        Err(ParamError::NotFinite(name))
+    } else if value < 0.0 {
+        Err(ParamError::Negative(name))
+    } else {
+        Ok(value)
+    }
+}
+
+/// Converts a validated `f64` into the run-time scalar, rejecting overflow.
+pub(crate) fn convert<S: Scalar>(name: &'static str, value: f64) -> Result<S, ParamError> {
+    let s = S::from_f64(value);
+    if s.is_finite() {
+        Ok(s)
+    } else {
+        Err(ParamError::NotRepresentable(name))
+    }
+}
+
+/// Magnitude above which input velocities are clamped, in the model's units
+/// (m/s or rad/s). Far beyond any mechanism, it keeps every intermediate
+/// product finite in `f32`.
+pub const VELOCITY_LIMIT: f64 = 1e6;
+
+/// A friction model driven by the sliding velocity.
+///
+/// `step` advances the state over a sample period `h` with the velocity `v`
+/// held, and returns the friction force at the end of the step. `F` opposes
+/// motion: in steady sliding `sign(F) = sign(v)`.
+///
+/// Contract, for every model:
+/// - `h = 0` is valid: the state is unchanged and the force at the current
+///   state and velocity is returned;
+/// - a non-finite `v` or `h`, or a negative `h`, leaves the state untouched and
+///   returns the model's [`FrictionModel::hold_force`], which is finite;
+/// - `|v|` is clamped to [`VELOCITY_LIMIT`];
+/// - it never panics, never allocates, and returns a finite force.
+pub trait FrictionModel<S: Scalar> {
+    /// The internal state; `Default` is the contact at rest, unstrained.
+    type State: Copy + Default + fmt::Debug;
+
+    /// Advances `state` by `h` seconds with velocity `v` held; returns the force.
+    fn step(&self, state: &mut Self::State, v: S, h: S) -> S;
+
+    /// The force the state alone holds, returned when an input is invalid
+    /// (for state models the elastic force `sigma0 z` at `v = 0`).
+    fn hold_force(&self, state: &Self::State) -> S;
+}
+
+/// Returns `Some(v clamped to the velocity limit)` when `v` and `h` are usable inputs.
+#[inline]
+pub(crate) fn checked_inputs<S: Scalar>(v: S, h: S) -> Option<S> {
+    if v.is_finite() && h.is_finite() && h >= S::ZERO {
+        Some(v.sat(S::from_f64(VELOCITY_LIMIT)))
+    } else {
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn checks_name_the_parameter() {
+        assert_eq!(positive("vs", 0.0), Err(ParamError::NotPositive("vs")));
+        assert_eq!(positive("vs", f64::NAN), Err(ParamError::NotFinite("vs")));
+        assert_eq!(non_negative("sigma2", -1.0), Err(ParamError::Negative("sigma2")));
+        assert_eq!(non_negative("sigma2", 0.0), Ok(0.0));
+        assert_eq!(convert::<f32>("sigma0", 1e300), Err(ParamError::NotRepresentable("sigma0")));
+    }
+
+    #[test]
+    fn invalid_inputs_are_detected() {
+        assert_eq!(checked_inputs(1.0f64, 0.0), Some(1.0));
+        assert_eq!(checked_inputs(f64::NAN, 1e-3), None);
+        assert_eq!(checked_inputs(1.0f64, f64::INFINITY), None);
+        assert_eq!(checked_inputs(1.0f64, -1e-3), None);
+        assert_eq!(checked_inputs(1e9f32, 1e-3), Some(1e6));
+    }
+}

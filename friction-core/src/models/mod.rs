@@ -1,0 +1,3 @@
+//! One module per state model.
+
+pub mod lugre;
