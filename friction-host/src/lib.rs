@@ -1,0 +1,12 @@
+//! The desk side of `friction-core`: reference solver, experiments,
+//! validation report and the `friction` command-line tool.
+
+pub mod experiments;
+pub mod io;
+pub mod models;
+pub mod params;
+pub mod plot;
+pub mod reference;
+pub mod signals;
+pub mod sim;
+pub mod validate;

@@ -1,0 +1,271 @@
+//! Parameter files (TOML): `model = "..."`, the model's keys, and an
+//! optional `[rig]` table for the experiments. Unknown keys are errors that
+//! name the key, with line and column.
+
+use anyhow::{bail, Context, Result};
+use friction_core::{
+    CoulombParams, CoulombViscousParams, LuGreParams, StribeckMapParams, StribeckParams,
+};
+use serde::Deserialize;
+use std::path::Path;
+
+/// A model of the library with its parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ModelSpec {
+    /// `coulomb`: `fc`.
+    Coulomb(CoulombParams),
+    /// `coulomb-viscous`: `fc`, `sigma2`.
+    CoulombViscous(CoulombViscousParams),
+    /// `stribeck`: `fc`, `fs`, `vs`, `stribeck_exponent`, `sigma2`.
+    Stribeck(StribeckMapParams),
+    /// `lugre`: `fc`, `fs`, `vs`, `stribeck_exponent`, `sigma0`, `sigma1`, `sigma2`, `vd`.
+    LuGre(LuGreParams),
+}
+
+impl ModelSpec {
+    /// The `model = "..."` name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Coulomb(_) => "coulomb",
+            Self::CoulombViscous(_) => "coulomb-viscous",
+            Self::Stribeck(_) => "stribeck",
+            Self::LuGre(_) => "lugre",
+        }
+    }
+
+    /// The static friction level: the largest force the model holds at rest
+    /// (`Fs` for Stribeck-shaped models, `Fc` for Coulomb).
+    pub fn max_static_force(&self) -> f64 {
+        match self {
+            Self::Coulomb(p) => p.fc,
+            Self::CoulombViscous(p) => p.fc,
+            Self::Stribeck(p) => p.curve.fs,
+            Self::LuGre(p) => p.curve.fs,
+        }
+    }
+
+    /// Validates the parameters (the core's checks), naming the offending one.
+    pub fn validate(&self) -> Result<(), friction_core::ParamError> {
+        match self {
+            Self::Coulomb(p) => p.build::<f64>().map(|_| ()),
+            Self::CoulombViscous(p) => p.build::<f64>().map(|_| ()),
+            Self::Stribeck(p) => p.build::<f64>().map(|_| ()),
+            Self::LuGre(p) => p.validate(),
+        }
+    }
+}
+
+/// The `[rig]` table: the mechanical set-up of the experiments. Every key is
+/// optional; each experiment documents its defaults.
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Rig {
+    /// Moving mass `m` (kg), or inertia for rotary set-ups.
+    pub mass: Option<f64>,
+    /// Spring stiffness `k` (N/m) of the stick-slip rig.
+    pub stiffness: Option<f64>,
+    /// Velocity at which the spring's end is pulled (m/s).
+    pub pull_velocity: Option<f64>,
+    /// Peak applied force of the drift experiment (N).
+    pub force: Option<f64>,
+    /// Frequency of the drift experiment's force (Hz).
+    pub frequency: Option<f64>,
+    /// Number of force cycles of the drift experiment.
+    pub cycles: Option<u32>,
+    /// Force rate of the pre-sliding ramps (N/s).
+    pub force_rate: Option<f64>,
+}
+
+/// A parsed parameter file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamFile {
+    /// The model.
+    pub model: ModelSpec,
+    /// The rig, if the file has a `[rig]` table.
+    pub rig: Rig,
+}
+
+#[derive(Deserialize)]
+struct Probe {
+    model: Option<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CoulombFile {
+    #[allow(dead_code)]
+    model: String,
+    fc: f64,
+    #[serde(default)]
+    rig: Rig,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CoulombViscousFile {
+    #[allow(dead_code)]
+    model: String,
+    fc: f64,
+    sigma2: f64,
+    #[serde(default)]
+    rig: Rig,
+}
+
+fn default_exponent() -> f64 {
+    StribeckParams::DEFAULT_EXPONENT
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StribeckFile {
+    #[allow(dead_code)]
+    model: String,
+    fc: f64,
+    fs: f64,
+    vs: f64,
+    #[serde(default = "default_exponent")]
+    stribeck_exponent: f64,
+    #[serde(default)]
+    sigma2: f64,
+    #[serde(default)]
+    rig: Rig,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LuGreFile {
+    #[allow(dead_code)]
+    model: String,
+    fc: f64,
+    fs: f64,
+    vs: f64,
+    #[serde(default = "default_exponent")]
+    stribeck_exponent: f64,
+    sigma0: f64,
+    sigma1: f64,
+    #[serde(default)]
+    sigma2: f64,
+    vd: Option<f64>,
+    #[serde(default)]
+    rig: Rig,
+}
+
+/// The model names a file may give.
+pub const MODEL_NAMES: &[&str] = &["coulomb", "coulomb-viscous", "stribeck", "lugre"];
+
+impl ParamFile {
+    /// Parses TOML text; `origin` names the source in messages.
+    pub fn parse(text: &str, origin: &str) -> Result<Self> {
+        let probe: Probe = toml::from_str(text).with_context(|| format!("{origin}: not valid TOML"))?;
+        let Some(name) = probe.model else {
+            bail!("{origin}: missing key `model` (one of {})", MODEL_NAMES.join(", "));
+        };
+        let ctx = || format!("{origin}: invalid `{name}` parameters");
+        let file = match name.as_str() {
+            "coulomb" => {
+                let f: CoulombFile = toml::from_str(text).with_context(ctx)?;
+                ParamFile { model: ModelSpec::Coulomb(CoulombParams { fc: f.fc }), rig: f.rig }
+            }
+            "coulomb-viscous" => {
+                let f: CoulombViscousFile = toml::from_str(text).with_context(ctx)?;
+                ParamFile {
+                    model: ModelSpec::CoulombViscous(CoulombViscousParams { fc: f.fc, sigma2: f.sigma2 }),
+                    rig: f.rig,
+                }
+            }
+            "stribeck" => {
+                let f: StribeckFile = toml::from_str(text).with_context(ctx)?;
+                let curve = StribeckParams { fc: f.fc, fs: f.fs, vs: f.vs, exponent: f.stribeck_exponent };
+                ParamFile {
+                    model: ModelSpec::Stribeck(StribeckMapParams { curve, sigma2: f.sigma2 }),
+                    rig: f.rig,
+                }
+            }
+            "lugre" => {
+                let f: LuGreFile = toml::from_str(text).with_context(ctx)?;
+                let curve = StribeckParams { fc: f.fc, fs: f.fs, vs: f.vs, exponent: f.stribeck_exponent };
+                ParamFile {
+                    model: ModelSpec::LuGre(LuGreParams {
+                        curve,
+                        sigma0: f.sigma0,
+                        sigma1: f.sigma1,
+                        sigma2: f.sigma2,
+                        vd: f.vd,
+                    }),
+                    rig: f.rig,
+                }
+            }
+            other => bail!("{origin}: unknown model `{other}` (expected one of {})", MODEL_NAMES.join(", ")),
+        };
+        file.model.validate().map_err(|e| anyhow::anyhow!("{origin}: {e}"))?;
+        Ok(file)
+    }
+
+    /// Reads and parses a file.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+        Self::parse(&text, &path.display().to_string())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const LUGRE: &str = r#"
+model = "lugre"
+fc = 1.0
+fs = 1.5
+vs = 1e-3
+sigma0 = 1e5
+sigma1 = 316.2
+sigma2 = 0.4
+
+[rig]
+mass = 1.0
+stiffness = 2.0
+pull_velocity = 0.1
+"#;
+
+    #[test]
+    fn parses_lugre_with_rig() {
+        let f = ParamFile::parse(LUGRE, "t").unwrap();
+        let ModelSpec::LuGre(p) = f.model else { panic!() };
+        assert_eq!(p.curve.exponent, 2.0);
+        assert_eq!(p.sigma0, 1e5);
+        assert_eq!(f.rig.stiffness, Some(2.0));
+    }
+
+    #[test]
+    fn unknown_key_is_named_with_position() {
+        let text = LUGRE.replace("sigma2 = 0.4", "sigma3 = 0.4");
+        let e = format!("{:#}", ParamFile::parse(&text, "p.toml").unwrap_err());
+        assert!(e.contains("sigma3"), "{e}");
+        assert!(e.contains("line 8"), "{e}");
+        let text = LUGRE.replace("mass = 1.0", "masss = 1.0");
+        let e = format!("{:#}", ParamFile::parse(&text, "p.toml").unwrap_err());
+        assert!(e.contains("masss"), "{e}");
+    }
+
+    #[test]
+    fn invalid_values_are_named() {
+        let text = LUGRE.replace("fs = 1.5", "fs = 0.5");
+        let e = format!("{:#}", ParamFile::parse(&text, "p.toml").unwrap_err());
+        assert!(e.contains("`fs`"), "{e}");
+        let text = LUGRE.replace("sigma0 = 1e5", "sigma0 = -3");
+        let e = format!("{:#}", ParamFile::parse(&text, "p.toml").unwrap_err());
+        assert!(e.contains("sigma0"), "{e}");
+        let e = format!("{:#}", ParamFile::parse("model = \"nope\"", "p.toml").unwrap_err());
+        assert!(e.contains("unknown model `nope`"), "{e}");
+        let e = format!("{:#}", ParamFile::parse("fc = 1", "p.toml").unwrap_err());
+        assert!(e.contains("missing key `model`"), "{e}");
+    }
+
+    #[test]
+    fn static_maps_parse() {
+        let f = ParamFile::parse("model = \"coulomb\"\nfc = 0.3", "t").unwrap();
+        assert_eq!(f.model, ModelSpec::Coulomb(CoulombParams { fc: 0.3 }));
+        let f = ParamFile::parse("model = \"stribeck\"\nfc = 1\nfs = 2\nvs = 0.1\nstribeck_exponent = 1", "t").unwrap();
+        assert_eq!(f.model.name(), "stribeck");
+    }
+}

@@ -1,0 +1,115 @@
+//! Drivers: a model pushed by a velocity signal, or a mass on the contact
+//! pushed by an applied force (the rig), each both ways: the core's
+//! discrete step, and the reference solver on the continuous equations.
+
+use crate::models::{Continuous, Stepper};
+use crate::reference::{integrate, Tolerances};
+use crate::signals::Signal;
+use anyhow::Result;
+
+/// Relative tolerance of every reference solve.
+pub const REFERENCE_RTOL: f64 = 1e-9;
+
+/// Steps the core model through the sampled velocities `v` at times `t`:
+/// row 0 is the force at rest (`h = 0`), row `k` the force after stepping
+/// from `t[k-1]` to `t[k]` with `v[k]` held.
+pub fn drive_core(model: &mut dyn Stepper, t: &[f64], v: &[f64]) -> Vec<f64> {
+    let mut out = Vec::with_capacity(t.len());
+    for k in 0..t.len() {
+        let h = if k == 0 { 0.0 } else { t[k] - t[k - 1] };
+        out.push(model.step(v[k], h));
+    }
+    out
+}
+
+/// The reference force for the continuous velocity signal at times `t`.
+pub fn drive_reference(model: &dyn Continuous, signal: &Signal, t: &[f64]) -> Result<Vec<f64>> {
+    let n = model.n();
+    if n == 0 {
+        return Ok(t.iter().map(|&ti| model.force(&[], signal.v(ti))).collect());
+    }
+    let tol = Tolerances { rtol: REFERENCE_RTOL, atol: model.atol() };
+    let z = integrate(&vec![0.0; n], t, &tol, |ti, z, dz| model.rhs(z, signal.v(ti), dz))?;
+    Ok(t.iter().zip(&z).map(|(&ti, zi)| model.force(zi, signal.v(ti))).collect())
+}
+
+/// A mass `m` on the friction contact, driven by an applied force `u(t, x)`:
+/// `m dv/dt = u - F`.
+pub struct Rig<'a> {
+    /// Mass (kg).
+    pub mass: f64,
+    /// Applied force as a function of time and position.
+    pub force: &'a dyn Fn(f64, f64) -> f64,
+}
+
+/// Sampled rig trajectory.
+#[derive(Clone, Debug, Default)]
+pub struct Trace {
+    /// Time (s).
+    pub t: Vec<f64>,
+    /// Position (m).
+    pub x: Vec<f64>,
+    /// Velocity (m/s).
+    pub v: Vec<f64>,
+    /// Friction force (N).
+    pub f: Vec<f64>,
+    /// Applied force (N).
+    pub u: Vec<f64>,
+}
+
+/// The rig with the core's step at period `h`: semi-implicit Euler on the
+/// mass (`v+ = v + h (u - F)/m`, `x+ = x + h v+`), the friction force from
+/// the core model stepped over the same period with `v` held.
+pub fn rig_core(model: &mut dyn Stepper, rig: &Rig, h: f64, duration: f64) -> Trace {
+    let n = (duration / h).round() as usize;
+    let mut tr = Trace::default();
+    let (mut x, mut v) = (0.0, 0.0);
+    let mut f = model.step(0.0, 0.0);
+    for k in 0..=n {
+        let t = k as f64 * h;
+        let u = (rig.force)(t, x);
+        tr.t.push(t);
+        tr.x.push(x);
+        tr.v.push(v);
+        tr.f.push(f);
+        tr.u.push(u);
+        f = model.step(v, h);
+        v += h * (u - f) / rig.mass;
+        x += h * v;
+    }
+    tr
+}
+
+/// The rig by the reference solver, states `(x, v, z...)`, sampled at `t`.
+pub fn rig_reference(model: &dyn Continuous, rig: &Rig, t: &[f64]) -> Result<Trace> {
+    let n = model.n();
+    let mut atol = vec![1e-12, 1e-10];
+    atol.extend(model.atol());
+    let tol = Tolerances { rtol: REFERENCE_RTOL, atol };
+    let y = integrate(&vec![0.0; n + 2], t, &tol, |ti, y, dy| {
+        let (x, v, z) = (y[0], y[1], &y[2..]);
+        dy[0] = v;
+        dy[1] = ((rig.force)(ti, x) - model.force(z, v)) / rig.mass;
+        model.rhs(z, v, &mut dy[2..]);
+    })?;
+    let mut tr = Trace::default();
+    for (&ti, yi) in t.iter().zip(&y) {
+        tr.t.push(ti);
+        tr.x.push(yi[0]);
+        tr.v.push(yi[1]);
+        tr.f.push(model.force(&yi[2..], yi[1]));
+        tr.u.push((rig.force)(ti, yi[0]));
+    }
+    Ok(tr)
+}
+
+/// Root-mean-square of `a - b`.
+pub fn rms_diff(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len()).max(1);
+    (a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>() / n as f64).sqrt()
+}
+
+/// Largest `|a - b|`.
+pub fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+}
