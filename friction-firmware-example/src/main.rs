@@ -1,0 +1,187 @@
+//! A compensated servo loop on a Cortex-M4F (QEMU mps2-an386).
+//!
+//! The same PD position loop tracks one trajectory four times against a
+//! simulated plant (inertia + LuGre friction whose parameters differ from
+//! the controller's model): without compensation, with a static Coulomb +
+//! viscous feed-forward, and with the LuGre observer with and without its
+//! `sigma1 dz^/dt` term. It logs the RMS tracking errors through defmt,
+//! counts the instructions of the core's steps with SysTick (QEMU
+//! `-icount shift=0`), and exits non-zero if the observer does not reduce the
+//! tracking error.
+
+#![no_std]
+#![no_main]
+
+mod hw;
+mod servo;
+
+use core::cell::RefCell;
+use core::hint::black_box;
+use cortex_m::peripheral::{syst::SystClkSource, SYST};
+use cortex_m_rt::entry;
+use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
+use defmt_semihosting as _;
+use friction_core::{
+    CoulombViscousParams, FrictionModel, LuGreParams, LuGreState, Observer, StribeckParams,
+};
+use hw::{Plant, SimDrive, SimEncoder};
+use servo::{Compensation, Servo};
+
+/// Olsson et al. 1998, Table 2: the controller's model of the friction.
+const NOMINAL: LuGreParams = LuGreParams {
+    curve: StribeckParams { fc: 0.28, fs: 0.33, vs: 0.01, exponent: 2.0 },
+    sigma0: 260.0,
+    sigma1: 0.6,
+    sigma2: 0.0176,
+    vd: None,
+};
+
+/// The plant's "real" friction: 10-20 % away from the nominal model.
+const ACTUAL: LuGreParams = LuGreParams {
+    curve: StribeckParams { fc: 0.31, fs: 0.38, vs: 0.012, exponent: 2.0 },
+    sigma0: 300.0,
+    sigma1: 0.7,
+    sigma2: 0.02,
+    vd: None,
+};
+
+const INERTIA: f32 = 0.0023; // kg m^2
+const H: f32 = 1e-3; // 1 kHz control loop
+const SUBSTEPS: u32 = 10; // plant simulated at 10 kHz
+const TICKS: u32 = 4000; // 4 s: two periods of the trajectory
+const COUNTS_PER_RAD: f32 = 1_048_576.0 / (2.0 * core::f32::consts::PI); // 20-bit encoder
+const AMPLITUDE: f32 = 0.2; // rad
+const FREQUENCY: f32 = 0.5; // Hz
+const OBSERVER_GAIN: f64 = 200.0; // 1/s
+
+struct Errors {
+    rms: f32,
+    max: f32,
+}
+
+fn run(compensation: Compensation) -> Errors {
+    let Ok(friction) = ACTUAL.build::<f32>() else { fail("plant parameters") };
+    let plant = RefCell::new(Plant { inertia: INERTIA, friction, z: LuGreState::default(), x: 0.0, v: 0.0, torque: 0.0 });
+    let drive = SimDrive { plant: &plant, max_duty: 20_000, torque_max: 5.0 };
+    let encoder = SimEncoder { plant: &plant, counts_per_rad: COUNTS_PER_RAD };
+    // bandwidth 2 pi 10 Hz, damping 1
+    let w = 2.0 * core::f32::consts::PI * 10.0;
+    let gains = (INERTIA * w * w, 2.0 * INERTIA * w);
+    let mut servo = Servo::new(drive, encoder, COUNTS_PER_RAD, 5.0, INERTIA, gains, H, compensation);
+    let (mut sum_sq, mut max) = (0.0f32, 0.0f32);
+    let wt = 2.0 * core::f32::consts::PI * FREQUENCY;
+    for k in 0..TICKS {
+        let t = k as f32 * H;
+        let (s, c) = (libm::sinf(wt * t), libm::cosf(wt * t));
+        let (x_ref, v_ref, a_ref) = (AMPLITUDE * s, AMPLITUDE * wt * c, -AMPLITUDE * wt * wt * s);
+        let x = match servo.tick(x_ref, v_ref, a_ref) {
+            Ok(x) => x,
+            Err(e) => {
+                defmt::error!("servo error: {}", e);
+                fail("servo");
+            }
+        };
+        let e = x - x_ref;
+        sum_sq += e * e;
+        max = max.max(libm::fabsf(e));
+        plant.borrow_mut().advance(H, SUBSTEPS);
+    }
+    Errors { rms: libm::sqrtf(sum_sq / TICKS as f32), max }
+}
+
+/// SysTick ticks spent by `f`, `n` times (counting down, 24 bits).
+fn ticks(n: u32, mut f: impl FnMut()) -> u32 {
+    let start = SYST::get_current();
+    for _ in 0..n {
+        f();
+    }
+    start.wrapping_sub(SYST::get_current()) & 0x00FF_FFFF
+}
+
+fn fail(what: &str) -> ! {
+    defmt::error!("failed: {=str}", what);
+    debug::exit(EXIT_FAILURE);
+    loop {
+        cortex_m::asm::nop();
+    }
+}
+
+#[entry]
+fn main() -> ! {
+    let Some(mut cp) = cortex_m::Peripherals::take() else { fail("peripherals") };
+    cp.SYST.set_clock_source(SystClkSource::Core);
+    cp.SYST.set_reload(0x00FF_FFFF);
+    cp.SYST.clear_current();
+    cp.SYST.enable_counter();
+
+    let (Ok(model), Ok(coulomb)) = (
+        NOMINAL.build::<f32>(),
+        CoulombViscousParams { fc: NOMINAL.curve.fc, sigma2: NOMINAL.sigma2 }.build::<f32>(),
+    ) else {
+        fail("controller parameters")
+    };
+    let Ok(observer) = Observer::new(model, OBSERVER_GAIN) else { fail("observer gain") };
+
+    // Instruction counts. Calibrate SysTick ticks per instruction with a loop
+    // of 16 NOPs against the same empty loop.
+    const N: u32 = 1000;
+    let empty = ticks(N, || black_box(()));
+    let nops = ticks(N, || {
+        for _ in 0..16 {
+            cortex_m::asm::nop();
+        }
+    });
+    let with_loop = ticks(N, || {
+        for _ in 0..16 {
+            black_box(());
+        }
+    });
+    let per_insn = (nops.saturating_sub(with_loop)) as f32 / (16 * N) as f32;
+    let mut z = LuGreState::default();
+    let step = ticks(N, || {
+        black_box(model.step(&mut z, black_box(0.05), black_box(1e-3)));
+    });
+    let obs = ticks(N, || {
+        black_box(observer.step(&mut z, black_box(0.05), black_box(1e-5), black_box(1e-3)));
+    });
+    if per_insn > 0.0 {
+        let per_call = |t: u32| (t.saturating_sub(empty)) as f32 / N as f32 / per_insn;
+        defmt::info!(
+            "instructions per call (QEMU icount): LuGre step {=f32}, observer step {=f32} ({=f32} SysTick ticks per instruction)",
+            per_call(step),
+            per_call(obs),
+            per_insn
+        );
+    } else {
+        defmt::warn!("SysTick did not advance with instructions (run QEMU with -icount shift=0)");
+    }
+
+    let none = run(Compensation::None);
+    let coul = run(Compensation::Coulomb(coulomb));
+    let obs_damped = run(Compensation::Observer(observer));
+    let obs_plain = run(Compensation::Observer(observer.with_damping(false)));
+    for (name, e) in [
+        ("no compensation", &none),
+        ("Coulomb + viscous feed-forward", &coul),
+        ("LuGre observer", &obs_damped),
+        ("LuGre observer without sigma1 dz/dt", &obs_plain),
+    ] {
+        defmt::info!("{=str}: rms error {=f32} mrad, max {=f32} mrad", name, 1e3 * e.rms, 1e3 * e.max);
+    }
+    let best = obs_damped.rms.min(obs_plain.rms);
+    defmt::info!("observer / uncompensated rms ratio: {=f32}", best / none.rms);
+    if best < none.rms {
+        debug::exit(EXIT_SUCCESS);
+    } else {
+        defmt::error!("compensation did not reduce the tracking error");
+        debug::exit(EXIT_FAILURE);
+    }
+    loop {
+        cortex_m::asm::nop();
+    }
+}
+
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    fail("panic")
+}
