@@ -35,7 +35,10 @@ impl fmt::Display for ParamError {
             Self::NotPositive(name) => write!(f, "parameter `{name}` must be > 0"),
             Self::Negative(name) => write!(f, "parameter `{name}` must be >= 0"),
             Self::StaticBelowCoulomb => {
-                write!(f, "parameter `fs` must be >= `fc` (static friction below Coulomb)")
+                write!(
+                    f,
+                    "parameter `fs` must be >= `fc` (static friction below Coulomb)"
+                )
             }
             Self::NotRepresentable(name) => {
                 write!(f, "parameter `{name}` overflows the chosen scalar type")
@@ -126,9 +129,15 @@ mod tests {
     fn checks_name_the_parameter() {
         assert_eq!(positive("vs", 0.0), Err(ParamError::NotPositive("vs")));
         assert_eq!(positive("vs", f64::NAN), Err(ParamError::NotFinite("vs")));
-        assert_eq!(non_negative("sigma2", -1.0), Err(ParamError::Negative("sigma2")));
+        assert_eq!(
+            non_negative("sigma2", -1.0),
+            Err(ParamError::Negative("sigma2"))
+        );
         assert_eq!(non_negative("sigma2", 0.0), Ok(0.0));
-        assert_eq!(convert::<f32>("sigma0", 1e300), Err(ParamError::NotRepresentable("sigma0")));
+        assert_eq!(
+            convert::<f32>("sigma0", 1e300),
+            Err(ParamError::NotRepresentable("sigma0"))
+        );
     }
 
     #[test]

@@ -25,8 +25,14 @@ pub trait Observable<S: Scalar>: FrictionModel<S> {
     /// Advances the state like [`FrictionModel::step`] with `correction`
     /// subtracted from `dz/dt`; inputs are already checked and clamped.
     /// Returns the force, with the `sigma1 dz/dt` term only if `damping`.
-    fn step_corrected(&self, state: &mut Self::State, v: S, correction: S, h: S, damping: bool)
-        -> S;
+    fn step_corrected(
+        &self,
+        state: &mut Self::State,
+        v: S,
+        correction: S,
+        h: S,
+        damping: bool,
+    ) -> S;
 }
 
 /// An observer built around a model `M`.
@@ -58,7 +64,11 @@ impl<S: Scalar, M: Observable<S>> Observer<M, S> {
         if !gain.is_finite() {
             return Err(ParamError::NotRepresentable("gain"));
         }
-        Ok(Self { model, gain, damping: true })
+        Ok(Self {
+            model,
+            gain,
+            damping: true,
+        })
     }
 
     /// Includes (`true`) or drops the `sigma1 dz^/dt` term from the estimate.
@@ -79,7 +89,8 @@ impl<S: Scalar, M: Observable<S>> Observer<M, S> {
     pub fn step(&self, state: &mut M::State, v: S, e: S, h: S) -> S {
         match checked_inputs(v, h) {
             Some(v) if e.is_finite() => {
-                self.model.step_corrected(state, v, self.gain * e, h, self.damping)
+                self.model
+                    .step_corrected(state, v, self.gain * e, h, self.damping)
             }
             _ => self.model.hold_force(state),
         }
@@ -122,8 +133,14 @@ mod tests {
     #[test]
     fn bad_gain_and_inputs() {
         let m = LuGreParams::CANUDAS_1995.build::<f32>().unwrap();
-        assert_eq!(Observer::new(m, -1.0).err(), Some(ParamError::Negative("gain")));
-        assert_eq!(Observer::<_, f32>::new(m, 1e300).err(), Some(ParamError::NotRepresentable("gain")));
+        assert_eq!(
+            Observer::new(m, -1.0).err(),
+            Some(ParamError::Negative("gain"))
+        );
+        assert_eq!(
+            Observer::<_, f32>::new(m, 1e300).err(),
+            Some(ParamError::NotRepresentable("gain"))
+        );
         let o = Observer::new(m, 10.0).unwrap();
         let mut z = LuGreState { z: 1e-6 };
         assert_eq!(o.step(&mut z, 0.0, f32::NAN, 1e-3), 1e5 * 1e-6);

@@ -125,8 +125,22 @@ macro_rules! impl_float_scalar {
     };
 }
 
-impl_float_scalar!(f32, libm::fabsf, libm::expf, libm::expm1f, libm::powf, libm::sqrtf);
-impl_float_scalar!(f64, libm::fabs, libm::exp, libm::expm1, libm::pow, libm::sqrt);
+impl_float_scalar!(
+    f32,
+    libm::fabsf,
+    libm::expf,
+    libm::expm1f,
+    libm::powf,
+    libm::sqrtf
+);
+impl_float_scalar!(
+    f64,
+    libm::fabs,
+    libm::exp,
+    libm::expm1,
+    libm::pow,
+    libm::sqrt
+);
 
 /// Exact solution over a step `h` of the linear relaxation `dz/dt = u - a z`
 /// with `u` and `a >= 0` held: `z(h) = u/a + (z - u/a) e^(-a h)`, written as

@@ -128,7 +128,11 @@ pub struct CoulombParams {
 impl CoulombParams {
     /// Validates and builds the map.
     pub fn build<S: Scalar>(&self) -> Result<CoulombViscous<S>, ParamError> {
-        CoulombViscousParams { fc: self.fc, sigma2: 0.0 }.build()
+        CoulombViscousParams {
+            fc: self.fc,
+            sigma2: 0.0,
+        }
+        .build()
     }
 }
 
@@ -147,7 +151,10 @@ impl CoulombViscousParams {
     pub fn build<S: Scalar>(&self) -> Result<CoulombViscous<S>, ParamError> {
         positive("fc", self.fc)?;
         non_negative("sigma2", self.sigma2)?;
-        Ok(CoulombViscous { fc: convert("fc", self.fc)?, sigma2: convert("sigma2", self.sigma2)? })
+        Ok(CoulombViscous {
+            fc: convert("fc", self.fc)?,
+            sigma2: convert("sigma2", self.sigma2)?,
+        })
     }
 }
 
@@ -203,7 +210,10 @@ impl StribeckMapParams {
     pub fn build<S: Scalar>(&self) -> Result<StribeckMap<S>, ParamError> {
         let curve = self.curve.build()?;
         non_negative("sigma2", self.sigma2)?;
-        Ok(StribeckMap { curve, sigma2: convert("sigma2", self.sigma2)? })
+        Ok(StribeckMap {
+            curve,
+            sigma2: convert("sigma2", self.sigma2)?,
+        })
     }
 }
 
@@ -264,7 +274,10 @@ impl<S: Scalar> Karnopp<S> {
     /// Builds the model from a Stribeck map and the stick band `dv > 0` (parameter `dv`).
     pub fn new(map: StribeckMap<S>, dv: f64) -> Result<Self, ParamError> {
         positive("dv", dv)?;
-        Ok(Self { map, dv: convert("dv", dv)? })
+        Ok(Self {
+            map,
+            dv: convert("dv", dv)?,
+        })
     }
 
     /// Friction for velocity `v` and applied force `u`; 0 when an input is not finite.
@@ -286,7 +299,12 @@ mod tests {
     use super::*;
 
     fn canudas() -> StribeckParams {
-        StribeckParams { fc: 1.0, fs: 1.5, vs: 1e-3, exponent: 2.0 }
+        StribeckParams {
+            fc: 1.0,
+            fs: 1.5,
+            vs: 1e-3,
+            exponent: 2.0,
+        }
     }
 
     #[test]
@@ -296,44 +314,89 @@ mod tests {
         assert!((g.eval(1e-3) - (1.0 + 0.5 * (-1.0f64).exp())).abs() < 1e-15);
         assert_eq!(g.eval(-1e-3), g.eval(1e-3));
         // general and special exponents agree
-        let g1 = StribeckParams { exponent: 1.0, ..canudas() }.build::<f64>().unwrap();
-        let g1p = StribeckParams { exponent: 1.0 + 1e-15, ..canudas() }.build::<f64>().unwrap();
+        let g1 = StribeckParams {
+            exponent: 1.0,
+            ..canudas()
+        }
+        .build::<f64>()
+        .unwrap();
+        let g1p = StribeckParams {
+            exponent: 1.0 + 1e-15,
+            ..canudas()
+        }
+        .build::<f64>()
+        .unwrap();
         assert!((g1.eval(2e-3) - g1p.eval(2e-3)).abs() < 1e-12);
-        let g3 = StribeckParams { exponent: 3.0, ..canudas() }.build::<f64>().unwrap();
+        let g3 = StribeckParams {
+            exponent: 3.0,
+            ..canudas()
+        }
+        .build::<f64>()
+        .unwrap();
         assert!((g3.eval(2e-3) - (1.0 + 0.5 * (-8.0f64).exp())).abs() < 1e-14);
     }
 
     #[test]
     fn invalid_curves_are_rejected() {
         assert_eq!(
-            StribeckParams { fs: 0.5, ..canudas() }.validate(),
+            StribeckParams {
+                fs: 0.5,
+                ..canudas()
+            }
+            .validate(),
             Err(ParamError::StaticBelowCoulomb)
         );
         assert_eq!(
-            StribeckParams { vs: -1.0, ..canudas() }.validate(),
+            StribeckParams {
+                vs: -1.0,
+                ..canudas()
+            }
+            .validate(),
             Err(ParamError::NotPositive("vs"))
         );
         assert_eq!(
-            StribeckParams { exponent: f64::INFINITY, ..canudas() }.validate(),
+            StribeckParams {
+                exponent: f64::INFINITY,
+                ..canudas()
+            }
+            .validate(),
             Err(ParamError::NotFinite("stribeck_exponent"))
         );
-        assert_eq!(CoulombParams { fc: 0.0 }.build::<f32>(), Err(ParamError::NotPositive("fc")));
+        assert_eq!(
+            CoulombParams { fc: 0.0 }.build::<f32>(),
+            Err(ParamError::NotPositive("fc"))
+        );
     }
 
     #[test]
     fn maps_oppose_motion() {
-        let m = StribeckMapParams { curve: canudas(), sigma2: 0.4 }.build::<f32>().unwrap();
+        let m = StribeckMapParams {
+            curve: canudas(),
+            sigma2: 0.4,
+        }
+        .build::<f32>()
+        .unwrap();
         for v in [-1.0f32, -1e-4, 1e-6, 0.3] {
             assert_eq!(m.step(&mut (), v, 1e-3).sign(), v.sign());
         }
         assert_eq!(m.step(&mut (), f32::NAN, 1e-3), 0.0);
-        let c = CoulombViscousParams { fc: 1.0, sigma2: 2.0 }.build::<f64>().unwrap();
+        let c = CoulombViscousParams {
+            fc: 1.0,
+            sigma2: 2.0,
+        }
+        .build::<f64>()
+        .unwrap();
         assert_eq!(c.force(-0.5), -2.0);
     }
 
     #[test]
     fn karnopp_switches_on_the_band() {
-        let map = StribeckMapParams { curve: canudas(), sigma2: 0.0 }.build::<f64>().unwrap();
+        let map = StribeckMapParams {
+            curve: canudas(),
+            sigma2: 0.0,
+        }
+        .build::<f64>()
+        .unwrap();
         let k = Karnopp::new(map, 1e-4).unwrap();
         assert_eq!(k.force(5e-5, -0.7), -0.7);
         assert_eq!(k.force(2e-4, -0.7), map.force(2e-4));

@@ -29,7 +29,12 @@ use servo::{Compensation, Servo};
 
 /// Olsson et al. 1998, Table 2: the controller's model of the friction.
 const NOMINAL: LuGreParams = LuGreParams {
-    curve: StribeckParams { fc: 0.28, fs: 0.33, vs: 0.01, exponent: 2.0 },
+    curve: StribeckParams {
+        fc: 0.28,
+        fs: 0.33,
+        vs: 0.01,
+        exponent: 2.0,
+    },
     sigma0: 260.0,
     sigma1: 0.6,
     sigma2: 0.0176,
@@ -38,7 +43,12 @@ const NOMINAL: LuGreParams = LuGreParams {
 
 /// The plant's "real" friction: 10-20 % away from the nominal model.
 const ACTUAL: LuGreParams = LuGreParams {
-    curve: StribeckParams { fc: 0.31, fs: 0.38, vs: 0.012, exponent: 2.0 },
+    curve: StribeckParams {
+        fc: 0.31,
+        fs: 0.38,
+        vs: 0.012,
+        exponent: 2.0,
+    },
     sigma0: 300.0,
     sigma1: 0.7,
     sigma2: 0.02,
@@ -60,14 +70,39 @@ struct Errors {
 }
 
 fn run(compensation: Compensation) -> Errors {
-    let Ok(friction) = ACTUAL.build::<f32>() else { fail("plant parameters") };
-    let plant = RefCell::new(Plant { inertia: INERTIA, friction, z: LuGreState::default(), x: 0.0, v: 0.0, torque: 0.0 });
-    let drive = SimDrive { plant: &plant, max_duty: 20_000, torque_max: 5.0 };
-    let encoder = SimEncoder { plant: &plant, counts_per_rad: COUNTS_PER_RAD };
+    let Ok(friction) = ACTUAL.build::<f32>() else {
+        fail("plant parameters")
+    };
+    let plant = RefCell::new(Plant {
+        inertia: INERTIA,
+        friction,
+        z: LuGreState::default(),
+        x: 0.0,
+        v: 0.0,
+        torque: 0.0,
+    });
+    let drive = SimDrive {
+        plant: &plant,
+        max_duty: 20_000,
+        torque_max: 5.0,
+    };
+    let encoder = SimEncoder {
+        plant: &plant,
+        counts_per_rad: COUNTS_PER_RAD,
+    };
     // bandwidth 2 pi 10 Hz, damping 1
     let w = 2.0 * core::f32::consts::PI * 10.0;
     let gains = (INERTIA * w * w, 2.0 * INERTIA * w);
-    let mut servo = Servo::new(drive, encoder, COUNTS_PER_RAD, 5.0, INERTIA, gains, H, compensation);
+    let mut servo = Servo::new(
+        drive,
+        encoder,
+        COUNTS_PER_RAD,
+        5.0,
+        INERTIA,
+        gains,
+        H,
+        compensation,
+    );
     let (mut sum_sq, mut max) = (0.0f32, 0.0f32);
     let wt = 2.0 * core::f32::consts::PI * FREQUENCY;
     for k in 0..TICKS {
@@ -86,7 +121,10 @@ fn run(compensation: Compensation) -> Errors {
         max = max.max(libm::fabsf(e));
         plant.borrow_mut().advance(H, SUBSTEPS);
     }
-    Errors { rms: libm::sqrtf(sum_sq / TICKS as f32), max }
+    Errors {
+        rms: libm::sqrtf(sum_sq / TICKS as f32),
+        max,
+    }
 }
 
 /// SysTick ticks spent by `f`, `n` times (counting down, 24 bits).
@@ -108,7 +146,9 @@ fn fail(what: &str) -> ! {
 
 #[entry]
 fn main() -> ! {
-    let Some(mut cp) = cortex_m::Peripherals::take() else { fail("peripherals") };
+    let Some(mut cp) = cortex_m::Peripherals::take() else {
+        fail("peripherals")
+    };
     cp.SYST.set_clock_source(SystClkSource::Core);
     cp.SYST.set_reload(0x00FF_FFFF);
     cp.SYST.clear_current();
@@ -116,11 +156,17 @@ fn main() -> ! {
 
     let (Ok(model), Ok(coulomb)) = (
         NOMINAL.build::<f32>(),
-        CoulombViscousParams { fc: NOMINAL.curve.fc, sigma2: NOMINAL.sigma2 }.build::<f32>(),
+        CoulombViscousParams {
+            fc: NOMINAL.curve.fc,
+            sigma2: NOMINAL.sigma2,
+        }
+        .build::<f32>(),
     ) else {
         fail("controller parameters")
     };
-    let Ok(observer) = Observer::new(model, OBSERVER_GAIN) else { fail("observer gain") };
+    let Ok(observer) = Observer::new(model, OBSERVER_GAIN) else {
+        fail("observer gain")
+    };
 
     // Instruction counts. Calibrate SysTick ticks per instruction with a loop
     // of 16 NOPs against the same empty loop.
@@ -166,10 +212,18 @@ fn main() -> ! {
         ("LuGre observer", &obs_damped),
         ("LuGre observer without sigma1 dz/dt", &obs_plain),
     ] {
-        defmt::info!("{=str}: rms error {=f32} mrad, max {=f32} mrad", name, 1e3 * e.rms, 1e3 * e.max);
+        defmt::info!(
+            "{=str}: rms error {=f32} mrad, max {=f32} mrad",
+            name,
+            1e3 * e.rms,
+            1e3 * e.max
+        );
     }
     let best = obs_damped.rms.min(obs_plain.rms);
-    defmt::info!("observer / uncompensated rms ratio: {=f32}", best / none.rms);
+    defmt::info!(
+        "observer / uncompensated rms ratio: {=f32}",
+        best / none.rms
+    );
     if best < none.rms {
         debug::exit(EXIT_SUCCESS);
     } else {

@@ -68,8 +68,14 @@ impl<D: SetDutyCycle, E: Encoder> Servo<D, E> {
     }
 
     /// One control tick towards `(x_ref, v_ref, a_ref)`; returns the measured position.
-    pub fn tick(&mut self, x_ref: f32, v_ref: f32, a_ref: f32) -> Result<f32, ServoError<D::Error, E::Error>> {
-        let x = self.encoder.read_counts().map_err(ServoError::Sensor)? as f32 / self.counts_per_rad;
+    pub fn tick(
+        &mut self,
+        x_ref: f32,
+        v_ref: f32,
+        a_ref: f32,
+    ) -> Result<f32, ServoError<D::Error, E::Error>> {
+        let x =
+            self.encoder.read_counts().map_err(ServoError::Sensor)? as f32 / self.counts_per_rad;
         let v = (x - self.prev_x.unwrap_or(x)) / self.h; // encoder difference: a sample late, quantised
         self.prev_x = Some(x);
         let e = x - x_ref; // measured minus desired: the observer's sign convention
@@ -81,7 +87,9 @@ impl<D: SetDutyCycle, E: Encoder> Servo<D, E> {
         };
         let max = self.drive.max_duty_cycle();
         let d = (0.5 + 0.5 * torque / self.torque_max).clamp(0.0, 1.0);
-        self.drive.set_duty_cycle((d * max as f32 + 0.5) as u16).map_err(ServoError::Drive)?;
+        self.drive
+            .set_duty_cycle((d * max as f32 + 0.5) as u16)
+            .map_err(ServoError::Drive)?;
         Ok(x)
     }
 }

@@ -13,7 +13,14 @@ use anyhow::{bail, Result};
 use std::path::{Path, PathBuf};
 
 /// The experiment names, in the order `validate` runs them.
-pub const NAMES: &[&str] = &["stribeck", "presliding", "frictional-lag", "breakaway", "stick-slip", "drift"];
+pub const NAMES: &[&str] = &[
+    "stribeck",
+    "presliding",
+    "frictional-lag",
+    "breakaway",
+    "stick-slip",
+    "drift",
+];
 
 /// Optional overrides of an experiment's sample period and duration.
 #[derive(Clone, Copy, Debug, Default)]
@@ -58,7 +65,10 @@ pub fn run(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Ou
         "breakaway" => breakaway(file, opts, dir),
         "stick-slip" => stick_slip(file, opts, dir),
         "drift" => drift(file, opts, dir),
-        other => bail!("unknown experiment `{other}` (expected one of {})", NAMES.join(", ")),
+        other => bail!(
+            "unknown experiment `{other}` (expected one of {})",
+            NAMES.join(", ")
+        ),
     }
 }
 
@@ -85,7 +95,9 @@ fn stribeck(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
     let h = opts.dt.unwrap_or(1e-3);
     let fs = file.model.max_static_force();
     let reference = file.model.continuous();
-    let speeds: Vec<f64> = (0..=60).map(|i| 10f64.powf(-6.0 + i as f64 * 0.1)).collect();
+    let speeds: Vec<f64> = (0..=60)
+        .map(|i| 10f64.powf(-6.0 + i as f64 * 0.1))
+        .collect();
     let (mut vs, mut fcore, mut fss) = (Vec::new(), Vec::new(), Vec::new());
     for sign in [1.0, -1.0] {
         for &s in &speeds {
@@ -106,8 +118,17 @@ fn stribeck(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
             fss.push(reference.steady_force(v));
         }
     }
-    write_columns(&dir.join("trace.csv"), &["v", "f", "f_steady"], &[&vs, &fcore, &fss])?;
-    let worst = fcore.iter().zip(&fss).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / fs;
+    write_columns(
+        &dir.join("trace.csv"),
+        &["v", "f", "f_steady"],
+        &[&vs, &fcore, &fss],
+    )?;
+    let worst = fcore
+        .iter()
+        .zip(&fss)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max)
+        / fs;
     let n = speeds.len();
     let plot = dir.join("stribeck.svg");
     line_plot(
@@ -116,19 +137,32 @@ fn stribeck(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
         ("|v| (m/s)", Axis::Log),
         "|F| (N)",
         &[
-            Series { label: "core, v > 0", points: zip(&speeds, &fcore[..n]) },
+            Series {
+                label: "core, v > 0",
+                points: zip(&speeds, &fcore[..n]),
+            },
             Series {
                 label: "core, v < 0",
-                points: speeds.iter().zip(&fcore[n..]).map(|(&s, &f)| (s, -f)).collect(),
+                points: speeds
+                    .iter()
+                    .zip(&fcore[n..])
+                    .map(|(&s, &f)| (s, -f))
+                    .collect(),
             },
-            Series { label: "g(v) + sigma2 |v|", points: zip(&speeds, &fss[..n]) },
+            Series {
+                label: "g(v) + sigma2 |v|",
+                points: zip(&speeds, &fss[..n]),
+            },
         ],
     )?;
     Ok(Outcome {
         name: "stribeck",
         phenomenon: "Stribeck curve",
         pass: Some(worst <= 1e-6),
-        figure: format!("max |F - (g(v) sign v + sigma2 v)| = {:.2e} Fs over ±[1e-6, 1] m/s (bound 1e-6 Fs)", worst),
+        figure: format!(
+            "max |F - (g(v) sign v + sigma2 v)| = {:.2e} Fs over ±[1e-6, 1] m/s (bound 1e-6 Fs)",
+            worst
+        ),
         summary: vec![format!(
             "F(1e-6) = {:.4} N, F(1e-3) = {:.4} N, F(1) = {:.4} N",
             fcore[0],
@@ -157,7 +191,10 @@ fn presliding(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
             peak * (s - 4.0).min(1.0)
         }
     };
-    let rig = Rig { mass: mass(file), force: &u };
+    let rig = Rig {
+        mass: mass(file),
+        force: &u,
+    };
     let tr = rig_core(core(&file.model)?.as_mut(), &rig, h, duration);
     let rf = rig_reference(file.model.continuous().as_ref(), &rig, &tr.t)?;
     trace_csv(dir, &tr, Some(&rf))?;
@@ -176,7 +213,16 @@ fn presliding(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
         "Pre-sliding hysteresis: friction versus displacement",
         ("x (m)", Axis::Linear),
         "F (N)",
-        &[Series { label: "core", points: zip(&tr.x, &tr.f) }, Series { label: "reference", points: zip(&rf.x, &rf.f) }],
+        &[
+            Series {
+                label: "core",
+                points: zip(&tr.x, &tr.f),
+            },
+            Series {
+                label: "reference",
+                points: zip(&rf.x, &rf.f),
+            },
+        ],
     )?;
     let hysteretic = residual.abs() > 0.01 * z_scale;
     let bounded = x_max < 10.0 * z_scale;
@@ -213,7 +259,9 @@ fn frictional_lag(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome
         worst = worst.max(rms_diff(&f, &fr) / file.model.max_static_force());
         // loop area over the last period: closed integral of F dv
         let start = t.len() * 2 / 3;
-        let area: f64 = (start + 1..t.len()).map(|k| 0.5 * (f[k] + f[k - 1]) * (v[k] - v[k - 1])).sum();
+        let area: f64 = (start + 1..t.len())
+            .map(|k| 0.5 * (f[k] + f[k - 1]) * (v[k] - v[k - 1]))
+            .sum();
         areas.push(area.abs());
         series.push((w, zip(&v[start..], &f[start..])));
         cw.extend(std::iter::repeat_n(w, t.len()));
@@ -222,7 +270,11 @@ fn frictional_lag(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome
         cf.extend(&f);
         cr.extend(&fr);
     }
-    write_columns(&dir.join("trace.csv"), &["w", "t", "v", "f", "f_ref"], &[&cw, &ct, &cv, &cf, &cr])?;
+    write_columns(
+        &dir.join("trace.csv"),
+        &["w", "t", "v", "f", "f_ref"],
+        &[&cw, &ct, &cv, &cf, &cr],
+    )?;
     let labels = ["w = 1 rad/s", "w = 10 rad/s", "w = 25 rad/s"];
     let plot = dir.join("frictional-lag.svg");
     line_plot(
@@ -230,7 +282,11 @@ fn frictional_lag(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome
         "Frictional lag: friction versus velocity, v = 1e-3 (cos wt + 1.5)",
         ("v (m/s)", Axis::Linear),
         "F (N)",
-        &series.into_iter().zip(labels).map(|((_, p), label)| Series { label, points: p }).collect::<Vec<_>>(),
+        &series
+            .into_iter()
+            .zip(labels)
+            .map(|((_, p), label)| Series { label, points: p })
+            .collect::<Vec<_>>(),
     )?;
     let widens = areas.windows(2).all(|a| a[1] > a[0]);
     Ok(Outcome {
@@ -241,7 +297,10 @@ fn frictional_lag(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome
             "loop area |∮F dv| = {:.3e}, {:.3e}, {:.3e} N m/s for w = 1, 10, 25 (must grow)",
             areas[0], areas[1], areas[2]
         ),
-        summary: vec![format!("worst rms force error against the reference: {:.4} % of Fs", 100.0 * worst)],
+        summary: vec![format!(
+            "worst rms force error against the reference: {:.4} % of Fs",
+            100.0 * worst
+        )],
         plot,
     })
 }
@@ -253,10 +312,14 @@ fn breakaway(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
     let fs = file.model.max_static_force();
     let rates = [1.0, 2.0, 5.0, 10.0, 20.0, 50.0];
     let (mut peaks, mut peaks_ref) = (Vec::new(), Vec::new());
-    let (mut cr, mut ct, mut cx, mut cv, mut cf, mut cu) = (vec![], vec![], vec![], vec![], vec![], vec![]);
+    let (mut cr, mut ct, mut cx, mut cv, mut cf, mut cu) =
+        (vec![], vec![], vec![], vec![], vec![], vec![]);
     for &rate in &rates {
         let u = move |t: f64, _x: f64| rate * t;
-        let rig = Rig { mass: mass(file), force: &u };
+        let rig = Rig {
+            mass: mass(file),
+            force: &u,
+        };
         let duration = 2.0 * fs / rate;
         let tr = rig_core(core(&file.model)?.as_mut(), &rig, h, duration);
         let rf = rig_reference(file.model.continuous().as_ref(), &rig, &tr.t)?;
@@ -269,22 +332,43 @@ fn breakaway(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
         cf.extend(&tr.f);
         cu.extend(&tr.u);
     }
-    write_columns(&dir.join("trace.csv"), &["rate", "t", "x", "v", "f", "u"], &[&cr, &ct, &cx, &cv, &cf, &cu])?;
+    write_columns(
+        &dir.join("trace.csv"),
+        &["rate", "t", "x", "v", "f", "u"],
+        &[&cr, &ct, &cx, &cv, &cf, &cu],
+    )?;
     let plot = dir.join("breakaway.svg");
     line_plot(
         &plot,
         "Varying break-away: friction peak versus force rate",
         ("force rate (N/s)", Axis::Log),
         "break-away force (N)",
-        &[Series { label: "core", points: zip(&rates, &peaks) }, Series { label: "reference", points: zip(&rates, &peaks_ref) }],
+        &[
+            Series {
+                label: "core",
+                points: zip(&rates, &peaks),
+            },
+            Series {
+                label: "reference",
+                points: zip(&rates, &peaks_ref),
+            },
+        ],
     )?;
     let falls = peaks.windows(2).all(|p| p[1] <= p[0]) && peaks[peaks.len() - 1] < peaks[0];
-    let list = |p: &[f64]| p.iter().map(|x| format!("{x:.4}")).collect::<Vec<_>>().join(", ");
+    let list = |p: &[f64]| {
+        p.iter()
+            .map(|x| format!("{x:.4}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
     Ok(Outcome {
         name: "breakaway",
         phenomenon: "varying break-away force",
         pass: Some(falls),
-        figure: format!("break-away force {} N at 1, 2, 5, 10, 20, 50 N/s (must fall as the rate rises)", list(&peaks)),
+        figure: format!(
+            "break-away force {} N at 1, 2, 5, 10, 20, 50 N/s (must fall as the rate rises)",
+            list(&peaks)
+        ),
         summary: vec![format!("reference: {} N", list(&peaks_ref))],
         plot,
     })
@@ -292,7 +376,10 @@ fn breakaway(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
 
 /// Times at which `v` crosses `threshold` upwards (slip onsets).
 pub fn slip_onsets(t: &[f64], v: &[f64], threshold: f64) -> Vec<f64> {
-    (1..v.len()).filter(|&k| v[k - 1] < threshold && v[k] >= threshold).map(|k| t[k]).collect()
+    (1..v.len())
+        .filter(|&k| v[k - 1] < threshold && v[k] >= threshold)
+        .map(|k| t[k])
+        .collect()
 }
 
 /// Stick-slip figures of one trajectory.
@@ -321,13 +408,21 @@ impl StickSlipFigures {
 pub fn compare_stick_slip(core: &StickSlipFigures, reference: &StickSlipFigures) -> (bool, String) {
     let same_count = core.onsets.len() == reference.onsets.len() && core.onsets.len() >= 2;
     let period = if reference.onsets.len() >= 2 {
-        (reference.onsets[reference.onsets.len() - 1] - reference.onsets[0]) / (reference.onsets.len() - 1) as f64
+        (reference.onsets[reference.onsets.len() - 1] - reference.onsets[0])
+            / (reference.onsets.len() - 1) as f64
     } else {
         f64::NAN
     };
-    let onset_err = core.onsets.iter().zip(&reference.onsets).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-    let peak_err = (core.peak_velocity - reference.peak_velocity).abs() / reference.peak_velocity.abs();
-    let pos_err = (core.final_position - reference.final_position).abs() / reference.final_position.abs();
+    let onset_err = core
+        .onsets
+        .iter()
+        .zip(&reference.onsets)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    let peak_err =
+        (core.peak_velocity - reference.peak_velocity).abs() / reference.peak_velocity.abs();
+    let pos_err =
+        (core.final_position - reference.final_position).abs() / reference.final_position.abs();
     let pass = same_count && onset_err <= 0.01 * period && peak_err <= 0.02 && pos_err <= 0.01;
     let text = format!(
         "{} slips (reference {}), onsets within {:.2} ms ({:.2} % of the {:.3} s period, bound 1 %), peak velocity {:.4} vs {:.4} m/s ({:.2} %, bound 2 %), final position {:.5} vs {:.5} m ({:.3} %, bound 1 %)",
@@ -353,11 +448,17 @@ fn stick_slip(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
     let k = file.rig.stiffness.unwrap_or(2.0);
     let pull = file.rig.pull_velocity.unwrap_or(0.1);
     let u = move |t: f64, x: f64| k * (pull * t - x);
-    let rig = Rig { mass: mass(file), force: &u };
+    let rig = Rig {
+        mass: mass(file),
+        force: &u,
+    };
     let tr = rig_core(core(&file.model)?.as_mut(), &rig, h, duration);
     let rf = rig_reference(file.model.continuous().as_ref(), &rig, &tr.t)?;
     trace_csv(dir, &tr, Some(&rf))?;
-    let (c, r) = (StickSlipFigures::of(&tr, pull), StickSlipFigures::of(&rf, pull));
+    let (c, r) = (
+        StickSlipFigures::of(&tr, pull),
+        StickSlipFigures::of(&rf, pull),
+    );
     let (pass, figure) = compare_stick_slip(&c, &r);
     let plot = dir.join("stick-slip.svg");
     line_plot(
@@ -365,7 +466,16 @@ fn stick_slip(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
         &format!("Stick-slip: mass on a spring pulled at {pull} m/s (core at h = {h} s)"),
         ("t (s)", Axis::Linear),
         "v (m/s)",
-        &[Series { label: "core", points: zip(&tr.t, &tr.v) }, Series { label: "reference", points: zip(&rf.t, &rf.v) }],
+        &[
+            Series {
+                label: "core",
+                points: zip(&tr.t, &tr.v),
+            },
+            Series {
+                label: "reference",
+                points: zip(&rf.t, &rf.v),
+            },
+        ],
     )?;
     Ok(Outcome {
         name: "stick-slip",
@@ -374,7 +484,11 @@ fn stick_slip(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
         figure,
         summary: vec![format!(
             "slip onsets (s): {}",
-            c.onsets.iter().map(|t| format!("{t:.3}")).collect::<Vec<_>>().join(", ")
+            c.onsets
+                .iter()
+                .map(|t| format!("{t:.3}"))
+                .collect::<Vec<_>>()
+                .join(", ")
         )],
         plot,
     })
@@ -392,26 +506,48 @@ pub struct DriftFigures {
 /// Mass at rest, `u = force (1 - cos 2 pi f t) / 2` for `cycles` cycles.
 fn drift(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
     let h = opts.dt.unwrap_or(1e-3);
-    let force = file.rig.force.unwrap_or(0.5 * file.model.max_static_force());
+    let force = file
+        .rig
+        .force
+        .unwrap_or(0.5 * file.model.max_static_force());
     let freq = file.rig.frequency.unwrap_or(1.0);
     let cycles = file.rig.cycles.unwrap_or(10).max(1);
     let duration = opts.duration.unwrap_or(cycles as f64 / freq);
-    let u = move |t: f64, _x: f64| force * (1.0 - (2.0 * std::f64::consts::PI * freq * t).cos()) / 2.0;
-    let rig = Rig { mass: mass(file), force: &u };
+    let u =
+        move |t: f64, _x: f64| force * (1.0 - (2.0 * std::f64::consts::PI * freq * t).cos()) / 2.0;
+    let rig = Rig {
+        mass: mass(file),
+        force: &u,
+    };
     let tr = rig_core(core(&file.model)?.as_mut(), &rig, h, duration);
     let rf = rig_reference(file.model.continuous().as_ref(), &rig, &tr.t)?;
     trace_csv(dir, &tr, Some(&rf))?;
     let at = |x: &[f64], cycle: f64| x[((cycle / freq / h).round() as usize).min(x.len() - 1)];
     let n = (duration * freq).floor().max(1.0);
-    let d = DriftFigures { first: at(&tr.x, 1.0), last: at(&tr.x, n) };
-    let dr = DriftFigures { first: at(&rf.x, 1.0), last: at(&rf.x, n) };
+    let d = DriftFigures {
+        first: at(&tr.x, 1.0),
+        last: at(&tr.x, n),
+    };
+    let dr = DriftFigures {
+        first: at(&rf.x, 1.0),
+        last: at(&rf.x, n),
+    };
     let plot = dir.join("drift.svg");
     line_plot(
         &plot,
         &format!("Drift under a force cycling between 0 and {force} N"),
         ("t (s)", Axis::Linear),
         "x (m)",
-        &[Series { label: "core", points: zip(&tr.t, &tr.x) }, Series { label: "reference", points: zip(&rf.t, &rf.x) }],
+        &[
+            Series {
+                label: "core",
+                points: zip(&tr.t, &tr.x),
+            },
+            Series {
+                label: "reference",
+                points: zip(&rf.t, &rf.x),
+            },
+        ],
     )?;
     // LuGre creeps: the displacement keeps growing cycle after cycle.
     let creeps = d.last > 1.5 * d.first && d.first > 0.0;

@@ -10,7 +10,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "friction", version, about = "Dynamic friction models: simulate, experiment, validate")]
+#[command(
+    name = "friction",
+    version,
+    about = "Dynamic friction models: simulate, experiment, validate"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -65,14 +69,21 @@ enum Command {
 
 fn positive(name: &str, x: Option<f64>) -> Result<()> {
     match x {
-        Some(v) if !(v.is_finite() && v > 0.0) => anyhow::bail!("--{name} must be a positive number, got {v}"),
+        Some(v) if !(v.is_finite() && v > 0.0) => {
+            anyhow::bail!("--{name} must be a positive number, got {v}")
+        }
         _ => Ok(()),
     }
 }
 
 fn run(cli: Cli) -> Result<bool> {
     match cli.command {
-        Command::Simulate { params, input, output, scalar } => {
+        Command::Simulate {
+            params,
+            input,
+            output,
+            scalar,
+        } => {
             let file = ParamFile::load(&params)?;
             let (t, v) = read_tv(&input)?;
             let mut model = file.model.stepper(scalar)?;
@@ -94,13 +105,24 @@ fn run(cli: Cli) -> Result<bool> {
             eprintln!("{} rows -> {}", t.len(), output.display());
             Ok(true)
         }
-        Command::Experiment { name, params, dt, duration, output } => {
+        Command::Experiment {
+            name,
+            params,
+            dt,
+            duration,
+            output,
+        } => {
             positive("dt", dt)?;
             positive("duration", duration)?;
             let file = ParamFile::load(&params)?;
             let out = experiments::run(&name, &file, Options { dt, duration }, &output)
                 .with_context(|| format!("experiment `{name}`"))?;
-            println!("{} ({}) for `{}`", out.name, out.phenomenon, file.model.name());
+            println!(
+                "{} ({}) for `{}`",
+                out.name,
+                out.phenomenon,
+                file.model.name()
+            );
             let verdict = match out.pass {
                 Some(true) => "pass",
                 Some(false) => "FAIL",

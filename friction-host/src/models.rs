@@ -38,7 +38,9 @@ struct Core<M: FrictionModel<S>, S: Scalar> {
 
 impl<M: FrictionModel<S>, S: Scalar> Stepper for Core<M, S> {
     fn step(&mut self, v: f64, h: f64) -> f64 {
-        self.model.step(&mut self.state, S::from_f64(v), S::from_f64(h)).to_f64()
+        self.model
+            .step(&mut self.state, S::from_f64(v), S::from_f64(h))
+            .to_f64()
     }
     fn state_names(&self) -> &'static [&'static str] {
         self.names
@@ -48,15 +50,27 @@ impl<M: FrictionModel<S>, S: Scalar> Stepper for Core<M, S> {
     }
 }
 
-fn boxed<M, S>(model: M, names: &'static [&'static str], read: fn(&M::State) -> Vec<f64>) -> Box<dyn Stepper>
+fn boxed<M, S>(
+    model: M,
+    names: &'static [&'static str],
+    read: fn(&M::State) -> Vec<f64>,
+) -> Box<dyn Stepper>
 where
     M: FrictionModel<S> + 'static,
     S: Scalar + 'static,
 {
-    Box::new(Core { model, state: M::State::default(), names, read, _s: std::marker::PhantomData })
+    Box::new(Core {
+        model,
+        state: M::State::default(),
+        names,
+        read,
+        _s: std::marker::PhantomData,
+    })
 }
 
-fn stepper_in<S: Scalar + 'static>(spec: &ModelSpec) -> Result<Box<dyn Stepper>, friction_core::ParamError> {
+fn stepper_in<S: Scalar + 'static>(
+    spec: &ModelSpec,
+) -> Result<Box<dyn Stepper>, friction_core::ParamError> {
     fn no_states(_: &()) -> Vec<f64> {
         Vec::new()
     }
@@ -73,7 +87,10 @@ fn stepper_in<S: Scalar + 'static>(spec: &ModelSpec) -> Result<Box<dyn Stepper>,
 
 impl ModelSpec {
     /// The core's model, built in the given scalar type, at rest.
-    pub fn stepper(&self, scalar: ScalarKind) -> Result<Box<dyn Stepper>, friction_core::ParamError> {
+    pub fn stepper(
+        &self,
+        scalar: ScalarKind,
+    ) -> Result<Box<dyn Stepper>, friction_core::ParamError> {
         match scalar {
             ScalarKind::F32 => stepper_in::<f32>(self),
             ScalarKind::F64 => stepper_in::<f64>(self),
@@ -83,10 +100,20 @@ impl ModelSpec {
     /// The continuous-time equations for the reference solver.
     pub fn continuous(&self) -> Box<dyn Continuous> {
         match *self {
-            ModelSpec::Coulomb(p) => Box::new(StaticMap { fc: p.fc, fs: p.fc, vs: 1.0, delta: 1.0, sigma2: 0.0 }),
-            ModelSpec::CoulombViscous(p) => {
-                Box::new(StaticMap { fc: p.fc, fs: p.fc, vs: 1.0, delta: 1.0, sigma2: p.sigma2 })
-            }
+            ModelSpec::Coulomb(p) => Box::new(StaticMap {
+                fc: p.fc,
+                fs: p.fc,
+                vs: 1.0,
+                delta: 1.0,
+                sigma2: 0.0,
+            }),
+            ModelSpec::CoulombViscous(p) => Box::new(StaticMap {
+                fc: p.fc,
+                fs: p.fc,
+                vs: 1.0,
+                delta: 1.0,
+                sigma2: p.sigma2,
+            }),
             ModelSpec::Stribeck(p) => Box::new(StaticMap {
                 fc: p.curve.fc,
                 fs: p.curve.fs,

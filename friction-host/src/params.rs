@@ -156,34 +156,57 @@ pub const MODEL_NAMES: &[&str] = &["coulomb", "coulomb-viscous", "stribeck", "lu
 impl ParamFile {
     /// Parses TOML text; `origin` names the source in messages.
     pub fn parse(text: &str, origin: &str) -> Result<Self> {
-        let probe: Probe = toml::from_str(text).with_context(|| format!("{origin}: not valid TOML"))?;
+        let probe: Probe =
+            toml::from_str(text).with_context(|| format!("{origin}: not valid TOML"))?;
         let Some(name) = probe.model else {
-            bail!("{origin}: missing key `model` (one of {})", MODEL_NAMES.join(", "));
+            bail!(
+                "{origin}: missing key `model` (one of {})",
+                MODEL_NAMES.join(", ")
+            );
         };
         let ctx = || format!("{origin}: invalid `{name}` parameters");
         let file = match name.as_str() {
             "coulomb" => {
                 let f: CoulombFile = toml::from_str(text).with_context(ctx)?;
-                ParamFile { model: ModelSpec::Coulomb(CoulombParams { fc: f.fc }), rig: f.rig }
+                ParamFile {
+                    model: ModelSpec::Coulomb(CoulombParams { fc: f.fc }),
+                    rig: f.rig,
+                }
             }
             "coulomb-viscous" => {
                 let f: CoulombViscousFile = toml::from_str(text).with_context(ctx)?;
                 ParamFile {
-                    model: ModelSpec::CoulombViscous(CoulombViscousParams { fc: f.fc, sigma2: f.sigma2 }),
+                    model: ModelSpec::CoulombViscous(CoulombViscousParams {
+                        fc: f.fc,
+                        sigma2: f.sigma2,
+                    }),
                     rig: f.rig,
                 }
             }
             "stribeck" => {
                 let f: StribeckFile = toml::from_str(text).with_context(ctx)?;
-                let curve = StribeckParams { fc: f.fc, fs: f.fs, vs: f.vs, exponent: f.stribeck_exponent };
+                let curve = StribeckParams {
+                    fc: f.fc,
+                    fs: f.fs,
+                    vs: f.vs,
+                    exponent: f.stribeck_exponent,
+                };
                 ParamFile {
-                    model: ModelSpec::Stribeck(StribeckMapParams { curve, sigma2: f.sigma2 }),
+                    model: ModelSpec::Stribeck(StribeckMapParams {
+                        curve,
+                        sigma2: f.sigma2,
+                    }),
                     rig: f.rig,
                 }
             }
             "lugre" => {
                 let f: LuGreFile = toml::from_str(text).with_context(ctx)?;
-                let curve = StribeckParams { fc: f.fc, fs: f.fs, vs: f.vs, exponent: f.stribeck_exponent };
+                let curve = StribeckParams {
+                    fc: f.fc,
+                    fs: f.fs,
+                    vs: f.vs,
+                    exponent: f.stribeck_exponent,
+                };
                 ParamFile {
                     model: ModelSpec::LuGre(LuGreParams {
                         curve,
@@ -195,15 +218,21 @@ impl ParamFile {
                     rig: f.rig,
                 }
             }
-            other => bail!("{origin}: unknown model `{other}` (expected one of {})", MODEL_NAMES.join(", ")),
+            other => bail!(
+                "{origin}: unknown model `{other}` (expected one of {})",
+                MODEL_NAMES.join(", ")
+            ),
         };
-        file.model.validate().map_err(|e| anyhow::anyhow!("{origin}: {e}"))?;
+        file.model
+            .validate()
+            .map_err(|e| anyhow::anyhow!("{origin}: {e}"))?;
         Ok(file)
     }
 
     /// Reads and parses a file.
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read {}", path.display()))?;
         Self::parse(&text, &path.display().to_string())
     }
 }
@@ -230,7 +259,9 @@ pull_velocity = 0.1
     #[test]
     fn parses_lugre_with_rig() {
         let f = ParamFile::parse(LUGRE, "t").unwrap();
-        let ModelSpec::LuGre(p) = f.model else { panic!() };
+        let ModelSpec::LuGre(p) = f.model else {
+            panic!()
+        };
         assert_eq!(p.curve.exponent, 2.0);
         assert_eq!(p.sigma0, 1e5);
         assert_eq!(f.rig.stiffness, Some(2.0));
@@ -255,7 +286,10 @@ pull_velocity = 0.1
         let text = LUGRE.replace("sigma0 = 1e5", "sigma0 = -3");
         let e = format!("{:#}", ParamFile::parse(&text, "p.toml").unwrap_err());
         assert!(e.contains("sigma0"), "{e}");
-        let e = format!("{:#}", ParamFile::parse("model = \"nope\"", "p.toml").unwrap_err());
+        let e = format!(
+            "{:#}",
+            ParamFile::parse("model = \"nope\"", "p.toml").unwrap_err()
+        );
         assert!(e.contains("unknown model `nope`"), "{e}");
         let e = format!("{:#}", ParamFile::parse("fc = 1", "p.toml").unwrap_err());
         assert!(e.contains("missing key `model`"), "{e}");
@@ -265,7 +299,11 @@ pull_velocity = 0.1
     fn static_maps_parse() {
         let f = ParamFile::parse("model = \"coulomb\"\nfc = 0.3", "t").unwrap();
         assert_eq!(f.model, ModelSpec::Coulomb(CoulombParams { fc: 0.3 }));
-        let f = ParamFile::parse("model = \"stribeck\"\nfc = 1\nfs = 2\nvs = 0.1\nstribeck_exponent = 1", "t").unwrap();
+        let f = ParamFile::parse(
+            "model = \"stribeck\"\nfc = 1\nfs = 2\nvs = 0.1\nstribeck_exponent = 1",
+            "t",
+        )
+        .unwrap();
         assert_eq!(f.model.name(), "stribeck");
     }
 }

@@ -42,7 +42,11 @@ fn range(values: impl Iterator<Item = f64>, axis: Axis) -> (f64, f64) {
     if axis == Axis::Log {
         return (lo, if hi > lo { hi } else { lo * 10.0 });
     }
-    let pad = if hi > lo { 0.05 * (hi - lo) } else { lo.abs().max(1e-12) * 0.1 };
+    let pad = if hi > lo {
+        0.05 * (hi - lo)
+    } else {
+        lo.abs().max(1e-12) * 0.1
+    };
     (lo - pad, hi + pad)
 }
 
@@ -57,10 +61,20 @@ pub fn line_plot(
     let root = SVGBackend::new(path, (900, 560)).into_drawing_area();
     let err = |e: &dyn std::fmt::Display| anyhow!("plot {}: {e}", path.display());
     root.fill(&WHITE).map_err(|e| err(&e))?;
-    let (x0, x1) = range(series.iter().flat_map(|s| s.points.iter().map(|p| p.0)), x_axis);
-    let (y0, y1) = range(series.iter().flat_map(|s| s.points.iter().map(|p| p.1)), Axis::Linear);
+    let (x0, x1) = range(
+        series.iter().flat_map(|s| s.points.iter().map(|p| p.0)),
+        x_axis,
+    );
+    let (y0, y1) = range(
+        series.iter().flat_map(|s| s.points.iter().map(|p| p.1)),
+        Axis::Linear,
+    );
     let mut builder = ChartBuilder::on(&root);
-    builder.caption(title, ("sans-serif", 22)).margin(12).x_label_area_size(45).y_label_area_size(80);
+    builder
+        .caption(title, ("sans-serif", 22))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(80);
     macro_rules! draw {
         ($chart:expr) => {{
             let mut chart = $chart.map_err(|e| err(&e))?;
@@ -74,13 +88,23 @@ pub fn line_plot(
                 .map_err(|e| err(&e))?;
             for (i, s) in series.iter().enumerate() {
                 let color = COLORS[i % COLORS.len()];
-                let pts = s.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite());
-                let pts: Vec<(f64, f64)> = if x_axis == Axis::Log { pts.filter(|p| p.0 > 0.0).collect() } else { pts.collect() };
+                let pts = s
+                    .points
+                    .iter()
+                    .copied()
+                    .filter(|p| p.0.is_finite() && p.1.is_finite());
+                let pts: Vec<(f64, f64)> = if x_axis == Axis::Log {
+                    pts.filter(|p| p.0 > 0.0).collect()
+                } else {
+                    pts.collect()
+                };
                 chart
                     .draw_series(LineSeries::new(pts, color.stroke_width(2)))
                     .map_err(|e| err(&e))?
                     .label(s.label)
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                    });
             }
             chart
                 .configure_series_labels()

@@ -27,7 +27,9 @@ where
     F: Fn(f64, &[f64], &mut [f64]),
 {
     let n = y0.len();
-    let (&t0, rest) = t_eval.split_first().ok_or_else(|| anyhow!("no evaluation times"))?;
+    let (&t0, rest) = t_eval
+        .split_first()
+        .ok_or_else(|| anyhow!("no evaluation times"))?;
     let mut out = Vec::with_capacity(t_eval.len());
     out.push(y0.to_vec());
     if rest.is_empty() {
@@ -55,7 +57,10 @@ where
         .t0(t0)
         .rtol(tol.rtol)
         .atol(tol.atol.iter().copied())
-        .rhs_implicit(move |x: &[f64], _p: &[f64], t: f64, y: &mut [f64]| rhs(t, x, y), jac)
+        .rhs_implicit(
+            move |x: &[f64], _p: &[f64], t: f64, y: &mut [f64]| rhs(t, x, y),
+            jac,
+        )
         .init(
             move |_p: &[f64], _t: f64, y: &mut [f64]| y.copy_from_slice(&y0v),
             n,
@@ -67,8 +72,12 @@ where
     // often than the smooth-problem defaults allow before giving up.
     problem.ode_options.max_nonlinear_solver_failures = 100_000;
     problem.ode_options.max_error_test_failures = 10_000;
-    let mut solver = problem.bdf::<NalgebraLU<f64>>().map_err(|e| anyhow!("reference solver: {e}"))?;
-    let (ys, _) = solver.solve_dense(rest).map_err(|e| anyhow!("reference solver failed: {e}"))?;
+    let mut solver = problem
+        .bdf::<NalgebraLU<f64>>()
+        .map_err(|e| anyhow!("reference solver: {e}"))?;
+    let (ys, _) = solver
+        .solve_dense(rest)
+        .map_err(|e| anyhow!("reference solver failed: {e}"))?;
     for j in 0..rest.len() {
         out.push((0..n).map(|i| ys[(i, j)]).collect());
     }
@@ -83,7 +92,10 @@ mod tests {
     fn stiff_linear_decay_is_accurate() {
         // dy/dt = -1e4 (y - cos t): stiff, with a known smooth solution
         let t: Vec<f64> = (0..=100).map(|k| k as f64 * 0.01).collect();
-        let tol = Tolerances { rtol: 1e-9, atol: vec![1e-12] };
+        let tol = Tolerances {
+            rtol: 1e-9,
+            atol: vec![1e-12],
+        };
         let ys = integrate(&[1.0], &t, &tol, |t, y, dy| dy[0] = -1e4 * (y[0] - t.cos())).unwrap();
         for (ti, y) in t.iter().zip(&ys).skip(1) {
             // slow manifold: y ~ cos t + sin t / 1e4
@@ -95,7 +107,10 @@ mod tests {
     #[test]
     fn oscillator_keeps_phase() {
         let t: Vec<f64> = (0..=50).map(|k| k as f64 * 0.2).collect();
-        let tol = Tolerances { rtol: 1e-10, atol: vec![1e-12, 1e-12] };
+        let tol = Tolerances {
+            rtol: 1e-10,
+            atol: vec![1e-12, 1e-12],
+        };
         let ys = integrate(&[1.0, 0.0], &t, &tol, |_, y, dy| {
             dy[0] = y[1];
             dy[1] = -y[0];

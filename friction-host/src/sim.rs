@@ -28,9 +28,17 @@ pub fn drive_reference(model: &dyn Continuous, signal: &Signal, t: &[f64]) -> Re
     if n == 0 {
         return Ok(t.iter().map(|&ti| model.force(&[], signal.v(ti))).collect());
     }
-    let tol = Tolerances { rtol: REFERENCE_RTOL, atol: model.atol() };
-    let z = integrate(&vec![0.0; n], t, &tol, |ti, z, dz| model.rhs(z, signal.v(ti), dz))?;
-    Ok(t.iter().zip(&z).map(|(&ti, zi)| model.force(zi, signal.v(ti))).collect())
+    let tol = Tolerances {
+        rtol: REFERENCE_RTOL,
+        atol: model.atol(),
+    };
+    let z = integrate(&vec![0.0; n], t, &tol, |ti, z, dz| {
+        model.rhs(z, signal.v(ti), dz)
+    })?;
+    Ok(t.iter()
+        .zip(&z)
+        .map(|(&ti, zi)| model.force(zi, signal.v(ti)))
+        .collect())
 }
 
 /// A mass `m` on the friction contact, driven by an applied force `u(t, x)`:
@@ -85,7 +93,10 @@ pub fn rig_reference(model: &dyn Continuous, rig: &Rig, t: &[f64]) -> Result<Tra
     let n = model.n();
     let mut atol = vec![1e-12, 1e-10];
     atol.extend(model.atol());
-    let tol = Tolerances { rtol: REFERENCE_RTOL, atol };
+    let tol = Tolerances {
+        rtol: REFERENCE_RTOL,
+        atol,
+    };
     let y = integrate(&vec![0.0; n + 2], t, &tol, |ti, y, dy| {
         let (x, v, z) = (y[0], y[1], &y[2..]);
         dy[0] = v;
@@ -111,5 +122,8 @@ pub fn rms_diff(a: &[f64], b: &[f64]) -> f64 {
 
 /// Largest `|a - b|`.
 pub fn max_diff(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
 }

@@ -17,9 +17,18 @@ use std::path::Path;
 /// `validate` needs no files.
 pub const PARAM_SETS: &[(&str, &str)] = &[
     ("canudas1995", include_str!("../../params/canudas1995.toml")),
-    ("astrom2008-drift", include_str!("../../params/astrom2008-drift.toml")),
-    ("astrom2008-stickslip", include_str!("../../params/astrom2008-stickslip.toml")),
-    ("olsson1998-servo", include_str!("../../params/olsson1998-servo.toml")),
+    (
+        "astrom2008-drift",
+        include_str!("../../params/astrom2008-drift.toml"),
+    ),
+    (
+        "astrom2008-stickslip",
+        include_str!("../../params/astrom2008-stickslip.toml"),
+    ),
+    (
+        "olsson1998-servo",
+        include_str!("../../params/olsson1998-servo.toml"),
+    ),
 ];
 
 /// A shipped parameter set by name.
@@ -81,7 +90,12 @@ impl AccuracyRow {
 /// `plot_dir` is given, plots core against reference for each signal at 1 kHz.
 /// `bounded`: judge the RMS error against [`accuracy_bound`] (otherwise the
 /// figures are reported only).
-pub fn accuracy(label: &str, spec: &ModelSpec, bounded: bool, plot_dir: Option<&Path>) -> Result<Vec<AccuracyRow>> {
+pub fn accuracy(
+    label: &str,
+    spec: &ModelSpec,
+    bounded: bool,
+    plot_dir: Option<&Path>,
+) -> Result<Vec<AccuracyRow>> {
     let fs = spec.max_static_force();
     let reference = spec.continuous();
     let mut rows = Vec::new();
@@ -92,14 +106,27 @@ pub fn accuracy(label: &str, spec: &ModelSpec, bounded: bool, plot_dir: Option<&
             let fr = drive_reference(reference.as_ref(), s, &t)?;
             let f64_ = drive_core(spec.stepper(ScalarKind::F64)?.as_mut(), &t, &v);
             let f32_ = drive_core(spec.stepper(ScalarKind::F32)?.as_mut(), &t, &v);
-            let fm = drive_core(spec.stepper(ScalarKind::F64)?.as_mut(), &t, &s.mean_velocities(&t));
+            let fm = drive_core(
+                spec.stepper(ScalarKind::F64)?.as_mut(),
+                &t,
+                &s.mean_velocities(&t),
+            );
             if let (Some(dir), true) = (plot_dir, h >= 1e-3) {
                 line_plot(
                     &dir.join(format!("accuracy-{label}-{}-{i}.svg", spec.name())),
                     &format!("{label} {}: {} at 1 kHz", spec.name(), s.name),
                     ("t (s)", Axis::Linear),
                     "F (N)",
-                    &[Series { label: "core (f64)", points: zip(&t, &f64_) }, Series { label: "reference", points: zip(&t, &fr) }],
+                    &[
+                        Series {
+                            label: "core (f64)",
+                            points: zip(&t, &f64_),
+                        },
+                        Series {
+                            label: "reference",
+                            points: zip(&t, &fr),
+                        },
+                    ],
                 )?;
             }
             rows.push(AccuracyRow {
@@ -121,16 +148,27 @@ pub fn accuracy(label: &str, spec: &ModelSpec, bounded: bool, plot_dir: Option<&
 pub fn run(dir: &Path) -> Result<bool> {
     std::fs::create_dir_all(dir)?;
     let canudas = param_set("canudas1995")?;
-    let ModelSpec::LuGre(lugre) = canudas.model else { anyhow::bail!("canudas1995 is not a LuGre set") };
+    let ModelSpec::LuGre(lugre) = canudas.model else {
+        anyhow::bail!("canudas1995 is not a LuGre set")
+    };
     let static_maps = [
         ModelSpec::Coulomb(CoulombParams { fc: lugre.curve.fc }),
-        ModelSpec::CoulombViscous(CoulombViscousParams { fc: lugre.curve.fc, sigma2: lugre.sigma2 }),
-        ModelSpec::Stribeck(StribeckMapParams { curve: lugre.curve, sigma2: lugre.sigma2 }),
+        ModelSpec::CoulombViscous(CoulombViscousParams {
+            fc: lugre.curve.fc,
+            sigma2: lugre.sigma2,
+        }),
+        ModelSpec::Stribeck(StribeckMapParams {
+            curve: lugre.curve,
+            sigma2: lugre.sigma2,
+        }),
     ];
     let mut vd_variant = lugre;
     vd_variant.vd = Some(lugre.curve.vs);
 
-    println!("Accuracy against the reference solver (diffsol BDF, rtol {:e})", crate::sim::REFERENCE_RTOL);
+    println!(
+        "Accuracy against the reference solver (diffsol BDF, rtol {:e})",
+        crate::sim::REFERENCE_RTOL
+    );
     println!(
         "{:<32} {:<28} {:>7} {:>10} {:>10} {:>12} {:>10} {:>5}",
         "model", "signal", "rate", "rms/Fs", "max/Fs", "mean-v rms", "f32-f64", "ok"
@@ -140,11 +178,30 @@ pub fn run(dir: &Path) -> Result<bool> {
     // parameters; the other sets are measured and reported.
     let mut models: Vec<(String, ModelSpec, bool, bool)> = vec![
         ("canudas1995".into(), canudas.model.clone(), true, true),
-        ("canudas1995+vd".into(), ModelSpec::LuGre(vd_variant), false, false),
-        ("astrom2008-drift".into(), param_set("astrom2008-drift")?.model, false, false),
-        ("olsson1998-servo".into(), param_set("olsson1998-servo")?.model, false, false),
+        (
+            "canudas1995+vd".into(),
+            ModelSpec::LuGre(vd_variant),
+            false,
+            false,
+        ),
+        (
+            "astrom2008-drift".into(),
+            param_set("astrom2008-drift")?.model,
+            false,
+            false,
+        ),
+        (
+            "olsson1998-servo".into(),
+            param_set("olsson1998-servo")?.model,
+            false,
+            false,
+        ),
     ];
-    models.extend(static_maps.into_iter().map(|m| ("canudas1995".to_string(), m, true, false)));
+    models.extend(
+        static_maps
+            .into_iter()
+            .map(|m| ("canudas1995".to_string(), m, true, false)),
+    );
     for (label, spec, bounded, plots) in &models {
         for r in accuracy(label, spec, *bounded, plots.then_some(dir))? {
             println!(
@@ -169,14 +226,28 @@ pub fn run(dir: &Path) -> Result<bool> {
     println!("\nPhenomena");
     let mut outcomes: Vec<(String, Outcome)> = Vec::new();
     let plan: &[(&str, &[&str])] = &[
-        ("canudas1995", &["stribeck", "presliding", "frictional-lag", "breakaway", "stick-slip"]),
+        (
+            "canudas1995",
+            &[
+                "stribeck",
+                "presliding",
+                "frictional-lag",
+                "breakaway",
+                "stick-slip",
+            ],
+        ),
         ("astrom2008-stickslip", &["stick-slip"]),
         ("astrom2008-drift", &["drift"]),
     ];
     for (set, names) in plan {
         let file = param_set(set)?;
         for name in names.iter() {
-            let out = experiments::run(name, &file, Options::default(), &dir.join(format!("{set}-{name}")))?;
+            let out = experiments::run(
+                name,
+                &file,
+                Options::default(),
+                &dir.join(format!("{set}-{name}")),
+            )?;
             println!(
                 "{:<22} {:<16} {:<5} {}",
                 set,
@@ -191,16 +262,35 @@ pub fn run(dir: &Path) -> Result<bool> {
             outcomes.push((set.to_string(), out));
         }
     }
-    let all_pass = rows.iter().all(AccuracyRow::pass) && outcomes.iter().all(|(_, o)| o.pass != Some(false));
+    let all_pass =
+        rows.iter().all(AccuracyRow::pass) && outcomes.iter().all(|(_, o)| o.pass != Some(false));
     write_report(dir, &rows, &outcomes, all_pass)?;
-    println!("\n{} — report: {}", if all_pass { "all checks pass" } else { "SOME CHECKS FAIL" }, dir.join("report.md").display());
+    println!(
+        "\n{} — report: {}",
+        if all_pass {
+            "all checks pass"
+        } else {
+            "SOME CHECKS FAIL"
+        },
+        dir.join("report.md").display()
+    );
     Ok(all_pass)
 }
 
-fn write_report(dir: &Path, rows: &[AccuracyRow], outcomes: &[(String, Outcome)], all_pass: bool) -> Result<()> {
+fn write_report(
+    dir: &Path,
+    rows: &[AccuracyRow],
+    outcomes: &[(String, Outcome)],
+    all_pass: bool,
+) -> Result<()> {
     let mut md = String::new();
     writeln!(md, "# friction validation report\n")?;
-    writeln!(md, "Generated by `friction validate` (friction-host {}). Overall: **{}**.\n", env!("CARGO_PKG_VERSION"), if all_pass { "pass" } else { "FAIL" })?;
+    writeln!(
+        md,
+        "Generated by `friction validate` (friction-host {}). Overall: **{}**.\n",
+        env!("CARGO_PKG_VERSION"),
+        if all_pass { "pass" } else { "FAIL" }
+    )?;
     writeln!(md, "## Accuracy of the core's discrete step\n")?;
     writeln!(
         md,
@@ -228,7 +318,8 @@ fn write_report(dir: &Path, rows: &[AccuracyRow], outcomes: &[(String, Outcome)]
             100.0 * r.max,
             100.0 * r.rms_mean_v,
             r.f32_rms,
-            r.bound.map_or("-".to_string(), |b| format!("{} %", 100.0 * b)),
+            r.bound
+                .map_or("-".to_string(), |b| format!("{} %", 100.0 * b)),
             match (r.pass(), r.bound) {
                 (false, _) => "**FAIL**",
                 (true, Some(_)) => "pass",
@@ -236,12 +327,18 @@ fn write_report(dir: &Path, rows: &[AccuracyRow], outcomes: &[(String, Outcome)]
             }
         )?;
     }
-    writeln!(md, "\nCore against reference at 1 kHz, canudas1995 LuGre:\n")?;
+    writeln!(
+        md,
+        "\nCore against reference at 1 kHz, canudas1995 LuGre:\n"
+    )?;
     for i in 0..validation_signals().len() {
         writeln!(md, "![signal {i}](accuracy-canudas1995-lugre-{i}.svg)")?;
     }
     writeln!(md, "\n## Phenomena\n")?;
-    writeln!(md, "| parameters | experiment | phenomenon | result | figure |")?;
+    writeln!(
+        md,
+        "| parameters | experiment | phenomenon | result | figure |"
+    )?;
     writeln!(md, "|---|---|---|---|---|")?;
     for (set, o) in outcomes {
         let res = match o.pass {
@@ -249,7 +346,11 @@ fn write_report(dir: &Path, rows: &[AccuracyRow], outcomes: &[(String, Outcome)]
             Some(false) => "**FAIL**",
             None => "-",
         };
-        writeln!(md, "| {set} | {} | {} | {res} | {} |", o.name, o.phenomenon, o.figure)?;
+        writeln!(
+            md,
+            "| {set} | {} | {} | {res} | {} |",
+            o.name, o.phenomenon, o.figure
+        )?;
     }
     for (set, o) in outcomes {
         let rel = o.plot.strip_prefix(dir).unwrap_or(&o.plot);

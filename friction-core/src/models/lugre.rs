@@ -51,7 +51,12 @@ pub struct LuGreParams {
 impl LuGreParams {
     /// Canudas de Wit et al. 1995, Table I.
     pub const CANUDAS_1995: Self = Self {
-        curve: StribeckParams { fc: 1.0, fs: 1.5, vs: 1e-3, exponent: 2.0 },
+        curve: StribeckParams {
+            fc: 1.0,
+            fs: 1.5,
+            vs: 1e-3,
+            exponent: 2.0,
+        },
         sigma0: 1e5,
         sigma1: 316.227_766_016_837_94, // sqrt(1e5)
         sigma2: 0.4,
@@ -203,7 +208,10 @@ mod tests {
     fn invalid_parameters_are_named() {
         let bad = LuGreParams { sigma0: -1.0, ..P };
         assert_eq!(bad.build::<f64>(), Err(ParamError::NotPositive("sigma0")));
-        let bad = LuGreParams { sigma1: f64::NAN, ..P };
+        let bad = LuGreParams {
+            sigma1: f64::NAN,
+            ..P
+        };
         assert_eq!(bad.validate(), Err(ParamError::NotFinite("sigma1")));
         let bad = LuGreParams { vd: Some(0.0), ..P };
         assert_eq!(bad.validate(), Err(ParamError::NotPositive("vd")));
@@ -238,7 +246,12 @@ mod tests {
     fn invalid_inputs_leave_state_untouched() {
         let m = P.build::<f32>().unwrap();
         let mut s = LuGreState { z: 5e-6 };
-        for (v, h) in [(f32::NAN, 1e-3), (f32::INFINITY, 1e-3), (0.1, f32::NAN), (0.1, -1e-3)] {
+        for (v, h) in [
+            (f32::NAN, 1e-3),
+            (f32::INFINITY, 1e-3),
+            (0.1, f32::NAN),
+            (0.1, -1e-3),
+        ] {
             let f = m.step(&mut s, v, h);
             assert_eq!(s.z, 5e-6);
             assert_eq!(f, 1e5 * 5e-6);
@@ -274,24 +287,50 @@ mod tests {
 
     #[test]
     fn velocity_dependent_damping_fades() {
-        let m = LuGreParams { vd: Some(1e-3), ..P }.build::<f64>().unwrap();
+        let m = LuGreParams {
+            vd: Some(1e-3),
+            ..P
+        }
+        .build::<f64>()
+        .unwrap();
         assert_eq!(m.damping(0.0), P.sigma1);
         assert!((m.damping(1e-3) - P.sigma1 / core::f64::consts::E).abs() < 1e-9);
     }
 
     fn arb_params() -> impl Strategy<Value = LuGreParams> {
-        (0.1f64..10.0, 1.0f64..3.0, 1e-4f64..1e-1, 0.5f64..3.0, 1e2f64..1e7, 0.0f64..1e3, 0.0f64..10.0)
-            .prop_map(|(fc, ratio, vs, exponent, sigma0, sigma1, sigma2)| LuGreParams {
-                curve: StribeckParams { fc, fs: fc * ratio, vs, exponent },
-                sigma0,
-                sigma1,
-                sigma2,
-                vd: None,
-            })
+        (
+            0.1f64..10.0,
+            1.0f64..3.0,
+            1e-4f64..1e-1,
+            0.5f64..3.0,
+            1e2f64..1e7,
+            0.0f64..1e3,
+            0.0f64..10.0,
+        )
+            .prop_map(
+                |(fc, ratio, vs, exponent, sigma0, sigma1, sigma2)| LuGreParams {
+                    curve: StribeckParams {
+                        fc,
+                        fs: fc * ratio,
+                        vs,
+                        exponent,
+                    },
+                    sigma0,
+                    sigma1,
+                    sigma2,
+                    vd: None,
+                },
+            )
     }
 
     fn arb_inputs() -> impl Strategy<Value = Vec<(f64, f64)>> {
-        proptest::collection::vec((-1e3f64..1e3, prop_oneof![0.0f64..1e-2, Just(0.0), 0.0f64..10.0]), 1..60)
+        proptest::collection::vec(
+            (
+                -1e3f64..1e3,
+                prop_oneof![0.0f64..1e-2, Just(0.0), 0.0f64..10.0],
+            ),
+            1..60,
+        )
     }
 
     proptest! {

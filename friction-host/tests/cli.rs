@@ -1,0 +1,165 @@
+//! The `friction` binary as a user runs it.
+
+use std::path::Path;
+use std::process::Command;
+
+fn friction(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_friction"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn params() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../params/canudas1995.toml")
+        .display()
+        .to_string()
+}
+
+#[test]
+fn help_on_every_command() {
+    for cmd in [
+        &["--help"][..],
+        &["simulate", "--help"],
+        &["experiment", "--help"],
+        &["validate", "--help"],
+    ] {
+        let out = friction(cmd);
+        assert!(out.status.success(), "{cmd:?}");
+        assert!(
+            String::from_utf8_lossy(&out.stdout).contains("Usage"),
+            "{cmd:?}"
+        );
+    }
+}
+
+#[test]
+fn simulate_writes_force_and_states() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.csv");
+    let mut text = String::from("t,v\n");
+    for k in 0..=2000 {
+        text.push_str(&format!("{},{}\n", k as f64 * 1e-3, 0.1));
+    }
+    std::fs::write(&input, text).unwrap();
+    let output = dir.path().join("out.csv");
+    for scalar in ["f64", "f32"] {
+        let out = friction(&[
+            "simulate",
+            "--params",
+            &params(),
+            "--input",
+            input.to_str().unwrap(),
+            "--output",
+            output.to_str().unwrap(),
+            "--scalar",
+            scalar,
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let csv = std::fs::read_to_string(&output).unwrap();
+        let mut lines = csv.lines();
+        assert_eq!(lines.next(), Some("t,v,f,z"));
+        // row 0: at rest (z = 0), force sigma1 v + sigma2 v at h = 0
+        let row0: Vec<f64> = lines
+            .next()
+            .unwrap()
+            .split(',')
+            .map(|s| s.parse().unwrap())
+            .collect();
+        assert_eq!(row0[3], 0.0);
+        // last row: steady sliding, F = Fc + sigma2 v = 1.04
+        let last: Vec<f64> = csv
+            .lines()
+            .last()
+            .unwrap()
+            .split(',')
+            .map(|s| s.parse().unwrap())
+            .collect();
+        assert!((last[2] - 1.04).abs() < 1e-4, "{scalar}: {}", last[2]);
+    }
+}
+
+#[test]
+fn malformed_input_names_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.csv");
+    std::fs::write(&input, "t,v\n0,0\n0.001,zero\n").unwrap();
+    let out = friction(&[
+        "simulate",
+        "--params",
+        &params(),
+        "--input",
+        input.to_str().unwrap(),
+        "--output",
+        "/dev/null",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("in.csv:3: column 2 (`v`)"), "{err}");
+}
+
+#[test]
+fn unknown_parameter_key_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("p.toml");
+    std::fs::write(&p, "model = \"lugre\"\nfc = 1\nfs = 1.5\nvs = 1e-3\nsigma0 = 1e5\nsigma1 = 300\nsigmaa2 = 0.4\n").unwrap();
+    let out = friction(&[
+        "experiment",
+        "stribeck",
+        "--params",
+        p.to_str().unwrap(),
+        "--output",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("sigmaa2") && err.contains("line 7"), "{err}");
+}
+
+#[test]
+fn experiment_writes_trace_and_plot() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = friction(&[
+        "experiment",
+        "drift",
+        "--params",
+        &params(),
+        "--duration",
+        "3",
+        "--output",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("after cycle 1") && stdout.contains("after cycle 3"),
+        "{stdout}"
+    );
+    let trace = std::fs::read_to_string(dir.path().join("trace.csv")).unwrap();
+    assert!(trace.starts_with("t,x,v,f,u"));
+    assert!(dir.path().join("drift.svg").exists());
+    // static maps: experiments that need a state are refused clearly
+    let p = dir.path().join("c.toml");
+    std::fs::write(&p, "model = \"coulomb\"\nfc = 1\n").unwrap();
+    let out = friction(&[
+        "experiment",
+        "stick-slip",
+        "--params",
+        p.to_str().unwrap(),
+        "--output",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("does not apply to the static map `coulomb`")
+    );
+}

@@ -1,0 +1,1 @@
+//! Acceptance tests live in `tests/`: the core against the host reference solver.
