@@ -26,6 +26,8 @@ pub enum ParamError {
     StaticBelowCoulomb,
     /// The parameter is finite in `f64` but not representable in the chosen scalar type.
     NotRepresentable(&'static str),
+    /// The parameter (an exponent) must be `>= 1`.
+    BelowOne(&'static str),
 }
 
 impl fmt::Display for ParamError {
@@ -43,6 +45,7 @@ impl fmt::Display for ParamError {
             Self::NotRepresentable(name) => {
                 write!(f, "parameter `{name}` overflows the chosen scalar type")
             }
+            Self::BelowOne(name) => write!(f, "parameter `{name}` must be >= 1"),
         }
     }
 }

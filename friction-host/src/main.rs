@@ -123,12 +123,7 @@ fn run(cli: Cli) -> Result<bool> {
                 out.phenomenon,
                 file.model.name()
             );
-            let verdict = match out.pass {
-                Some(true) => "pass",
-                Some(false) => "FAIL",
-                None => "-",
-            };
-            println!("  {verdict}: {}", out.figure);
+            println!("  {}: {}", out.verdict(), out.figure);
             for line in &out.summary {
                 println!("  {line}");
             }

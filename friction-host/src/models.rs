@@ -7,7 +7,7 @@
 //!   core's steps.
 
 use crate::params::ModelSpec;
-use friction_core::{FrictionModel, LuGreParams, LuGreState, Scalar};
+use friction_core::{DahlParams, DahlState, FrictionModel, LuGreParams, LuGreState, Scalar};
 
 /// The number type a core model is built with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -77,11 +77,15 @@ fn stepper_in<S: Scalar + 'static>(
     fn lugre_states<S: Scalar>(s: &LuGreState<S>) -> Vec<f64> {
         vec![s.z.to_f64()]
     }
+    fn dahl_states<S: Scalar>(s: &DahlState<S>) -> Vec<f64> {
+        vec![s.f.to_f64()]
+    }
     Ok(match spec {
         ModelSpec::Coulomb(p) => boxed::<_, S>(p.build::<S>()?, &[], no_states),
         ModelSpec::CoulombViscous(p) => boxed::<_, S>(p.build::<S>()?, &[], no_states),
         ModelSpec::Stribeck(p) => boxed::<_, S>(p.build::<S>()?, &[], no_states),
         ModelSpec::LuGre(p) => boxed::<_, S>(p.build::<S>()?, &["z"], lugre_states::<S>),
+        ModelSpec::Dahl(p) => boxed::<_, S>(p.build::<S>()?, &["fh"], dahl_states::<S>),
     })
 }
 
@@ -122,6 +126,7 @@ impl ModelSpec {
                 sigma2: p.sigma2,
             }),
             ModelSpec::LuGre(p) => Box::new(LuGreOde(p)),
+            ModelSpec::Dahl(p) => Box::new(DahlOde(p)),
         }
     }
 }
@@ -210,5 +215,28 @@ impl Continuous for LuGreOde {
     }
     fn steady_force(&self, v: f64) -> f64 {
         self.g(v) * sign(v) + self.0.sigma2 * v
+    }
+}
+
+/// Dahl in its force form: `dF/dt = sigma v sign(y) |y|^delta`, `y = 1 - F sign(v) / Fc`.
+struct DahlOde(DahlParams);
+
+impl Continuous for DahlOde {
+    fn n(&self) -> usize {
+        1
+    }
+    fn rhs(&self, z: &[f64], v: f64, dz: &mut [f64]) {
+        let p = &self.0;
+        let y = 1.0 - z[0] * sign(v) / p.fc;
+        dz[0] = p.sigma * v * sign(y) * y.abs().powf(p.delta);
+    }
+    fn force(&self, z: &[f64], v: f64) -> f64 {
+        z[0] + self.0.sigma2 * v
+    }
+    fn atol(&self) -> Vec<f64> {
+        vec![1e-9 * self.0.fc]
+    }
+    fn steady_force(&self, v: f64) -> f64 {
+        self.0.fc * sign(v) + self.0.sigma2 * v
     }
 }

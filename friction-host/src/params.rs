@@ -4,7 +4,7 @@
 
 use anyhow::{bail, Context, Result};
 use friction_core::{
-    CoulombParams, CoulombViscousParams, LuGreParams, StribeckMapParams, StribeckParams,
+    CoulombParams, CoulombViscousParams, DahlParams, LuGreParams, StribeckMapParams, StribeckParams,
 };
 use serde::Deserialize;
 use std::path::Path;
@@ -20,6 +20,8 @@ pub enum ModelSpec {
     Stribeck(StribeckMapParams),
     /// `lugre`: `fc`, `fs`, `vs`, `stribeck_exponent`, `sigma0`, `sigma1`, `sigma2`, `vd`.
     LuGre(LuGreParams),
+    /// `dahl`: `sigma`, `fc`, `delta`, `sigma2`.
+    Dahl(DahlParams),
 }
 
 impl ModelSpec {
@@ -30,6 +32,7 @@ impl ModelSpec {
             Self::CoulombViscous(_) => "coulomb-viscous",
             Self::Stribeck(_) => "stribeck",
             Self::LuGre(_) => "lugre",
+            Self::Dahl(_) => "dahl",
         }
     }
 
@@ -41,7 +44,35 @@ impl ModelSpec {
             Self::CoulombViscous(p) => p.fc,
             Self::Stribeck(p) => p.curve.fs,
             Self::LuGre(p) => p.curve.fs,
+            Self::Dahl(p) => p.fc,
         }
+    }
+
+    /// The pre-sliding displacement scale: how far the contact deflects
+    /// before it slides (`Fs/sigma0` for LuGre, `Fc/sigma` for Dahl); 0 for
+    /// static maps.
+    pub fn presliding_scale(&self) -> f64 {
+        match self {
+            Self::LuGre(p) => p.curve.fs / p.sigma0,
+            Self::Dahl(p) => p.fc / p.sigma,
+            _ => 0.0,
+        }
+    }
+
+    /// The viscous coefficient `sigma2` (0 for `coulomb`).
+    pub fn sigma2(&self) -> f64 {
+        match self {
+            Self::Coulomb(_) => 0.0,
+            Self::CoulombViscous(p) => p.sigma2,
+            Self::Stribeck(p) => p.sigma2,
+            Self::LuGre(p) => p.sigma2,
+            Self::Dahl(p) => p.sigma2,
+        }
+    }
+
+    /// Whether the model has internal state (and so pre-sliding, rigs, ...).
+    pub fn has_state(&self) -> bool {
+        matches!(self, Self::LuGre(_) | Self::Dahl(_))
     }
 
     /// Validates the parameters (the core's checks), naming the offending one.
@@ -51,6 +82,7 @@ impl ModelSpec {
             Self::CoulombViscous(p) => p.build::<f64>().map(|_| ()),
             Self::Stribeck(p) => p.build::<f64>().map(|_| ()),
             Self::LuGre(p) => p.validate(),
+            Self::Dahl(p) => p.validate(),
         }
     }
 }
@@ -150,8 +182,27 @@ struct LuGreFile {
     rig: Rig,
 }
 
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DahlFile {
+    #[allow(dead_code)]
+    model: String,
+    sigma: f64,
+    fc: f64,
+    #[serde(default = "one")]
+    delta: f64,
+    #[serde(default)]
+    sigma2: f64,
+    #[serde(default)]
+    rig: Rig,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
 /// The model names a file may give.
-pub const MODEL_NAMES: &[&str] = &["coulomb", "coulomb-viscous", "stribeck", "lugre"];
+pub const MODEL_NAMES: &[&str] = &["coulomb", "coulomb-viscous", "stribeck", "lugre", "dahl"];
 
 impl ParamFile {
     /// Parses TOML text; `origin` names the source in messages.
@@ -214,6 +265,18 @@ impl ParamFile {
                         sigma1: f.sigma1,
                         sigma2: f.sigma2,
                         vd: f.vd,
+                    }),
+                    rig: f.rig,
+                }
+            }
+            "dahl" => {
+                let f: DahlFile = toml::from_str(text).with_context(ctx)?;
+                ParamFile {
+                    model: ModelSpec::Dahl(DahlParams {
+                        sigma: f.sigma,
+                        fc: f.fc,
+                        delta: f.delta,
+                        sigma2: f.sigma2,
                     }),
                     rig: f.rig,
                 }
@@ -305,5 +368,13 @@ pull_velocity = 0.1
         )
         .unwrap();
         assert_eq!(f.model.name(), "stribeck");
+        let f = ParamFile::parse("model = \"dahl\"\nsigma = 1e5\nfc = 1\ndelta = 2", "t").unwrap();
+        assert_eq!(f.model.name(), "dahl");
+        let e = format!(
+            "{:#}",
+            ParamFile::parse("model = \"dahl\"\nsigma = 1e5\nfc = 1\ndelta = 0.5", "t")
+                .unwrap_err()
+        );
+        assert!(e.contains("`delta` must be >= 1"), "{e}");
     }
 }

@@ -82,8 +82,8 @@ pub fn line_plot(
                 .configure_mesh()
                 .x_desc(x_label)
                 .y_desc(y_label)
-                .x_label_formatter(&|v| format!("{:.3e}", v))
-                .y_label_formatter(&|v| format!("{:.3e}", v))
+                .x_label_formatter(&|v| tick_label(*v))
+                .y_label_formatter(&|v| tick_label(*v))
                 .draw()
                 .map_err(|e| err(&e))?;
             for (i, s) in series.iter().enumerate() {
@@ -120,6 +120,19 @@ pub fn line_plot(
     }
     root.present().map_err(|e| err(&e))?;
     Ok(())
+}
+
+/// Axis numbers: plain between 0.01 and 10^4, scientific outside.
+fn tick_label(v: f64) -> String {
+    let a = v.abs();
+    if a < 1e-300 {
+        "0".into()
+    } else if (1e-2..1e4).contains(&a) {
+        let s = format!("{v:.4}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.2e}")
+    }
 }
 
 /// Pairs two columns into plot points.

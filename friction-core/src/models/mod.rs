@@ -1,3 +1,4 @@
 //! One module per state model.
 
+pub mod dahl;
 pub mod lugre;
