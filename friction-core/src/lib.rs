@@ -21,6 +21,7 @@ pub mod stribeck;
 
 pub use model::{FrictionModel, ParamError, VELOCITY_LIMIT};
 pub use models::dahl::{Dahl, DahlParams, DahlState};
+pub use models::elasto_plastic::{ElastoPlastic, ElastoPlasticParams};
 pub use models::lugre::{LuGre, LuGreParams, LuGreState};
 pub use observer::{Observable, Observer};
 pub use scalar::Scalar;

@@ -28,6 +28,13 @@ pub enum ParamError {
     NotRepresentable(&'static str),
     /// The parameter (an exponent) must be `>= 1`.
     BelowOne(&'static str),
+    /// The parameter must lie strictly below a limit set by other parameters.
+    NotBelow {
+        /// The offending parameter.
+        name: &'static str,
+        /// The limit, as an expression of other parameters.
+        limit: &'static str,
+    },
 }
 
 impl fmt::Display for ParamError {
@@ -46,6 +53,9 @@ impl fmt::Display for ParamError {
                 write!(f, "parameter `{name}` overflows the chosen scalar type")
             }
             Self::BelowOne(name) => write!(f, "parameter `{name}` must be >= 1"),
+            Self::NotBelow { name, limit } => {
+                write!(f, "parameter `{name}` must be below `{limit}`")
+            }
         }
     }
 }

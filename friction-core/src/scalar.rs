@@ -42,6 +42,10 @@ pub trait Scalar:
     fn powf(self, y: Self) -> Self;
     /// `sqrt(x)` for `x >= 0`.
     fn sqrt(self) -> Self;
+    /// `sin(x)` (radians).
+    fn sin(self) -> Self;
+    /// `cos(x)` (radians).
+    fn cos(self) -> Self;
     /// `true` unless the value is NaN or infinite.
     fn is_finite(self) -> bool;
 
@@ -85,7 +89,7 @@ pub trait Scalar:
 }
 
 macro_rules! impl_float_scalar {
-    ($t:ty, $abs:path, $exp:path, $expm1:path, $pow:path, $sqrt:path) => {
+    ($t:ty, $abs:path, $exp:path, $expm1:path, $pow:path, $sqrt:path, $sin:path, $cos:path) => {
         impl Scalar for $t {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
@@ -118,6 +122,14 @@ macro_rules! impl_float_scalar {
                 $sqrt(self)
             }
             #[inline]
+            fn sin(self) -> Self {
+                $sin(self)
+            }
+            #[inline]
+            fn cos(self) -> Self {
+                $cos(self)
+            }
+            #[inline]
             fn is_finite(self) -> bool {
                 <$t>::is_finite(self)
             }
@@ -131,7 +143,9 @@ impl_float_scalar!(
     libm::expf,
     libm::expm1f,
     libm::powf,
-    libm::sqrtf
+    libm::sqrtf,
+    libm::sinf,
+    libm::cosf
 );
 impl_float_scalar!(
     f64,
@@ -139,7 +153,9 @@ impl_float_scalar!(
     libm::exp,
     libm::expm1,
     libm::pow,
-    libm::sqrt
+    libm::sqrt,
+    libm::sin,
+    libm::cos
 );
 
 /// Exact solution over a step `h` of the linear relaxation `dz/dt = u - a z`

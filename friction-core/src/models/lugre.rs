@@ -133,6 +133,16 @@ impl<S: Scalar> LuGre<S> {
         &self.curve
     }
 
+    /// `sigma0`.
+    pub(crate) fn sigma0(&self) -> S {
+        self.sigma0
+    }
+
+    /// `sigma2`.
+    pub(crate) fn sigma2(&self) -> S {
+        self.sigma2
+    }
+
     /// Steady-state friction `g(v) sign(v) + sigma2 v`.
     pub fn steady_state(&self, v: S) -> S {
         self.curve.eval(v) * v.sign() + self.sigma2 * v
@@ -140,7 +150,7 @@ impl<S: Scalar> LuGre<S> {
 
     /// `sigma1(v)`.
     #[inline]
-    fn damping(&self, v: S) -> S {
+    pub(crate) fn damping(&self, v: S) -> S {
         if self.inv_vd_sq > S::ZERO {
             self.sigma1 * (-(v * v * self.inv_vd_sq)).exp()
         } else {

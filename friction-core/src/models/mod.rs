@@ -1,4 +1,5 @@
 //! One module per state model.
 
 pub mod dahl;
+pub mod elasto_plastic;
 pub mod lugre;
