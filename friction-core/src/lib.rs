@@ -16,13 +16,16 @@ extern crate std;
 pub mod model;
 pub mod models;
 pub mod observer;
+pub mod random;
 pub mod scalar;
 pub mod stribeck;
 
 pub use model::{FrictionModel, ParamError, VELOCITY_LIMIT};
+pub use models::bristle::{Bristle, BristleParams, BristleState};
 pub use models::dahl::{Dahl, DahlParams, DahlState};
 pub use models::elasto_plastic::{ElastoPlastic, ElastoPlasticParams};
 pub use models::lugre::{LuGre, LuGreParams, LuGreState};
+pub use models::reset_integrator::{ResetIntegrator, ResetIntegratorParams, ResetIntegratorState};
 pub use observer::{Observable, Observer};
 pub use scalar::Scalar;
 pub use stribeck::{

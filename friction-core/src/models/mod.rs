@@ -1,5 +1,7 @@
 //! One module per state model.
 
+pub mod bristle;
 pub mod dahl;
 pub mod elasto_plastic;
 pub mod lugre;
+pub mod reset_integrator;
