@@ -98,7 +98,7 @@ fn run(cli: Cli) -> Result<bool> {
                 }
             }
             let mut headers = vec!["t", "v", "f"];
-            headers.extend(names);
+            headers.extend(names.iter().map(String::as_str));
             let mut cols: Vec<&[f64]> = vec![&t, &v, &f];
             cols.extend(states.iter().map(|c| &c[..]));
             write_columns(&output, &headers, &cols)?;

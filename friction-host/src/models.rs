@@ -7,7 +7,10 @@
 //!   core's steps.
 
 use crate::params::ModelSpec;
-use friction_core::{DahlParams, DahlState, FrictionModel, LuGreParams, LuGreState, Scalar};
+use friction_core::{
+    Bristle, BristleParams, BristleState, DahlParams, DahlState, ElastoPlasticParams,
+    FrictionModel, LuGreParams, LuGreState, ResetIntegratorParams, ResetIntegratorState, Scalar,
+};
 
 /// The number type a core model is built with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -23,7 +26,7 @@ pub trait Stepper {
     /// Advances by `h` with velocity `v` held; returns the force.
     fn step(&mut self, v: f64, h: f64) -> f64;
     /// Names of the internal states (CSV columns).
-    fn state_names(&self) -> &'static [&'static str];
+    fn state_names(&self) -> Vec<String>;
     /// Current internal states.
     fn states(&self) -> Vec<f64>;
 }
@@ -31,7 +34,7 @@ pub trait Stepper {
 struct Core<M: FrictionModel<S>, S: Scalar> {
     model: M,
     state: M::State,
-    names: &'static [&'static str],
+    names: Vec<String>,
     read: fn(&M::State) -> Vec<f64>,
     _s: std::marker::PhantomData<S>,
 }
@@ -42,19 +45,15 @@ impl<M: FrictionModel<S>, S: Scalar> Stepper for Core<M, S> {
             .step(&mut self.state, S::from_f64(v), S::from_f64(h))
             .to_f64()
     }
-    fn state_names(&self) -> &'static [&'static str] {
-        self.names
+    fn state_names(&self) -> Vec<String> {
+        self.names.clone()
     }
     fn states(&self) -> Vec<f64> {
         (self.read)(&self.state)
     }
 }
 
-fn boxed<M, S>(
-    model: M,
-    names: &'static [&'static str],
-    read: fn(&M::State) -> Vec<f64>,
-) -> Box<dyn Stepper>
+fn boxed<M, S>(model: M, names: &[&str], read: fn(&M::State) -> Vec<f64>) -> Box<dyn Stepper>
 where
     M: FrictionModel<S> + 'static,
     S: Scalar + 'static,
@@ -62,7 +61,7 @@ where
     Box::new(Core {
         model,
         state: M::State::default(),
-        names,
+        names: names.iter().map(|n| n.to_string()).collect(),
         read,
         _s: std::marker::PhantomData,
     })
@@ -80,12 +79,37 @@ fn stepper_in<S: Scalar + 'static>(
     fn dahl_states<S: Scalar>(s: &DahlState<S>) -> Vec<f64> {
         vec![s.f.to_f64()]
     }
+    fn reset_states<S: Scalar>(s: &ResetIntegratorState<S>) -> Vec<f64> {
+        vec![s.z.to_f64()]
+    }
+    fn bristle<S: Scalar + 'static, const N: usize>(
+        p: &BristleParams,
+    ) -> Result<Box<dyn Stepper>, friction_core::ParamError> {
+        fn strains<S: Scalar, const N: usize>(s: &BristleState<S, N>) -> Vec<f64> {
+            s.strain.iter().map(|x| x.to_f64()).collect()
+        }
+        let names: Vec<String> = (0..N).map(|i| format!("s{i}")).collect();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        Ok(boxed::<Bristle<S, N>, S>(
+            p.build::<S, N>()?,
+            &names,
+            strains::<S, N>,
+        ))
+    }
     Ok(match spec {
         ModelSpec::Coulomb(p) => boxed::<_, S>(p.build::<S>()?, &[], no_states),
         ModelSpec::CoulombViscous(p) => boxed::<_, S>(p.build::<S>()?, &[], no_states),
         ModelSpec::Stribeck(p) => boxed::<_, S>(p.build::<S>()?, &[], no_states),
         ModelSpec::LuGre(p) => boxed::<_, S>(p.build::<S>()?, &["z"], lugre_states::<S>),
         ModelSpec::Dahl(p) => boxed::<_, S>(p.build::<S>()?, &["fh"], dahl_states::<S>),
+        ModelSpec::ElastoPlastic(p) => boxed::<_, S>(p.build::<S>()?, &["z"], lugre_states::<S>),
+        ModelSpec::ResetIntegrator(p) => boxed::<_, S>(p.build::<S>()?, &["z"], reset_states::<S>),
+        ModelSpec::Bristle { params, bristles } => match bristles {
+            1 => bristle::<S, 1>(params)?,
+            8 => bristle::<S, 8>(params)?,
+            25 => bristle::<S, 25>(params)?,
+            _ => bristle::<S, 64>(params)?,
+        },
     })
 }
 
@@ -101,9 +125,10 @@ impl ModelSpec {
         }
     }
 
-    /// The continuous-time equations for the reference solver.
-    pub fn continuous(&self) -> Box<dyn Continuous> {
-        match *self {
+    /// The continuous-time equations for the reference solver; `None` for
+    /// the bristle model, whose reference is event-driven (`sim::bristle_reference`).
+    pub fn continuous(&self) -> Option<Box<dyn Continuous>> {
+        Some(match *self {
             ModelSpec::Coulomb(p) => Box::new(StaticMap {
                 fc: p.fc,
                 fs: p.fc,
@@ -127,7 +152,10 @@ impl ModelSpec {
             }),
             ModelSpec::LuGre(p) => Box::new(LuGreOde(p)),
             ModelSpec::Dahl(p) => Box::new(DahlOde(p)),
-        }
+            ModelSpec::ElastoPlastic(p) => Box::new(ElastoPlasticOde(p)),
+            ModelSpec::ResetIntegrator(p) => Box::new(ResetIntegratorOde(p)),
+            ModelSpec::Bristle { .. } => return None,
+        })
     }
 }
 
@@ -143,6 +171,11 @@ pub trait Continuous {
     fn atol(&self) -> Vec<f64>;
     /// The steady-state force at constant velocity `v`.
     fn steady_force(&self, v: f64) -> f64;
+    /// Whether the model switched (a discontinuity of its force) between two
+    /// samples, given the states and velocities at both.
+    fn switched(&self, _z0: &[f64], _v0: f64, _z1: &[f64], _v1: f64) -> bool {
+        false
+    }
 }
 
 /// `g(v) = Fc + (Fs - Fc) exp(-|v/vs|^delta)`.
@@ -238,5 +271,97 @@ impl Continuous for DahlOde {
     }
     fn steady_force(&self, v: f64) -> f64 {
         self.0.fc * sign(v) + self.0.sigma2 * v
+    }
+}
+
+/// Elasto-plastic: LuGre with `alpha(z, v)` (Dupont et al. 2002), `|z|` in the sine.
+struct ElastoPlasticOde(ElastoPlasticParams);
+
+impl ElastoPlasticOde {
+    fn g(&self, v: f64) -> f64 {
+        let c = &self.0.lugre.curve;
+        stribeck(c.fc, c.fs, c.vs, c.exponent, v)
+    }
+    fn alpha(&self, z: f64, v: f64) -> f64 {
+        if sign(z) != sign(v) {
+            return 0.0;
+        }
+        let z_max = self.g(v) / self.0.lugre.sigma0;
+        let z_ba = self.0.z_ba;
+        let a = z.abs();
+        if a <= z_ba {
+            0.0
+        } else if a >= z_max {
+            1.0
+        } else {
+            0.5 + 0.5 * (std::f64::consts::PI * (a - 0.5 * (z_max + z_ba)) / (z_max - z_ba)).sin()
+        }
+    }
+}
+
+impl Continuous for ElastoPlasticOde {
+    fn n(&self) -> usize {
+        1
+    }
+    fn rhs(&self, z: &[f64], v: f64, dz: &mut [f64]) {
+        let p = &self.0.lugre;
+        dz[0] = v - self.alpha(z[0], v) * p.sigma0 * v.abs() * z[0] / self.g(v);
+    }
+    fn force(&self, z: &[f64], v: f64) -> f64 {
+        let p = &self.0.lugre;
+        let mut dz = [0.0];
+        self.rhs(z, v, &mut dz);
+        let sigma1 = match p.vd {
+            Some(vd) => p.sigma1 * (-(v / vd) * (v / vd)).exp(),
+            None => p.sigma1,
+        };
+        p.sigma0 * z[0] + sigma1 * dz[0] + p.sigma2 * v
+    }
+    fn atol(&self) -> Vec<f64> {
+        vec![1e-6 * self.0.lugre.curve.fs / self.0.lugre.sigma0]
+    }
+    fn steady_force(&self, v: f64) -> f64 {
+        self.g(v) * sign(v) + self.0.lugre.sigma2 * v
+    }
+}
+
+/// Reset integrator (Haessig & Friedland 1991): a discontinuous right-hand side.
+struct ResetIntegratorOde(ResetIntegratorParams);
+
+impl ResetIntegratorOde {
+    fn stiffness(&self, v: f64) -> f64 {
+        match &self.0.curve {
+            Some(c) => self.0.sigma0 * stribeck(c.fc, c.fs, c.vs, c.exponent, v) / c.fs,
+            None => self.0.sigma0,
+        }
+    }
+    fn at_limit(&self, z: f64, v: f64) -> bool {
+        (v > 0.0 && z >= self.0.z0) || (v < 0.0 && z <= -self.0.z0)
+    }
+}
+
+impl Continuous for ResetIntegratorOde {
+    fn n(&self) -> usize {
+        1
+    }
+    fn rhs(&self, z: &[f64], v: f64, dz: &mut [f64]) {
+        dz[0] = if self.at_limit(z[0], v) { 0.0 } else { v };
+    }
+    fn force(&self, z: &[f64], v: f64) -> f64 {
+        let p = &self.0;
+        let a = if z[0].abs() < p.z0 { p.stiction } else { 0.0 };
+        let dz = if self.at_limit(z[0], v) { 0.0 } else { v };
+        (1.0 + a) * self.stiffness(v) * z[0] + p.sigma1 * dz
+    }
+    fn atol(&self) -> Vec<f64> {
+        vec![1e-9 * self.0.z0]
+    }
+    fn steady_force(&self, v: f64) -> f64 {
+        self.stiffness(v) * self.0.z0 * sign(v)
+    }
+    fn switched(&self, z0: &[f64], v0: f64, z1: &[f64], v1: f64) -> bool {
+        // the bond breaks (|z| reaches z0) or the motion reverses (it re-bonds)
+        let limit = self.0.z0 * (1.0 - 1e-6);
+        (z0[0].abs() < limit && z1[0].abs() >= limit) || sign(v0) != sign(v1)
     }
 }

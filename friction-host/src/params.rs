@@ -4,7 +4,8 @@
 
 use anyhow::{bail, Context, Result};
 use friction_core::{
-    CoulombParams, CoulombViscousParams, DahlParams, LuGreParams, StribeckMapParams, StribeckParams,
+    BristleParams, CoulombParams, CoulombViscousParams, DahlParams, ElastoPlasticParams,
+    LuGreParams, ResetIntegratorParams, StribeckMapParams, StribeckParams,
 };
 use serde::Deserialize;
 use std::path::Path;
@@ -22,7 +23,21 @@ pub enum ModelSpec {
     LuGre(LuGreParams),
     /// `dahl`: `sigma`, `fc`, `delta`, `sigma2`.
     Dahl(DahlParams),
+    /// `elasto-plastic`: the LuGre keys and `z_ba`.
+    ElastoPlastic(ElastoPlasticParams),
+    /// `reset-integrator`: `sigma0`, `sigma1`, `z0`, `stiction`, optional Stribeck keys.
+    ResetIntegrator(ResetIntegratorParams),
+    /// `bristle`: `sigma0`, `delta_s`, `bristles` (one of [`BRISTLE_COUNTS`]), `seed`.
+    Bristle {
+        /// The parameters.
+        params: BristleParams,
+        /// Number of bristles `N`.
+        bristles: usize,
+    },
 }
+
+/// The bristle counts the host offers (the core takes any `N >= 1` as a const generic).
+pub const BRISTLE_COUNTS: &[usize] = &[1, 8, 25, 64];
 
 impl ModelSpec {
     /// The `model = "..."` name.
@@ -33,6 +48,9 @@ impl ModelSpec {
             Self::Stribeck(_) => "stribeck",
             Self::LuGre(_) => "lugre",
             Self::Dahl(_) => "dahl",
+            Self::ElastoPlastic(_) => "elasto-plastic",
+            Self::ResetIntegrator(_) => "reset-integrator",
+            Self::Bristle { .. } => "bristle",
         }
     }
 
@@ -45,6 +63,9 @@ impl ModelSpec {
             Self::Stribeck(p) => p.curve.fs,
             Self::LuGre(p) => p.curve.fs,
             Self::Dahl(p) => p.fc,
+            Self::ElastoPlastic(p) => p.lugre.curve.fs,
+            Self::ResetIntegrator(p) => (1.0 + p.stiction) * p.sigma0 * p.z0,
+            Self::Bristle { params, bristles } => *bristles as f64 * params.sigma0 * params.delta_s,
         }
     }
 
@@ -55,6 +76,9 @@ impl ModelSpec {
         match self {
             Self::LuGre(p) => p.curve.fs / p.sigma0,
             Self::Dahl(p) => p.fc / p.sigma,
+            Self::ElastoPlastic(p) => p.lugre.curve.fs / p.lugre.sigma0,
+            Self::ResetIntegrator(p) => p.z0,
+            Self::Bristle { params, .. } => params.delta_s,
             _ => 0.0,
         }
     }
@@ -67,12 +91,17 @@ impl ModelSpec {
             Self::Stribeck(p) => p.sigma2,
             Self::LuGre(p) => p.sigma2,
             Self::Dahl(p) => p.sigma2,
+            Self::ElastoPlastic(p) => p.lugre.sigma2,
+            Self::ResetIntegrator(_) | Self::Bristle { .. } => 0.0,
         }
     }
 
     /// Whether the model has internal state (and so pre-sliding, rigs, ...).
     pub fn has_state(&self) -> bool {
-        matches!(self, Self::LuGre(_) | Self::Dahl(_))
+        !matches!(
+            self,
+            Self::Coulomb(_) | Self::CoulombViscous(_) | Self::Stribeck(_)
+        )
     }
 
     /// Validates the parameters (the core's checks), naming the offending one.
@@ -83,6 +112,9 @@ impl ModelSpec {
             Self::Stribeck(p) => p.build::<f64>().map(|_| ()),
             Self::LuGre(p) => p.validate(),
             Self::Dahl(p) => p.validate(),
+            Self::ElastoPlastic(p) => p.validate(),
+            Self::ResetIntegrator(p) => p.validate(),
+            Self::Bristle { params, .. } => params.validate(),
         }
     }
 }
@@ -201,8 +233,79 @@ fn one() -> f64 {
     1.0
 }
 
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ElastoPlasticFile {
+    #[allow(dead_code)]
+    model: String,
+    fc: f64,
+    fs: f64,
+    vs: f64,
+    #[serde(default = "default_exponent")]
+    stribeck_exponent: f64,
+    sigma0: f64,
+    sigma1: f64,
+    #[serde(default)]
+    sigma2: f64,
+    vd: Option<f64>,
+    z_ba: f64,
+    #[serde(default)]
+    rig: Rig,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ResetIntegratorFile {
+    #[allow(dead_code)]
+    model: String,
+    sigma0: f64,
+    #[serde(default)]
+    sigma1: f64,
+    z0: f64,
+    #[serde(default)]
+    stiction: f64,
+    fc: Option<f64>,
+    fs: Option<f64>,
+    vs: Option<f64>,
+    stribeck_exponent: Option<f64>,
+    #[serde(default)]
+    rig: Rig,
+}
+
+fn default_bristles() -> usize {
+    25
+}
+
+fn default_seed() -> u64 {
+    1
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BristleFile {
+    #[allow(dead_code)]
+    model: String,
+    sigma0: f64,
+    delta_s: f64,
+    #[serde(default = "default_bristles")]
+    bristles: usize,
+    #[serde(default = "default_seed")]
+    seed: u64,
+    #[serde(default)]
+    rig: Rig,
+}
+
 /// The model names a file may give.
-pub const MODEL_NAMES: &[&str] = &["coulomb", "coulomb-viscous", "stribeck", "lugre", "dahl"];
+pub const MODEL_NAMES: &[&str] = &[
+    "coulomb",
+    "coulomb-viscous",
+    "stribeck",
+    "lugre",
+    "dahl",
+    "elasto-plastic",
+    "reset-integrator",
+    "bristle",
+];
 
 impl ParamFile {
     /// Parses TOML text; `origin` names the source in messages.
@@ -278,6 +381,73 @@ impl ParamFile {
                         delta: f.delta,
                         sigma2: f.sigma2,
                     }),
+                    rig: f.rig,
+                }
+            }
+            "elasto-plastic" => {
+                let f: ElastoPlasticFile = toml::from_str(text).with_context(ctx)?;
+                let curve = StribeckParams {
+                    fc: f.fc,
+                    fs: f.fs,
+                    vs: f.vs,
+                    exponent: f.stribeck_exponent,
+                };
+                let lugre = LuGreParams {
+                    curve,
+                    sigma0: f.sigma0,
+                    sigma1: f.sigma1,
+                    sigma2: f.sigma2,
+                    vd: f.vd,
+                };
+                ParamFile {
+                    model: ModelSpec::ElastoPlastic(ElastoPlasticParams {
+                        lugre,
+                        z_ba: f.z_ba,
+                    }),
+                    rig: f.rig,
+                }
+            }
+            "reset-integrator" => {
+                let f: ResetIntegratorFile = toml::from_str(text).with_context(ctx)?;
+                let curve = match (f.fc, f.fs, f.vs) {
+                    (Some(fc), Some(fs), Some(vs)) => Some(StribeckParams {
+                        fc,
+                        fs,
+                        vs,
+                        exponent: f.stribeck_exponent.unwrap_or(StribeckParams::DEFAULT_EXPONENT),
+                    }),
+                    (None, None, None) if f.stribeck_exponent.is_none() => None,
+                    _ => bail!("{origin}: the Stribeck shape of `reset-integrator` needs all of `fc`, `fs`, `vs` (or none)"),
+                };
+                ParamFile {
+                    model: ModelSpec::ResetIntegrator(ResetIntegratorParams {
+                        sigma0: f.sigma0,
+                        sigma1: f.sigma1,
+                        z0: f.z0,
+                        stiction: f.stiction,
+                        curve,
+                    }),
+                    rig: f.rig,
+                }
+            }
+            "bristle" => {
+                let f: BristleFile = toml::from_str(text).with_context(ctx)?;
+                if !BRISTLE_COUNTS.contains(&f.bristles) {
+                    bail!(
+                        "{origin}: `bristles` = {} is not offered; choose one of {:?}",
+                        f.bristles,
+                        BRISTLE_COUNTS
+                    );
+                }
+                ParamFile {
+                    model: ModelSpec::Bristle {
+                        params: BristleParams {
+                            sigma0: f.sigma0,
+                            delta_s: f.delta_s,
+                            seed: f.seed,
+                        },
+                        bristles: f.bristles,
+                    },
                     rig: f.rig,
                 }
             }
@@ -376,5 +546,22 @@ pull_velocity = 0.1
                 .unwrap_err()
         );
         assert!(e.contains("`delta` must be >= 1"), "{e}");
+        let ep = LUGRE.replace(
+            "model = \"lugre\"",
+            "model = \"elasto-plastic\"\nz_ba = 2e-5",
+        );
+        let e = format!("{:#}", ParamFile::parse(&ep, "t").unwrap_err());
+        assert!(e.contains("`z_ba` must be below `fc / sigma0`"), "{e}");
+        let ri = "model = \"reset-integrator\"\nsigma0 = 1e5\nz0 = 1e-5\nstiction = 0.5\nfc = 1";
+        let e = format!("{:#}", ParamFile::parse(ri, "t").unwrap_err());
+        assert!(e.contains("needs all of"), "{e}");
+        let b = "model = \"bristle\"\nsigma0 = 1e3\ndelta_s = 1e-5\nbristles = 7";
+        let e = format!("{:#}", ParamFile::parse(b, "t").unwrap_err());
+        assert!(e.contains("not offered"), "{e}");
+        let b = "model = \"bristle\"\nsigma0 = 1e3\ndelta_s = 1e-5\nbristles = 64\nseed = 3";
+        assert_eq!(
+            ParamFile::parse(b, "t").unwrap().model.max_static_force(),
+            64.0 * 1e3 * 1e-5
+        );
     }
 }

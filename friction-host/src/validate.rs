@@ -30,6 +30,22 @@ pub const PARAM_SETS: &[(&str, &str)] = &[
         include_str!("../../params/olsson1998-servo.toml"),
     ),
     ("dahl1968", include_str!("../../params/dahl1968.toml")),
+    (
+        "canudas1995-ep",
+        include_str!("../../params/canudas1995-ep.toml"),
+    ),
+    (
+        "astrom2008-drift-ep",
+        include_str!("../../params/astrom2008-drift-ep.toml"),
+    ),
+    (
+        "haessig1991-reset",
+        include_str!("../../params/haessig1991-reset.toml"),
+    ),
+    (
+        "haessig1991-bristle",
+        include_str!("../../params/haessig1991-bristle.toml"),
+    ),
 ];
 
 /// A shipped parameter set by name.
@@ -51,7 +67,7 @@ pub fn accuracy_bound(spec: &ModelSpec, h: f64) -> f64 {
                 0.005
             }
         }
-        ModelSpec::Dahl(_) => {
+        ModelSpec::Dahl(_) | ModelSpec::ElastoPlastic(_) => {
             if h >= 1e-3 {
                 0.03
             } else {
@@ -81,10 +97,17 @@ pub struct AccuracyRow {
     pub max: f64,
     /// RMS force error with the mean velocity over the step, / Fs.
     pub rms_mean_v: f64,
+    /// RMS force error away from switching instants (samples more than one
+    /// sample from a discontinuity of the reference), / Fs.
+    pub rms_smooth: f64,
+    /// Fraction of the samples in `rms_smooth`.
+    pub kept: f64,
     /// RMS difference f32 - f64 / Fs.
     pub f32_rms: f64,
     /// Bound on `rms`, where the project sets one for this parameter set.
     pub bound: Option<f64>,
+    /// Bound on `f32_rms`, where the project sets one (LuGre and the static maps).
+    pub f32_bound: Option<f64>,
 }
 
 impl AccuracyRow {
@@ -99,7 +122,7 @@ impl AccuracyRow {
 
     /// Whether the row meets its bounds.
     pub fn pass(&self) -> bool {
-        self.bound.is_none_or(|b| self.rms <= b) && self.f32_rms <= F32_BOUND
+        self.bound.is_none_or(|b| self.rms <= b) && self.f32_bound.is_none_or(|b| self.f32_rms <= b)
     }
 }
 
@@ -114,13 +137,13 @@ pub fn accuracy(
     plot_dir: Option<&Path>,
 ) -> Result<Vec<AccuracyRow>> {
     let fs = spec.max_static_force();
-    let reference = spec.continuous();
     let mut rows = Vec::new();
     for (i, s) in validation_signals().iter().enumerate() {
         for h in [1e-3, 1e-4] {
             let t = s.times(h);
             let v: Vec<f64> = t.iter().map(|&ti| s.v(ti)).collect();
-            let fr = drive_reference(reference.as_ref(), s, &t)?;
+            let reference = drive_reference(spec, s, &t)?;
+            let fr = &reference.force;
             let f64_ = drive_core(spec.stepper(ScalarKind::F64)?.as_mut(), &t, &v);
             let f32_ = drive_core(spec.stepper(ScalarKind::F32)?.as_mut(), &t, &v);
             let fm = drive_core(
@@ -128,6 +151,21 @@ pub fn accuracy(
                 &t,
                 &s.mean_velocities(&t),
             );
+            // away from switching: no discontinuity of the reference within one sample
+            let sw = &reference.switching;
+            let smooth: Vec<usize> = (0..t.len())
+                .filter(|&k| {
+                    !sw[k.saturating_sub(1)..(k + 2).min(t.len())]
+                        .iter()
+                        .any(|&b| b)
+                })
+                .collect();
+            let pick = |f: &[f64]| smooth.iter().map(|&k| f[k]).collect::<Vec<_>>();
+            let rms_smooth = if smooth.is_empty() {
+                f64::NAN
+            } else {
+                rms_diff(&pick(&f64_), &pick(fr)) / fs
+            };
             if let (Some(dir), true) = (plot_dir, h >= 1e-3) {
                 line_plot(
                     &dir.join(format!("accuracy-{label}-{}-{i}.svg", spec.name())),
@@ -141,7 +179,7 @@ pub fn accuracy(
                         },
                         Series {
                             label: "reference",
-                            points: zip(&t, &fr),
+                            points: zip(&t, fr),
                         },
                     ],
                 )?;
@@ -150,11 +188,15 @@ pub fn accuracy(
                 model: format!("{label} {}", spec.name()),
                 signal: s.name.clone(),
                 h,
-                rms: rms_diff(&f64_, &fr) / fs,
-                max: max_diff(&f64_, &fr) / fs,
-                rms_mean_v: rms_diff(&fm, &fr) / fs,
+                rms: rms_diff(&f64_, fr) / fs,
+                max: max_diff(&f64_, fr) / fs,
+                rms_mean_v: rms_diff(&fm, fr) / fs,
+                rms_smooth,
+                kept: smooth.len() as f64 / t.len() as f64,
                 f32_rms: rms_diff(&f32_, &f64_) / fs,
                 bound: bounded.then(|| accuracy_bound(spec, h)),
+                f32_bound: (bounded && !spec.has_state() || matches!(spec, ModelSpec::LuGre(_)))
+                    .then_some(F32_BOUND),
             });
         }
     }
@@ -230,16 +272,48 @@ pub fn run(dir: &Path) -> Result<bool> {
             false,
         ));
     }
+    models.push((
+        "canudas1995-ep".into(),
+        param_set("canudas1995-ep")?.model,
+        true,
+        true,
+    ));
+    // switching models: figures stated, no bound (see the report)
+    models.push((
+        "haessig1991-reset".into(),
+        param_set("haessig1991-reset")?.model,
+        false,
+        true,
+    ));
+    if let ModelSpec::Bristle { params, .. } = param_set("haessig1991-bristle")?.model {
+        for n in [8, 64] {
+            let scaled = friction_core::BristleParams {
+                sigma0: params.sigma0 * 25.0 / n as f64,
+                ..params
+            };
+            models.push((
+                format!("haessig1991-bristle N={n}"),
+                ModelSpec::Bristle {
+                    params: scaled,
+                    bristles: n,
+                },
+                false,
+                n == 64,
+            ));
+        }
+    }
     for (label, spec, bounded, plots) in &models {
         for r in accuracy(label, spec, *bounded, plots.then_some(dir))? {
             println!(
-                "{:<32} {:<28} {:>5.0}Hz {:>9.4}% {:>9.3}% {:>11.4}% {:>9.2e} {:>5}",
+                "{:<40} {:<28} {:>5.0}Hz {:>9.4}% {:>9.3}% {:>11.4}% {:>9.4}% ({:>3.0}%) {:>9.2e} {:>5}",
                 r.model,
                 r.signal,
                 1.0 / r.h,
                 100.0 * r.rms,
                 100.0 * r.max,
                 100.0 * r.rms_mean_v,
+                100.0 * r.rms_smooth,
+                100.0 * r.kept,
                 r.f32_rms,
                 r.verdict()
             );
@@ -262,10 +336,12 @@ pub fn run(dir: &Path) -> Result<bool> {
         ),
         ("astrom2008-stickslip", &["stick-slip"]),
         ("astrom2008-drift", &["drift"]),
-        (
-            "dahl1968",
-            &["stribeck", "presliding", "frictional-lag", "breakaway"],
-        ),
+        ("astrom2008-drift-ep", &["drift"]),
+        ("canudas1995", &["rate-independence"]),
+        ("canudas1995-ep", experiments::NAMES),
+        ("dahl1968", experiments::NAMES),
+        ("haessig1991-reset", experiments::NAMES),
+        ("haessig1991-bristle", experiments::NAMES),
     ];
     for (set, names) in plan {
         let file = param_set(set)?;
@@ -286,9 +362,22 @@ pub fn run(dir: &Path) -> Result<bool> {
             outcomes.push((set.to_string(), out));
         }
     }
+    println!(
+        "\nBristle model: sliding force against N (mean / (N sigma0 delta_s / 3), relative spread)"
+    );
+    let convergence = bristle_convergence()?;
+    for c in &convergence {
+        println!(
+            "N = {:>2}: mean {:.4}, std/mean {:.4}, std/mean x sqrt(N) {:.3}",
+            c.n,
+            c.mean,
+            c.spread,
+            c.spread * (c.n as f64).sqrt()
+        );
+    }
     let all_pass =
         rows.iter().all(AccuracyRow::pass) && outcomes.iter().all(|(_, o)| o.pass != Some(false));
-    write_report(dir, &rows, &outcomes, all_pass)?;
+    write_report(dir, &rows, &outcomes, &convergence, all_pass)?;
     println!(
         "\n{} — report: {}",
         if all_pass {
@@ -310,10 +399,53 @@ fn bold_fail(verdict: &str) -> &str {
     }
 }
 
+/// How the bristle model's sliding force converges with the number of bristles.
+#[derive(Clone, Copy, Debug)]
+pub struct BristleConvergence {
+    /// Number of bristles.
+    pub n: usize,
+    /// Mean sliding force / (N sigma0 delta_s / 3).
+    pub mean: f64,
+    /// Standard deviation / mean.
+    pub spread: f64,
+}
+
+/// Slides each offered bristle count at constant speed over 2000 `delta_s`
+/// (after 50 of running in) and measures the mean and spread of the force.
+pub fn bristle_convergence() -> Result<Vec<BristleConvergence>> {
+    let mut out = Vec::new();
+    for &n in crate::params::BRISTLE_COUNTS {
+        let params = friction_core::BristleParams {
+            sigma0: 1.0,
+            delta_s: 1.0,
+            seed: 1,
+        };
+        let mut m = ModelSpec::Bristle {
+            params,
+            bristles: n,
+        }
+        .stepper(ScalarKind::F64)?;
+        let h = 0.05; // v = 1: 1/20 of delta_s a step
+        for _ in 0..1000 {
+            m.step(1.0, h);
+        }
+        let f: Vec<f64> = (0..40_000).map(|_| m.step(1.0, h)).collect();
+        let mean = f.iter().sum::<f64>() / f.len() as f64;
+        let var = f.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / f.len() as f64;
+        out.push(BristleConvergence {
+            n,
+            mean: mean / (n as f64 / 3.0),
+            spread: var.sqrt() / mean,
+        });
+    }
+    Ok(out)
+}
+
 fn write_report(
     dir: &Path,
     rows: &[AccuracyRow],
     outcomes: &[(String, Outcome)],
+    convergence: &[BristleConvergence],
     all_pass: bool,
 ) -> Result<()> {
     let mut md = String::new();
@@ -334,23 +466,31 @@ fn write_report(
          when the core is fed the mean velocity over each step (an encoder difference) instead. `f32-f64` is \
          the RMS difference between the core in f32 and in f64, / Fs. Bounds (canudas1995 parameters): LuGre \
          <= 2 % at 1 kHz, <= 0.5 % at 10 kHz; Dahl (dahl1968, delta 1 and 2) <= 3 % and <= 1 % of Fc; \
-         static maps exact to rounding; f32 within 0.1 % for every row. \
-         Rows marked `info` are other parameter sets, measured and reported without a bound: `+vd` is the \
-         velocity-dependent damping `sigma1(v)` with `vd = vs`.\n",
+         static maps exact to rounding; f32 within 0.1 % for LuGre and the static maps (stated for the others). \
+         Rows marked `info` are measured and reported without a bound: other LuGre parameter sets (`+vd` is the \
+         velocity-dependent damping `sigma1(v)` with `vd = vs`), and the switching models (reset integrator, \
+         bristle), whose force jumps make an RMS over all samples mostly a count of misplaced jumps. For them \
+         `smooth` is the RMS over the samples more than one sample away from a switching instant of the \
+         reference (a bond breaking or re-forming, a velocity reversal, a bristle snapping), with the share of \
+         samples it keeps. The reset integrator's reference is diffsol on its discontinuous right-hand side; \
+         the bristle model's is an exact event-driven solution on the signal's displacement, split at velocity \
+         reversals, with the same seeded generator (the random numbers are part of the model).\n",
         crate::sim::REFERENCE_RTOL
     )?;
-    writeln!(md, "| model | signal | rate | rms / Fs | max / Fs | mean-v rms / Fs | f32 - f64 | bound | ok |")?;
-    writeln!(md, "|---|---|---|---|---|---|---|---|---|")?;
+    writeln!(md, "| model | signal | rate | rms / Fs | max / Fs | mean-v rms / Fs | smooth rms / Fs (kept) | f32 - f64 | bound | ok |")?;
+    writeln!(md, "|---|---|---|---|---|---|---|---|---|---|")?;
     for r in rows {
         writeln!(
             md,
-            "| {} | {} | {:.0} Hz | {:.4} % | {:.3} % | {:.4} % | {:.2e} | {} | {} |",
+            "| {} | {} | {:.0} Hz | {:.4} % | {:.3} % | {:.4} % | {:.4} % ({:.0} %) | {:.2e} | {} | {} |",
             r.model,
             r.signal,
             1.0 / r.h,
             100.0 * r.rms,
             100.0 * r.max,
             100.0 * r.rms_mean_v,
+            100.0 * r.rms_smooth,
+            100.0 * r.kept,
             r.f32_rms,
             r.bound
                 .map_or("-".to_string(), |b| format!("{} %", 100.0 * b)),
@@ -364,7 +504,35 @@ fn write_report(
     for i in 0..validation_signals().len() {
         writeln!(md, "![signal {i}](accuracy-canudas1995-lugre-{i}.svg)")?;
     }
+    writeln!(md, "\n## Bristle model: what the randomness does\n")?;
+    writeln!(
+        md,
+        "Sliding at constant speed over 2000 snapping deflections; force mean against the theory \
+         `N sigma0 delta_s / 3` and its relative spread. The spread falls like `1/sqrt(N)` (last column \
+         roughly constant).\n"
+    )?;
+    writeln!(
+        md,
+        "| N | mean / (N sigma0 delta_s / 3) | std / mean | std / mean x sqrt(N) |"
+    )?;
+    writeln!(md, "|---|---|---|---|")?;
+    for c in convergence {
+        writeln!(
+            md,
+            "| {} | {:.4} | {:.4} | {:.3} |",
+            c.n,
+            c.mean,
+            c.spread,
+            c.spread * (c.n as f64).sqrt()
+        )?;
+    }
     writeln!(md, "\n## Phenomena\n")?;
+    writeln!(
+        md,
+        "Each experiment reports whether its phenomenon showed; it passes when that is what the model \
+         is known to do (see `experiments::expectation`), and, for stick-slip, when the core at a 1 ms step \
+         agrees with the reference solver. `-`: not judged, figures reported.\n"
+    )?;
     writeln!(
         md,
         "| parameters | experiment | phenomenon | result | figure |"
