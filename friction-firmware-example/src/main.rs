@@ -22,7 +22,8 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use defmt_semihosting as _;
 use friction_core::{
-    CoulombViscousParams, FrictionModel, LuGreParams, LuGreState, Observer, StribeckParams,
+    BristleParams, CoulombViscousParams, DahlParams, ElastoPlasticParams, FrictionModel,
+    LuGreParams, LuGreState, Observer, ResetIntegratorParams, StribeckParams,
 };
 use hw::{Plant, SimDrive, SimEncoder};
 use servo::{Compensation, Servo};
@@ -136,6 +137,102 @@ fn ticks(n: u32, mut f: impl FnMut()) -> u32 {
     start.wrapping_sub(SYST::get_current()) & 0x00FF_FFFF
 }
 
+/// Instructions per call of each model's step, from SysTick under QEMU's
+/// `-icount shift=0` (time advances with executed instructions). SysTick
+/// ticks per instruction are calibrated with a loop of 16 NOPs against the
+/// same empty loop. Velocities sweep a sine through zero, as in the host
+/// benchmark.
+fn count_instructions(
+    model: &friction_core::LuGre<f32>,
+    observer: &Observer<friction_core::LuGre<f32>, f32>,
+) {
+    const N: u32 = 1024;
+    let with_loop = ticks(N, || {
+        for _ in 0..16 {
+            black_box(());
+        }
+    });
+    let nops = ticks(N, || {
+        for _ in 0..16 {
+            cortex_m::asm::nop();
+        }
+    });
+    let per_insn = (nops.saturating_sub(with_loop)) as f32 / (16 * N) as f32;
+    if per_insn <= 0.0 {
+        defmt::warn!("SysTick did not advance with instructions (run QEMU with -icount shift=0)");
+        return;
+    }
+    let mut vs = [0.0f32; 64];
+    for (k, v) in vs.iter_mut().enumerate() {
+        *v = 0.01 * libm::sinf(k as f32 * 0.1963);
+    }
+    let mut i = 0usize;
+    let empty = ticks(N, || {
+        i = (i + 1) & 63;
+        black_box(vs.get(i));
+    });
+    let per_call = |t: u32| t.saturating_sub(empty) as f32 / N as f32 / per_insn;
+    fn measure<M: FrictionModel<f32>>(m: &M, vs: &[f32; 64]) -> u32 {
+        let mut s = M::State::default();
+        let mut i = 0usize;
+        ticks(1024, || {
+            i = (i + 1) & 63;
+            black_box(m.step(&mut s, black_box(vs[i]), black_box(1e-3)));
+        })
+    }
+    let mut z = LuGreState::default();
+    let obs = ticks(N, || {
+        i = (i + 1) & 63;
+        black_box(observer.step(&mut z, black_box(vs[i]), black_box(1e-5), black_box(1e-3)));
+    });
+    let curve = NOMINAL.curve;
+    let (Ok(dahl), Ok(ep), Ok(reset), Ok(bristle)) = (
+        DahlParams {
+            sigma: NOMINAL.sigma0,
+            fc: curve.fc,
+            delta: 1.0,
+            sigma2: NOMINAL.sigma2,
+        }
+        .build::<f32>(),
+        ElastoPlasticParams {
+            lugre: NOMINAL,
+            z_ba: 0.5 * curve.fc / NOMINAL.sigma0,
+        }
+        .build::<f32>(),
+        ResetIntegratorParams {
+            sigma0: NOMINAL.sigma0,
+            sigma1: NOMINAL.sigma1,
+            z0: curve.fc / NOMINAL.sigma0,
+            stiction: 0.2,
+            curve: None,
+        }
+        .build::<f32>(),
+        BristleParams {
+            sigma0: NOMINAL.sigma0 / 8.0,
+            delta_s: 3.0 * curve.fc / NOMINAL.sigma0,
+            seed: 1,
+        }
+        .build::<f32, 8>(),
+    ) else {
+        fail("model parameters")
+    };
+    defmt::info!("SysTick ticks per instruction: {=f32}", per_insn);
+    for (name, t) in [
+        ("LuGre", measure(model, &vs)),
+        ("LuGre observer", obs),
+        ("Dahl", measure(&dahl, &vs)),
+        ("elasto-plastic", measure(&ep, &vs)),
+        ("reset integrator", measure(&reset, &vs)),
+        ("bristle N=8", measure(&bristle, &vs)),
+    ] {
+        defmt::info!(
+            "instructions per step (f32, QEMU icount): {=str} {=f32}",
+            name,
+            per_call(t)
+        );
+    }
+}
+
 fn fail(what: &str) -> ! {
     defmt::error!("failed: {=str}", what);
     debug::exit(EXIT_FAILURE);
@@ -168,39 +265,7 @@ fn main() -> ! {
         fail("observer gain")
     };
 
-    // Instruction counts. Calibrate SysTick ticks per instruction with a loop
-    // of 16 NOPs against the same empty loop.
-    const N: u32 = 1000;
-    let empty = ticks(N, || black_box(()));
-    let nops = ticks(N, || {
-        for _ in 0..16 {
-            cortex_m::asm::nop();
-        }
-    });
-    let with_loop = ticks(N, || {
-        for _ in 0..16 {
-            black_box(());
-        }
-    });
-    let per_insn = (nops.saturating_sub(with_loop)) as f32 / (16 * N) as f32;
-    let mut z = LuGreState::default();
-    let step = ticks(N, || {
-        black_box(model.step(&mut z, black_box(0.05), black_box(1e-3)));
-    });
-    let obs = ticks(N, || {
-        black_box(observer.step(&mut z, black_box(0.05), black_box(1e-5), black_box(1e-3)));
-    });
-    if per_insn > 0.0 {
-        let per_call = |t: u32| (t.saturating_sub(empty)) as f32 / N as f32 / per_insn;
-        defmt::info!(
-            "instructions per call (QEMU icount): LuGre step {=f32}, observer step {=f32} ({=f32} SysTick ticks per instruction)",
-            per_call(step),
-            per_call(obs),
-            per_insn
-        );
-    } else {
-        defmt::warn!("SysTick did not advance with instructions (run QEMU with -icount shift=0)");
-    }
+    count_instructions(&model, &observer);
 
     let none = run(Compensation::None);
     let coul = run(Compensation::Coulomb(coulomb));

@@ -116,7 +116,7 @@ pub fn run(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Ou
 /// | elasto-plastic | yes | yes | yes | yes | yes | **no** (below `sigma0 z_ba`) | no |
 /// | Dahl | yes | yes | no | no | no | yes | yes |
 /// | reset integrator | yes | no | no | no | yes | no | - |
-/// | bristle | yes | no | - | - | - | - | yes |
+/// | bristle | yes | no | - | no | - | no | yes |
 ///
 /// `stribeck` here means "the steady state is the model's map" (for the
 /// bristle model: its sliding mean).
@@ -133,7 +133,7 @@ pub fn expectation(model: &ModelSpec, experiment: &str) -> Option<bool> {
         ModelSpec::ResetIntegrator(_)=> [Y,       N,   N,   N,    Y,   N,    U],
         // bristle: the force is random in x, so F-v loops enclose area
         // without any lag; rate-independence is the relevant check
-        ModelSpec::Bristle { .. }    => [Y,       N,   U,   U,    U,   U,    Y],
+        ModelSpec::Bristle { .. }    => [Y,       N,   U,   N,    U,   N,    Y],
         _                            => [Y,       U,   U,   U,    U,   U,    U],
     };
     NAMES
@@ -703,7 +703,7 @@ fn drift(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
         agrees: None,
         pass: None,
         figure: format!(
-            "force peak {force} N: x after cycle 1 = {first:.4e} m, after cycle {n} = {last:.4e} m (drift shows when it grows > 1.5x and by > 1e-3 d, d = {d:.2e} m)"
+            "force peak {force:.4} N: x after cycle 1 = {first:.4e} m, after cycle {n} = {last:.4e} m (drift shows when it grows > 1.5x and by > 1e-3 d, d = {d:.2e} m)"
         ),
         summary,
         plot,

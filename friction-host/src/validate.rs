@@ -106,7 +106,7 @@ pub struct AccuracyRow {
     pub f32_rms: f64,
     /// Bound on `rms`, where the project sets one for this parameter set.
     pub bound: Option<f64>,
-    /// Bound on `f32_rms`, where the project sets one (LuGre and the static maps).
+    /// Bound on `f32_rms`, wherever an accuracy bound is set.
     pub f32_bound: Option<f64>,
 }
 
@@ -195,8 +195,7 @@ pub fn accuracy(
                 kept: smooth.len() as f64 / t.len() as f64,
                 f32_rms: rms_diff(&f32_, &f64_) / fs,
                 bound: bounded.then(|| accuracy_bound(spec, h)),
-                f32_bound: (bounded && !spec.has_state() || matches!(spec, ModelSpec::LuGre(_)))
-                    .then_some(F32_BOUND),
+                f32_bound: bounded.then_some(F32_BOUND),
             });
         }
     }
@@ -466,7 +465,7 @@ fn write_report(
          when the core is fed the mean velocity over each step (an encoder difference) instead. `f32-f64` is \
          the RMS difference between the core in f32 and in f64, / Fs. Bounds (canudas1995 parameters): LuGre \
          <= 2 % at 1 kHz, <= 0.5 % at 10 kHz; Dahl (dahl1968, delta 1 and 2) <= 3 % and <= 1 % of Fc; \
-         static maps exact to rounding; f32 within 0.1 % for LuGre and the static maps (stated for the others). \
+         static maps exact to rounding; f32 within 0.1 % wherever an accuracy bound is set. \
          Rows marked `info` are measured and reported without a bound: other LuGre parameter sets (`+vd` is the \
          velocity-dependent damping `sigma1(v)` with `vd = vs`), and the switching models (reset integrator, \
          bristle), whose force jumps make an RMS over all samples mostly a count of misplaced jumps. For them \

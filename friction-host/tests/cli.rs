@@ -163,3 +163,51 @@ fn experiment_writes_trace_and_plot() {
         String::from_utf8_lossy(&out.stderr).contains("does not apply to the static map `coulomb`")
     );
 }
+
+#[test]
+fn simulate_every_state_model() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.csv");
+    let mut text = String::from("t,v\n");
+    for k in 0..=500 {
+        text.push_str(&format!(
+            "{},{}\n",
+            k as f64 * 1e-3,
+            0.01 * (k as f64 * 0.02).sin()
+        ));
+    }
+    std::fs::write(&input, text).unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../params");
+    for (file, header) in [
+        ("dahl1968.toml", "t,v,f,fh"),
+        ("canudas1995-ep.toml", "t,v,f,z"),
+        ("haessig1991-reset.toml", "t,v,f,z"),
+        ("haessig1991-bristle.toml", "t,v,f,s0,s1,"),
+    ] {
+        let output = dir.path().join(format!("{file}.csv"));
+        let p = root.join(file);
+        let out = friction(&[
+            "simulate",
+            "--params",
+            p.to_str().unwrap(),
+            "--input",
+            input.to_str().unwrap(),
+            "--output",
+            output.to_str().unwrap(),
+            "--scalar",
+            "f32",
+        ]);
+        assert!(
+            out.status.success(),
+            "{file}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let csv = std::fs::read_to_string(&output).unwrap();
+        assert!(
+            csv.starts_with(header),
+            "{file}: {}",
+            csv.lines().next().unwrap()
+        );
+        assert_eq!(csv.lines().count(), 502);
+    }
+}

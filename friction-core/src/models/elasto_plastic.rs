@@ -17,7 +17,7 @@
 //! `dw/dxi = 1 - alpha(w) w / z_max`. Below `z_ba` that is `w + xi`, exact;
 //! above `z_max` it is an exact exponential relaxation onto `z_max`; in the
 //! transition zone the step is implicit Euler in up to 16 sub-steps, each
-//! solved by safeguarded Newton (at most 12 iterations). Stable at any `h`, `|z| <= Fs/sigma0` kept, and no
+//! solved by safeguarded Newton from the explicit Euler guess. Stable at any `h`, `|z| <= Fs/sigma0` kept, and no
 //! drift below `sigma0 z_ba`: there `z` follows the displacement exactly.
 
 use crate::model::{checked_inputs, convert, positive, FrictionModel, ParamError};
@@ -138,10 +138,13 @@ impl<S: Scalar> ElastoPlastic<S> {
 
     /// Solves `x = w + xi (1 - p(x))` in the transition zone. `G(x) = x - w -
     /// xi (1 - p(x))` is increasing with `G(w) <= 0 <= G(z_max)`, so the root
-    /// is bracketed in `[w, z_max]`: safeguarded Newton, at most 12 iterations.
+    /// is bracketed in `[w, z_max]`: safeguarded Newton from the explicit
+    /// Euler guess, at most 12 iterations, stopping at 1e-7 of `z_max`.
     fn implicit_euler(&self, w: S, xi: S, z_max: S) -> S {
         let (mut lo, mut hi) = (w, z_max);
-        let mut x = w;
+        let (p0, _) = self.plastic(w, z_max);
+        let mut x = (w + xi * (S::ONE - p0)).min(z_max);
+        let tol = z_max * S::from_f64(1e-7);
         for _ in 0..12 {
             let (p, dp) = self.plastic(x, z_max);
             let g = x - w - xi * (S::ONE - p);
@@ -152,13 +155,14 @@ impl<S: Scalar> ElastoPlastic<S> {
             }
             let dg = S::ONE + xi * dp;
             let mut next = x - g / dg;
-            if !(next > lo && next < hi) {
+            if !(next >= lo && next <= hi) {
                 next = (lo + hi) * S::from_f64(0.5);
             }
-            if next == x {
+            let done = (next - x).abs() <= tol;
+            x = next;
+            if done {
                 break;
             }
-            x = next;
         }
         x
     }
