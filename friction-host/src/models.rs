@@ -219,6 +219,15 @@ impl Continuous for StaticMap {
 
 struct LuGreOde(LuGreParams);
 
+/// `F = sigma0 z + sigma1(v) dz/dt + sigma2 v`, shared by LuGre and elasto-plastic.
+fn lugre_force(p: &LuGreParams, z: f64, dz: f64, v: f64) -> f64 {
+    let sigma1 = match p.vd {
+        Some(vd) => p.sigma1 * (-(v / vd) * (v / vd)).exp(),
+        None => p.sigma1,
+    };
+    p.sigma0 * z + sigma1 * dz + p.sigma2 * v
+}
+
 impl LuGreOde {
     fn g(&self, v: f64) -> f64 {
         let c = &self.0.curve;
@@ -234,14 +243,9 @@ impl Continuous for LuGreOde {
         dz[0] = v - self.0.sigma0 * v.abs() * z[0] / self.g(v);
     }
     fn force(&self, z: &[f64], v: f64) -> f64 {
-        let p = &self.0;
         let mut dz = [0.0];
         self.rhs(z, v, &mut dz);
-        let sigma1 = match p.vd {
-            Some(vd) => p.sigma1 * (-(v / vd) * (v / vd)).exp(),
-            None => p.sigma1,
-        };
-        p.sigma0 * z[0] + sigma1 * dz[0] + p.sigma2 * v
+        lugre_force(&self.0, z[0], dz[0], v)
     }
     fn atol(&self) -> Vec<f64> {
         vec![1e-6 * self.0.curve.fs / self.0.sigma0]
@@ -308,14 +312,9 @@ impl Continuous for ElastoPlasticOde {
         dz[0] = v - self.alpha(z[0], v) * p.sigma0 * v.abs() * z[0] / self.g(v);
     }
     fn force(&self, z: &[f64], v: f64) -> f64 {
-        let p = &self.0.lugre;
         let mut dz = [0.0];
         self.rhs(z, v, &mut dz);
-        let sigma1 = match p.vd {
-            Some(vd) => p.sigma1 * (-(v / vd) * (v / vd)).exp(),
-            None => p.sigma1,
-        };
-        p.sigma0 * z[0] + sigma1 * dz[0] + p.sigma2 * v
+        lugre_force(&self.0.lugre, z[0], dz[0], v)
     }
     fn atol(&self) -> Vec<f64> {
         vec![1e-6 * self.0.lugre.curve.fs / self.0.lugre.sigma0]

@@ -210,8 +210,27 @@ struct LuGreFile {
     #[serde(default)]
     sigma2: f64,
     vd: Option<f64>,
+    /// Only for `elasto-plastic`.
+    z_ba: Option<f64>,
     #[serde(default)]
     rig: Rig,
+}
+
+impl LuGreFile {
+    fn params(&self) -> LuGreParams {
+        LuGreParams {
+            curve: StribeckParams {
+                fc: self.fc,
+                fs: self.fs,
+                vs: self.vs,
+                exponent: self.stribeck_exponent,
+            },
+            sigma0: self.sigma0,
+            sigma1: self.sigma1,
+            sigma2: self.sigma2,
+            vd: self.vd,
+        }
+    }
 }
 
 #[derive(Deserialize)]
@@ -231,26 +250,6 @@ struct DahlFile {
 
 fn one() -> f64 {
     1.0
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct ElastoPlasticFile {
-    #[allow(dead_code)]
-    model: String,
-    fc: f64,
-    fs: f64,
-    vs: f64,
-    #[serde(default = "default_exponent")]
-    stribeck_exponent: f64,
-    sigma0: f64,
-    sigma1: f64,
-    #[serde(default)]
-    sigma2: f64,
-    vd: Option<f64>,
-    z_ba: f64,
-    #[serde(default)]
-    rig: Rig,
 }
 
 #[derive(Deserialize)]
@@ -355,20 +354,11 @@ impl ParamFile {
             }
             "lugre" => {
                 let f: LuGreFile = toml::from_str(text).with_context(ctx)?;
-                let curve = StribeckParams {
-                    fc: f.fc,
-                    fs: f.fs,
-                    vs: f.vs,
-                    exponent: f.stribeck_exponent,
-                };
+                if f.z_ba.is_some() {
+                    bail!("{origin}: `z_ba` belongs to `elasto-plastic`, not `lugre`");
+                }
                 ParamFile {
-                    model: ModelSpec::LuGre(LuGreParams {
-                        curve,
-                        sigma0: f.sigma0,
-                        sigma1: f.sigma1,
-                        sigma2: f.sigma2,
-                        vd: f.vd,
-                    }),
+                    model: ModelSpec::LuGre(f.params()),
                     rig: f.rig,
                 }
             }
@@ -385,24 +375,14 @@ impl ParamFile {
                 }
             }
             "elasto-plastic" => {
-                let f: ElastoPlasticFile = toml::from_str(text).with_context(ctx)?;
-                let curve = StribeckParams {
-                    fc: f.fc,
-                    fs: f.fs,
-                    vs: f.vs,
-                    exponent: f.stribeck_exponent,
-                };
-                let lugre = LuGreParams {
-                    curve,
-                    sigma0: f.sigma0,
-                    sigma1: f.sigma1,
-                    sigma2: f.sigma2,
-                    vd: f.vd,
+                let f: LuGreFile = toml::from_str(text).with_context(ctx)?;
+                let Some(z_ba) = f.z_ba else {
+                    bail!("{origin}: `elasto-plastic` needs `z_ba` (the break-away deflection)");
                 };
                 ParamFile {
                     model: ModelSpec::ElastoPlastic(ElastoPlasticParams {
-                        lugre,
-                        z_ba: f.z_ba,
+                        lugre: f.params(),
+                        z_ba,
                     }),
                     rig: f.rig,
                 }
@@ -552,6 +532,24 @@ pull_velocity = 0.1
         );
         let e = format!("{:#}", ParamFile::parse(&ep, "t").unwrap_err());
         assert!(e.contains("`z_ba` must be below `fc / sigma0`"), "{e}");
+        let e = format!(
+            "{:#}",
+            ParamFile::parse(
+                &LUGRE.replace("sigma2 = 0.4", "sigma2 = 0.4\nz_ba = 1e-6"),
+                "t"
+            )
+            .unwrap_err()
+        );
+        assert!(e.contains("belongs to `elasto-plastic`"), "{e}");
+        let e = format!(
+            "{:#}",
+            ParamFile::parse(
+                &LUGRE.replace("model = \"lugre\"", "model = \"elasto-plastic\""),
+                "t"
+            )
+            .unwrap_err()
+        );
+        assert!(e.contains("needs `z_ba`"), "{e}");
         let ri = "model = \"reset-integrator\"\nsigma0 = 1e5\nz0 = 1e-5\nstiction = 0.5\nfc = 1";
         let e = format!("{:#}", ParamFile::parse(ri, "t").unwrap_err());
         assert!(e.contains("needs all of"), "{e}");
