@@ -153,6 +153,70 @@ mod tests {
         );
     }
 
+    /// Every state model: NaN, infinite or negative inputs leave the state
+    /// untouched and return the (finite) hold force.
+    fn check_invalid_inputs<M: FrictionModel<f32>>(model: &M)
+    where
+        M::State: PartialEq,
+    {
+        let mut state = M::State::default();
+        for k in 0..50 {
+            model.step(&mut state, 1e-3 * (k as f32 * 0.3).sin(), 1e-3);
+        }
+        let before = state;
+        for (v, h) in [
+            (f32::NAN, 1e-3),
+            (f32::INFINITY, 1e-3),
+            (0.1, f32::NAN),
+            (0.1, -1e-3),
+            (0.1, f32::INFINITY),
+        ] {
+            let f = model.step(&mut state, v, h);
+            assert!(state == before, "state changed for v {v}, h {h}");
+            assert_eq!(f, model.hold_force(&state));
+            assert!(f.is_finite());
+        }
+    }
+
+    #[test]
+    fn invalid_inputs_never_poison_any_model() {
+        use crate::*;
+        let lugre = LuGreParams::CANUDAS_1995;
+        check_invalid_inputs(&lugre.build::<f32>().unwrap());
+        check_invalid_inputs(
+            &ElastoPlasticParams { lugre, z_ba: 5e-6 }
+                .build::<f32>()
+                .unwrap(),
+        );
+        check_invalid_inputs(
+            &DahlParams {
+                sigma: 1e5,
+                fc: 1.0,
+                delta: 1.5,
+                sigma2: 0.4,
+            }
+            .build::<f32>()
+            .unwrap(),
+        );
+        let reset = ResetIntegratorParams {
+            sigma0: 1e5,
+            sigma1: 300.0,
+            z0: 1e-5,
+            stiction: 0.5,
+            curve: None,
+        };
+        check_invalid_inputs(&reset.build::<f32>().unwrap());
+        check_invalid_inputs(
+            &BristleParams {
+                sigma0: 1e3,
+                delta_s: 1e-6,
+                seed: 3,
+            }
+            .build::<f32, 8>()
+            .unwrap(),
+        );
+    }
+
     #[test]
     fn invalid_inputs_are_detected() {
         assert_eq!(checked_inputs(1.0f64, 0.0), Some(1.0));

@@ -14,12 +14,13 @@
 //!
 //! Discretisation: with `v` held, write `w = z sign(v)` (deflection in the
 //! direction of motion) and `xi = |v| h` (distance slid); then
-//! `dw/dxi = 1 - alpha(w) w / z_max`. Below `z_ba` that is `w + xi`, exact;
-//! above `z_max` (and just below it, where `alpha = 1` to 2.5e-4) it is an
-//! exact exponential relaxation onto `z_max`; in the
-//! transition zone the step is implicit Euler in up to 16 sub-steps, each
-//! solved by safeguarded Newton from the explicit Euler guess. Stable at any `h`, `|z| <= Fs/sigma0` kept, and no
-//! drift below `sigma0 z_ba`: there `z` follows the displacement exactly.
+//! `dw/dxi = 1 - alpha(w) w / z_max`. Below `z_ba` that is `w + xi`, exact.
+//! Above `z_max`, and just below it where `alpha = 1` to 2.5e-4, it is an
+//! exact exponential relaxation onto `z_max`. In the transition zone the
+//! step is implicit Euler in up to 16 sub-steps, each solved by safeguarded
+//! Newton from the explicit Euler guess. Stable at any `h`, `|z| <= Fs/sigma0`
+//! kept, and no drift below `sigma0 z_ba`: there `z` follows the
+//! displacement exactly.
 
 use crate::model::{checked_inputs, convert, positive, FrictionModel, ParamError};
 use crate::models::lugre::{LuGre, LuGreParams, LuGreState};
