@@ -4,7 +4,8 @@
 //!   CLI can drive any model from a parameter file;
 //! - [`Continuous`]: the continuous-time equations, written here again from
 //!   the model sheet for the reference solver. They share no code with the
-//!   core's steps.
+//!   core's steps. The bristle model has none: its state jumps at random
+//!   snaps, and its reference is the event-driven `sim::bristle_reference`.
 
 use crate::params::ModelSpec;
 use friction_core::{
