@@ -24,8 +24,15 @@ pub enum ParamError {
     Negative(&'static str),
     /// The static (breakaway) friction `fs` is below the Coulomb level `fc`.
     StaticBelowCoulomb,
-    /// The parameter is finite in `f64` but not representable in the chosen scalar type.
+    /// The parameter is finite in `f64` but overflows the chosen scalar type.
     NotRepresentable(&'static str),
+    /// The parameter (or a quantity derived from it, such as `Fc / sigma0`)
+    /// is non-zero but underflows (to zero or a subnormal), or loses more
+    /// than 0.1 % to rounding, in the chosen scalar type.
+    Underflow(&'static str),
+    /// A force term carrying this parameter overflows the chosen scalar type
+    /// for some `|v| <= VELOCITY_LIMIT` (e.g. `sigma2 * 1e6`).
+    ForceOverflow(&'static str),
     /// The parameter (an exponent) must be `>= 1`.
     BelowOne(&'static str),
     /// The parameter must lie strictly below a limit set by other parameters.
@@ -52,6 +59,14 @@ impl fmt::Display for ParamError {
             Self::NotRepresentable(name) => {
                 write!(f, "parameter `{name}` overflows the chosen scalar type")
             }
+            Self::Underflow(name) => write!(
+                f,
+                "parameter `{name}` (or a ratio built from it) underflows the chosen scalar type"
+            ),
+            Self::ForceOverflow(name) => write!(
+                f,
+                "a force term with parameter `{name}` overflows the chosen scalar type at the velocity limit"
+            ),
             Self::BelowOne(name) => write!(f, "parameter `{name}` must be >= 1"),
             Self::NotBelow { name, limit } => {
                 write!(f, "parameter `{name}` must be below `{limit}`")
@@ -84,13 +99,30 @@ pub(crate) fn non_negative(name: &'static str, value: f64) -> Result<f64, ParamE
     }
 }
 
-/// Converts a validated `f64` into the run-time scalar, rejecting overflow.
+/// Converts a validated `f64` into the run-time scalar, rejecting overflow,
+/// and a non-zero value that underflows (below [`Scalar::MIN_POSITIVE`] in
+/// magnitude: zero or subnormal) or loses more than 0.1 % to rounding.
 pub(crate) fn convert<S: Scalar>(name: &'static str, value: f64) -> Result<S, ParamError> {
     let s = S::from_f64(value);
-    if s.is_finite() {
-        Ok(s)
-    } else {
+    if !s.is_finite() {
         Err(ParamError::NotRepresentable(name))
+    } else if (value != 0.0 && s.abs() < S::MIN_POSITIVE)
+        || (s.to_f64() - value).abs() > 1e-3 * value.abs()
+    {
+        Err(ParamError::Underflow(name))
+    } else {
+        Ok(s)
+    }
+}
+
+/// Checks that a force magnitude (computed in `f64` from the parameters at
+/// the velocity limit) stays finite in the scalar type with a margin of 4
+/// for intermediate sums; the error names the parameter that carries it.
+pub(crate) fn check_force<S: Scalar>(name: &'static str, magnitude: f64) -> Result<(), ParamError> {
+    if magnitude.is_finite() && S::from_f64(4.0 * magnitude).is_finite() {
+        Ok(())
+    } else {
+        Err(ParamError::ForceOverflow(name))
     }
 }
 
@@ -106,12 +138,14 @@ pub const VELOCITY_LIMIT: f64 = 1e6;
 /// motion: in steady sliding `sign(F) = sign(v)`.
 ///
 /// Contract, for every model:
-/// - `h = 0` is valid: the state is unchanged and the force at the current
-///   state and velocity is returned;
+/// - `h = 0` is valid: the state is bitwise unchanged and the force at the
+///   current state and velocity is returned;
 /// - a non-finite `v` or `h`, or a negative `h`, leaves the state untouched and
 ///   returns the model's [`FrictionModel::hold_force`], which is finite;
 /// - `|v|` is clamped to [`VELOCITY_LIMIT`];
-/// - it never panics, never allocates, and returns a finite force.
+/// - it never panics, never allocates, and returns a finite force: `build()`
+///   rejects any parameter set whose forces could overflow the scalar type
+///   for `|v| <= VELOCITY_LIMIT`, or whose parameters underflow in it.
 pub trait FrictionModel<S: Scalar> {
     /// The internal state; `Default` is the contact at rest, unstrained.
     type State: Copy + Default + fmt::Debug;

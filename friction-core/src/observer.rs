@@ -1,30 +1,46 @@
 //! Friction observer with a correction gain (Canudas de Wit et al. 1995;
-//! Olsson et al. 1998).
+//! Olsson et al. 1998), for every state model.
 //!
 //! The friction state is not measured. The observer runs the model on the
-//! measured velocity with a correction from the position error
-//! `e = x - x_ref` (measured minus desired):
+//! measured velocity `v` with a correction from the position error
+//! `e = x - x_ref` (measured minus desired). The correction is a velocity
+//! offset on the model's elastic input: `v - k e` is what strains the
+//! bristles (elements, bond), while the sliding law and the Stribeck curve
+//! still see the measured `v`. For LuGre:
 //!
 //! ```text
-//! dz^/dt = v - sigma0 |v| z^ / g(v) - k e
+//! dz^/dt = (v - k e) - sigma0 |v| z^ / g(v)
 //! F^     = sigma0 z^ + sigma1 dz^/dt + sigma2 v
 //! ```
 //!
 //! and a controller adds `F^` to its output. With the opposite sign of `e`
-//! the correction destabilises the loop. The estimate `z^` is clamped to the
-//! model's bound `±Fs/sigma0`, an anti-windup the continuous-time observer
-//! does not have. In a sampled loop the velocity is a sample late and noisy,
-//! so the `sigma1 dz^/dt` feed-forward can cost more than it gains: it is a
-//! switch ([`Observer::with_damping`]).
+//! the correction destabilises the loop.
+//!
+//! The estimate is bounded by what the model can produce:
+//! - `k e` saturates at [`VELOCITY_LIMIT`] instead of overflowing;
+//! - each state is clamped to its bound (`|z^| <= Fs/sigma0` for LuGre), an
+//!   anti-windup the continuous-time observer does not have, and the
+//!   `sigma1 dz^/dt` term uses the rate the state actually took: zero while
+//!   the state is held at its bound;
+//! - `F^` is clipped to [`Observable::force_bound`]`(v)`, the largest force
+//!   the model produces at that velocity from any state (`Fs` at `v = 0`).
+//!
+//! So any finite `v`, `e`, `k` and `h` give a finite estimate and a finite
+//! state. In a sampled loop the velocity is a sample late and noisy, so the
+//! `sigma1 dz^/dt` feed-forward can cost more than it gains: it is a switch
+//! ([`Observer::with_damping`]).
 
-use crate::model::{checked_inputs, non_negative, FrictionModel, ParamError};
+use crate::model::{checked_inputs, non_negative, FrictionModel, ParamError, VELOCITY_LIMIT};
 use crate::Scalar;
 
-/// A state model whose state equation accepts an observer's correction term.
+/// A state model whose elastic input accepts an observer's velocity offset.
 pub trait Observable<S: Scalar>: FrictionModel<S> {
-    /// Advances the state like [`FrictionModel::step`] with `correction`
-    /// subtracted from `dz/dt`; inputs are already checked and clamped.
-    /// Returns the force, with the `sigma1 dz/dt` term only if `damping`.
+    /// Advances the state like [`FrictionModel::step`], with `v - correction`
+    /// straining the elastic part and `v` driving the sliding law. Inputs are
+    /// already checked: `v` finite and clamped, `h` finite and `>= 0`,
+    /// `|correction| <= VELOCITY_LIMIT`. `h = 0` leaves the state bitwise
+    /// unchanged. Each state stays within its bound; the damping term (only
+    /// if `damping`) uses the rate the state actually took. Returns the force.
     fn step_corrected(
         &self,
         state: &mut Self::State,
@@ -33,6 +49,11 @@ pub trait Observable<S: Scalar>: FrictionModel<S> {
         h: S,
         damping: bool,
     ) -> S;
+
+    /// The largest `|F|` the model can produce at velocity `v`, from any
+    /// state within its bounds (for LuGre `Fs + sigma1(v) |v| (1 + Fs/Fc) +
+    /// sigma2 |v|`; `Fs` at rest).
+    fn force_bound(&self, v: S) -> S;
 }
 
 /// An observer built around a model `M`.
@@ -45,6 +66,9 @@ pub trait Observable<S: Scalar>: FrictionModel<S> {
 /// // measured velocity 1 mm/s, position 1 µm ahead of the reference
 /// let f_hat = observer.step(&mut z_hat, 1e-3, 1e-6, 1e-3);
 /// assert!(f_hat > 0.0 && f_hat.is_finite());
+/// // whatever the error, at rest the estimate stays within Fs = 1.5 N
+/// let f_hat = observer.step(&mut z_hat, 0.0, 1e30, 1e-3);
+/// assert!(f_hat.abs() <= 1.5);
 /// # Ok::<(), friction_core::ParamError>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -81,16 +105,26 @@ impl<S: Scalar, M: Observable<S>> Observer<M, S> {
         &self.model
     }
 
+    /// The correction gain `k` (1/s).
+    pub fn gain(&self) -> S {
+        self.gain
+    }
+
     /// Advances the estimate by `h` with measured velocity `v` and position
-    /// error `e = x - x_ref`, and returns the friction estimate `F^`.
-    /// A non-finite `v`, `e` or `h` (or `h < 0`) leaves the estimate untouched
-    /// and returns the model's hold force (`sigma0 z^`).
+    /// error `e = x - x_ref`, and returns the friction estimate `F^`, within
+    /// `±force_bound(v)`. A non-finite `v`, `e` or `h` (or `h < 0`) leaves the
+    /// estimate untouched and returns the model's hold force; `h = 0` leaves
+    /// it bitwise unchanged and returns the estimate at the current state.
     #[inline]
     pub fn step(&self, state: &mut M::State, v: S, e: S, h: S) -> S {
         match checked_inputs(v, h) {
             Some(v) if e.is_finite() => {
-                self.model
-                    .step_corrected(state, v, self.gain * e, h, self.damping)
+                // k and e are finite: k e is finite or infinite, never NaN
+                let correction = (self.gain * e).sat(S::from_f64(VELOCITY_LIMIT));
+                let f = self
+                    .model
+                    .step_corrected(state, v, correction, h, self.damping);
+                f.sat(self.model.force_bound(v))
             }
             _ => self.model.hold_force(state),
         }

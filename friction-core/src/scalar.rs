@@ -27,6 +27,9 @@ pub trait Scalar:
     const ZERO: Self;
     /// 1.
     const ONE: Self;
+    /// The smallest positive normal value: a non-zero parameter smaller in
+    /// magnitude is rejected when a model is built.
+    const MIN_POSITIVE: Self;
 
     /// Converts a design-time `f64`, rounding to the nearest representable value.
     fn from_f64(x: f64) -> Self;
@@ -38,6 +41,8 @@ pub trait Scalar:
     fn exp(self) -> Self;
     /// `e^x - 1`, accurate for small `x`.
     fn exp_m1(self) -> Self;
+    /// `ln(1 + x)`, accurate for small `x`.
+    fn ln_1p(self) -> Self;
     /// `x^y` for `x >= 0`.
     fn powf(self, y: Self) -> Self;
     /// `sqrt(x)` for `x >= 0`.
@@ -89,10 +94,11 @@ pub trait Scalar:
 }
 
 macro_rules! impl_float_scalar {
-    ($t:ty, $abs:path, $exp:path, $expm1:path, $pow:path, $sqrt:path, $sin:path, $cos:path) => {
+    ($t:ty, $abs:path, $exp:path, $expm1:path, $log1p:path, $pow:path, $sqrt:path, $sin:path, $cos:path) => {
         impl Scalar for $t {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
+            const MIN_POSITIVE: Self = <$t>::MIN_POSITIVE;
             #[inline]
             fn from_f64(x: f64) -> Self {
                 x as $t
@@ -112,6 +118,10 @@ macro_rules! impl_float_scalar {
             #[inline]
             fn exp_m1(self) -> Self {
                 $expm1(self)
+            }
+            #[inline]
+            fn ln_1p(self) -> Self {
+                $log1p(self)
             }
             #[inline]
             fn powf(self, y: Self) -> Self {
@@ -142,6 +152,7 @@ impl_float_scalar!(
     libm::fabsf,
     libm::expf,
     libm::expm1f,
+    libm::log1pf,
     libm::powf,
     libm::sqrtf,
     libm::sinf,
@@ -152,29 +163,12 @@ impl_float_scalar!(
     libm::fabs,
     libm::exp,
     libm::expm1,
+    libm::log1p,
     libm::pow,
     libm::sqrt,
     libm::sin,
     libm::cos
 );
-
-/// Exact solution over a step `h` of the linear relaxation `dz/dt = u - a z`
-/// with `u` and `a >= 0` held: `z(h) = u/a + (z - u/a) e^(-a h)`, written as
-/// `z + (u - a z) (1 - e^(-a h)) / a` while `a h <= 1` so that it stays exact
-/// as `a -> 0` (where it tends to `z + u h`). Unconditionally stable: the
-/// result lies between `z` and the equilibrium `u/a`.
-#[inline]
-pub(crate) fn relax<S: Scalar>(z: S, u: S, a: S, h: S) -> S {
-    let x = a * h;
-    if x > S::ONE {
-        let z_eq = u / a;
-        z_eq + (z - z_eq) * (-x).exp()
-    } else if x > S::ZERO {
-        z + (u - a * z) * (-(-x).exp_m1() / a)
-    } else {
-        z + u * h
-    }
-}
 
 #[cfg(test)]
 mod tests {
@@ -191,31 +185,6 @@ mod tests {
     fn abs_clears_sign_bit() {
         assert_eq!((-2.5f32).abs(), 2.5);
         assert_eq!(Scalar::abs(-0.0f64).to_bits(), 0);
-    }
-
-    #[test]
-    fn relax_matches_closed_form() {
-        let exact = |z: f64, u: f64, a: f64, h: f64| u / a + (z - u / a) * (-a * h).exp();
-        for &(z, u, a, h) in &[
-            (1.0, 2.0, 3.0, 0.1),
-            (-1e-5, 1e-3, 66.0, 1e-3),
-            (0.5, -1.0, 1e4, 1e-3),
-            (1e-5, 0.37, 3.7e4, 1e-4),
-        ] {
-            let r = relax(z, u, a, h);
-            let e = exact(z, u, a, h);
-            assert!((r - e).abs() <= 1e-12 * (e.abs() + z.abs()), "{r} vs {e}");
-        }
-        // a = 0: plain integration
-        assert_eq!(relax(1.0f64, 2.0, 0.0, 0.5), 2.0);
-        // a h tiny: no cancellation, tends to z + (u - a z) h
-        let r = relax(0.0f64, 1.0, 1e-12, 1e-3);
-        assert!((r - 1e-3).abs() < 1e-15);
-        // a infinite: lands on the equilibrium u/a = 0
-        assert_eq!(relax(1.0f64, 1.0, f64::INFINITY, 1e-3), 0.0);
-        // f32 keeps the small-argument accuracy
-        let r = relax(0.0f32, 1.0, 1e-3, 1e-4);
-        assert!((r - 1e-4).abs() / 1e-4 < 1e-6);
     }
 
     #[test]

@@ -6,7 +6,10 @@
 //! baseline every dynamic model is compared with, and the feed-forward of
 //! the simplest compensators.
 
-use crate::model::{checked_inputs, convert, non_negative, positive, FrictionModel, ParamError};
+use crate::model::{
+    check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
+    VELOCITY_LIMIT,
+};
 use crate::Scalar;
 
 /// Parameters of the Stribeck curve, in `f64`.
@@ -151,6 +154,7 @@ impl CoulombViscousParams {
     pub fn build<S: Scalar>(&self) -> Result<CoulombViscous<S>, ParamError> {
         positive("fc", self.fc)?;
         non_negative("sigma2", self.sigma2)?;
+        check_force::<S>("sigma2", self.sigma2 * VELOCITY_LIMIT)?;
         Ok(CoulombViscous {
             fc: convert("fc", self.fc)?,
             sigma2: convert("sigma2", self.sigma2)?,
@@ -210,6 +214,7 @@ impl StribeckMapParams {
     pub fn build<S: Scalar>(&self) -> Result<StribeckMap<S>, ParamError> {
         let curve = self.curve.build()?;
         non_negative("sigma2", self.sigma2)?;
+        check_force::<S>("sigma2", self.sigma2 * VELOCITY_LIMIT)?;
         Ok(StribeckMap {
             curve,
             sigma2: convert("sigma2", self.sigma2)?,

@@ -33,7 +33,8 @@
 //! let m = p.build::<f32, 0>(); // error: N = 0 bristles
 //! ```
 
-use crate::model::{checked_inputs, convert, positive, FrictionModel, ParamError};
+use crate::model::{check_force, checked_inputs, convert, positive, FrictionModel, ParamError};
+use crate::observer::Observable;
 use crate::random::CounterRng;
 use crate::Scalar;
 
@@ -74,6 +75,7 @@ impl BristleParams {
     pub fn build<S: Scalar, const N: usize>(&self) -> Result<Bristle<S, N>, ParamError> {
         const { assert!(N > 0, "the bristle model needs at least one bristle") };
         self.validate()?;
+        check_force::<S>("sigma0", N as f64 * self.sigma0 * self.delta_s)?;
         Ok(Bristle {
             sigma0: convert("sigma0", self.sigma0)?,
             delta_s: convert("delta_s", self.delta_s)?,
@@ -155,10 +157,41 @@ impl<S: Scalar, const N: usize> FrictionModel<S> for Bristle<S, N> {
     type State = BristleState<S, N>;
 
     fn step(&self, state: &mut BristleState<S, N>, v: S, h: S) -> S {
-        let Some(v) = checked_inputs(v, h) else {
-            return self.hold_force(state);
-        };
-        let d = v * h;
+        match checked_inputs(v, h) {
+            Some(v) => self.advance(state, v * h),
+            None => self.hold_force(state),
+        }
+    }
+
+    /// `sigma0 sum s_i` (the force is a function of the strains alone).
+    fn hold_force(&self, state: &BristleState<S, N>) -> S {
+        self.force(state)
+    }
+}
+
+/// Observer form: every strain moves with `v - c`. No damping term.
+impl<S: Scalar, const N: usize> Observable<S> for Bristle<S, N> {
+    fn step_corrected(
+        &self,
+        state: &mut BristleState<S, N>,
+        v: S,
+        correction: S,
+        h: S,
+        _damping: bool,
+    ) -> S {
+        self.advance(state, (v - correction) * h)
+    }
+
+    /// `N sigma0 delta_s`: every bristle at its snapping deflection.
+    fn force_bound(&self, _v: S) -> S {
+        S::from_f64(N as f64) * self.sigma0 * self.delta_s
+    }
+}
+
+impl<S: Scalar, const N: usize> Bristle<S, N> {
+    /// Moves every strain by the displacement `d` (a zero `d` leaves the
+    /// state untouched) and returns the force.
+    fn advance(&self, state: &mut BristleState<S, N>, d: S) -> S {
         if d != S::ZERO {
             for (i, (s, b)) in state
                 .strain
@@ -169,11 +202,6 @@ impl<S: Scalar, const N: usize> FrictionModel<S> for Bristle<S, N> {
                 self.move_bristle(i, s, b, d);
             }
         }
-        self.force(state)
-    }
-
-    /// `sigma0 sum s_i` (the force is a function of the strains alone).
-    fn hold_force(&self, state: &BristleState<S, N>) -> S {
         self.force(state)
     }
 }

@@ -11,12 +11,20 @@
 //!
 //! Discretisation: with `v` held the step covers the displacement
 //! `dx = v h` and the equation in `x` is solved exactly. With
-//! `k = sigma |dx| / Fc`: `y+ = y e^(-k)` for `delta = 1`, and
-//! `|y+| = (|y|^(1-delta) + (delta - 1) k)^(-1/(delta-1))` (same sign) for
-//! `delta > 1`. Exact in `x`, so rate independence holds to rounding at any
+//! `k = sigma |dx| / Fc` and `d = delta - 1` (here `y >= 0` as `|F| <= Fc`):
+//! `y+ = y e^(-L)` with `L = k` for `delta = 1` and
+//! `L = ln(1 + d k y^d) / d` for `delta > 1` (the closed form
+//! `y+ = (y^(-d) + d k)^(-1/d)` rewritten so that it keeps its accuracy as
+//! `d -> 0`, in `f32` too). The force moves by the increment
+//! `F+ = F - sign(v) Fc y (e^(-L) - 1)`, so a small step is not lost to
+//! rounding. Exact in `x`, so rate independence holds to rounding at any
 //! step, and `|F| <= Fc` is kept.
 
-use crate::model::{checked_inputs, convert, non_negative, positive, FrictionModel, ParamError};
+use crate::model::{
+    check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
+    VELOCITY_LIMIT,
+};
+use crate::observer::Observable;
 use crate::Scalar;
 
 /// Dahl parameters (`model = "dahl"`), in `f64`.
@@ -58,11 +66,15 @@ impl DahlParams {
         Ok(())
     }
 
-    /// Validates and builds the run-time model.
+    /// Validates and builds the run-time model; rejects parameters that
+    /// underflow in the scalar type and a `sigma2` whose force overflows it
+    /// at the velocity limit.
     pub fn build<S: Scalar>(&self) -> Result<Dahl<S>, ParamError> {
         self.validate()?;
+        check_force::<S>("sigma2", self.sigma2 * VELOCITY_LIMIT)?;
         Ok(Dahl {
             fc: convert("fc", self.fc)?,
+            sigma: convert("sigma", self.sigma)?,
             sigma_over_fc: convert("sigma", self.sigma / self.fc)?,
             delta_minus_one: convert("delta", self.delta - 1.0)?,
             sigma2: convert("sigma2", self.sigma2)?,
@@ -75,6 +87,7 @@ impl DahlParams {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Dahl<S> {
     fc: S,
+    sigma: S,
     sigma_over_fc: S,
     delta_minus_one: S,
     sigma2: S,
@@ -88,34 +101,69 @@ pub struct DahlState<S> {
     pub f: S,
 }
 
+impl<S: Scalar> Dahl<S> {
+    /// One exact step over the displacement `v h`, then an observer's
+    /// correction `F <- F - sigma c h` (`c = 0` for the model), clamped to
+    /// `±Fc`. `h = 0` or `v = c = 0` leave the state untouched.
+    #[inline]
+    fn advance(&self, state: &mut DahlState<S>, v: S, c: S, h: S) -> S {
+        let s = v.sign();
+        let k = self.sigma_over_fc * (v * h).abs();
+        let mut f = state.f;
+        if k > S::ZERO {
+            let y = S::ONE - f * s / self.fc;
+            if y > S::ZERO {
+                let d = self.delta_minus_one;
+                let l = if d > S::ZERO {
+                    (d * k * y.powf(d)).ln_1p() / d
+                } else {
+                    k
+                };
+                f = (f - s * self.fc * y * (-l).exp_m1()).sat(self.fc);
+            }
+        }
+        if h > S::ZERO && c != S::ZERO {
+            f = (f - self.sigma * c * h).sat(self.fc);
+        }
+        state.f = f;
+        f + self.sigma2 * v
+    }
+}
+
 impl<S: Scalar> FrictionModel<S> for Dahl<S> {
     type State = DahlState<S>;
 
     fn step(&self, state: &mut DahlState<S>, v: S, h: S) -> S {
-        let Some(v) = checked_inputs(v, h) else {
-            return self.hold_force(state);
-        };
-        let s = v.sign();
-        let k = self.sigma_over_fc * (v * h).abs();
-        let y = S::ONE - state.f * s / self.fc;
-        let y_next = if k <= S::ZERO || y == S::ZERO {
-            y
-        } else if self.delta_minus_one <= S::ZERO {
-            y * (-k).exp()
-        } else {
-            let d = self.delta_minus_one;
-            let m = (y.abs().powf(-d) + d * k).powf(-S::ONE / d);
-            m * y.sign()
-        };
-        if s != S::ZERO {
-            state.f = (s * self.fc * (S::ONE - y_next)).sat(self.fc);
+        match checked_inputs(v, h) {
+            Some(v) => self.advance(state, v, S::ZERO, h),
+            None => self.hold_force(state),
         }
-        state.f + self.sigma2 * v
     }
 
     /// `F`.
     fn hold_force(&self, state: &DahlState<S>) -> S {
         state.f
+    }
+}
+
+/// Observer form: the correction strains the contact, `dF/dt = sigma (v - c)
+/// - (plastic part driven by v)`, applied after the exact step (first-order
+/// splitting). Dahl has no `sigma1`: `damping` has no effect.
+impl<S: Scalar> Observable<S> for Dahl<S> {
+    fn step_corrected(
+        &self,
+        state: &mut DahlState<S>,
+        v: S,
+        correction: S,
+        h: S,
+        _damping: bool,
+    ) -> S {
+        self.advance(state, v, correction, h)
+    }
+
+    /// `Fc + sigma2 |v|`.
+    fn force_bound(&self, v: S) -> S {
+        self.fc + self.sigma2 * v.abs()
     }
 }
 

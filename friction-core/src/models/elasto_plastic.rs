@@ -175,19 +175,28 @@ impl<S: Scalar> ElastoPlastic<S> {
         x
     }
 
+    /// One step: the model's motion along `v`, then the observer's
+    /// correction `z <- z - c h` (first-order splitting; `c = 0` for the
+    /// model), clamped to `±Fs/sigma0`. `h = 0` leaves the state untouched.
     fn advance(&self, state: &mut LuGreState<S>, v: S, correction: S, h: S, damping: bool) -> S {
         let s = v.sign();
         let z_max = self.lugre.curve().eval(v) / self.lugre.sigma0();
         let mut z = state.z;
-        if s != S::ZERO {
-            z = s * self.advance_w(s * z, v.abs() * h, z_max);
+        if h > S::ZERO {
+            if s != S::ZERO {
+                z = s * self.advance_w(s * z, v.abs() * h, z_max);
+            }
+            z = (z - correction * h).sat(self.lugre.z_max());
+            state.z = z;
         }
-        z = (z - correction * h).sat(self.lugre.z_max());
-        state.z = z;
         let mut f = self.lugre.sigma0() * z + self.lugre.sigma2() * v;
         if damping {
             let (p, _) = self.plastic(s * z, z_max);
-            let dz = v * (S::ONE - p) - correction;
+            // dz/dt at the end of the step, zero while held at the bound
+            let mut dz = v * (S::ONE - p) - correction;
+            if z.abs() >= self.lugre.z_max() && dz * z > S::ZERO {
+                dz = S::ZERO;
+            }
             f = f + self.lugre.damping(v) * dz;
         }
         f
@@ -222,6 +231,11 @@ impl<S: Scalar> Observable<S> for ElastoPlastic<S> {
         damping: bool,
     ) -> S {
         self.advance(state, v, correction, h, damping)
+    }
+
+    /// As LuGre's: `|dz/dt| <= |v| (1 + Fs/Fc)` within the bound.
+    fn force_bound(&self, v: S) -> S {
+        self.lugre.force_bound(v)
     }
 }
 

@@ -12,11 +12,15 @@
 //! (exponential relaxation towards `sign(v) g(v) / sigma0`). The step is
 //! unconditionally stable at any `h`, keeps `|z| <= Fs / sigma0`, and its
 //! steady state is exactly `g(v) sign(v) + sigma2 v`. The force is evaluated
-//! at the end of the step, with `dz/dt = v - a z(t + h)`.
+//! at the end of the step, with `dz/dt = v - a z(t + h)`. The rate `a` is
+//! never formed where it could overflow (`sigma0 = 1e305` in `f64` still
+//! lands on the steady state).
 
-use crate::model::{checked_inputs, convert, non_negative, positive, FrictionModel, ParamError};
+use crate::model::{
+    check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
+    VELOCITY_LIMIT,
+};
 use crate::observer::Observable;
-use crate::scalar::relax;
 use crate::stribeck::{StribeckCurve, StribeckParams};
 use crate::Scalar;
 
@@ -75,11 +79,22 @@ impl LuGreParams {
         Ok(())
     }
 
-    /// Validates and builds the run-time model.
+    /// Validates and builds the run-time model. Besides [`Self::validate`],
+    /// rejects parameter sets the scalar type cannot carry: `Fc / sigma0` or
+    /// a non-zero parameter that underflows ([`ParamError::Underflow`]), and
+    /// `sigma1`, `sigma2` whose force terms overflow at the velocity limit
+    /// ([`ParamError::ForceOverflow`]).
     pub fn build<S: Scalar>(&self) -> Result<LuGre<S>, ParamError> {
         self.validate()?;
+        let curve = self.curve.build()?;
+        let (fc, fs) = (self.curve.fc, self.curve.fs);
+        // the steady deflection g(v)/sigma0 lies in [Fc, Fs]/sigma0
+        convert::<S>("sigma0", fc / self.sigma0)?;
+        // |dz/dt| <= |v| (1 + Fs/Fc), plus an observer's correction up to the limit
+        check_force::<S>("sigma1", self.sigma1 * VELOCITY_LIMIT * (2.0 + fs / fc))?;
+        check_force::<S>("sigma2", self.sigma2 * VELOCITY_LIMIT)?;
         Ok(LuGre {
-            curve: self.curve.build()?,
+            curve,
             sigma0: convert("sigma0", self.sigma0)?,
             sigma1: convert("sigma1", self.sigma1)?,
             sigma2: convert("sigma2", self.sigma2)?,
@@ -87,7 +102,8 @@ impl LuGreParams {
                 Some(vd) => convert("vd", 1.0 / (vd * vd))?,
                 None => S::ZERO,
             },
-            z_max: convert("sigma0", self.curve.fs / self.sigma0)?,
+            z_max: convert("sigma0", fs / self.sigma0)?,
+            rate_factor: convert("fs", 1.0 + fs / fc)?,
         })
     }
 
@@ -112,6 +128,8 @@ pub struct LuGre<S> {
     sigma2: S,
     inv_vd_sq: S,
     z_max: S,
+    /// `1 + Fs/Fc`: `|dz/dt| <= |v| (1 + Fs/Fc)` within the bound.
+    rate_factor: S,
 }
 
 /// The LuGre state: the mean bristle deflection `z` (m).
@@ -158,18 +176,42 @@ impl<S: Scalar> LuGre<S> {
         }
     }
 
-    /// One step of `dz/dt = v - a z - c` (`c` is an observer's correction,
-    /// 0 for the model), returning the force with `dz/dt` at the end of the step.
+    /// One step of `dz/dt = (v - c) - sigma0 |v| z / g(v)` (`c` is an
+    /// observer's correction, 0 for the model), solved exactly for held `v`
+    /// and `c`: with `r = g(v)/sigma0` and `a = |v|/r`, `z` relaxes towards
+    /// `(v - c)/a`. Written without forming `a` where it may overflow, so a
+    /// stiff `sigma0` lands on the equilibrium instead of collapsing to 0.
+    /// Returns the force with `dz/dt` at the end of the step; `h = 0` leaves
+    /// the state untouched.
     #[inline]
     fn advance(&self, state: &mut LuGreState<S>, v: S, c: S, h: S, damping: bool) -> S {
         let g = self.curve.eval(v);
-        let a = self.sigma0 * v.abs() / g;
-        let z = relax(state.z, v - c, a, h).sat(self.z_max);
-        state.z = z;
+        let r = g / self.sigma0; // > 0: Fc/sigma0 is checked at build
+        let speed = v.abs();
+        let u = v - c;
+        let mut z = state.z;
+        if h > S::ZERO {
+            let x = speed / r * h; // a h, possibly +inf, never NaN
+            let z_free = if x > S::ONE {
+                // equilibrium u/a; beyond the bound only with a correction
+                let z_eq = (u / speed * r).sat(self.z_max + self.z_max);
+                z_eq + (z - z_eq) * (-x).exp()
+            } else if x > S::ZERO {
+                let a = speed / r;
+                z + (u - a * z) * (-(-x).exp_m1() / a)
+            } else {
+                z + u * h
+            };
+            z = z_free.sat(self.z_max);
+            state.z = z;
+        }
         let mut f = self.sigma0 * z + self.sigma2 * v;
         if damping {
-            // dz/dt = v - |v| (sigma0 z / g) - c, written so it stays finite even where a overflows.
-            let dz = v - v.abs() * (self.sigma0 * z / g) - c;
+            // dz/dt = u - a z, zero while the state is held at its bound
+            let mut dz = u - speed * (z / r);
+            if z.abs() >= self.z_max && dz * z > S::ZERO {
+                dz = S::ZERO;
+            }
             f = f + self.damping(v) * dz;
         }
         f
@@ -203,6 +245,11 @@ impl<S: Scalar> Observable<S> for LuGre<S> {
         damping: bool,
     ) -> S {
         self.advance(state, v, correction, h, damping)
+    }
+
+    fn force_bound(&self, v: S) -> S {
+        let speed = v.abs();
+        self.curve.fs() + (self.damping(v) * self.rate_factor + self.sigma2) * speed
     }
 }
 

@@ -15,7 +15,11 @@
 //! `±z0` within the step (the switching instant is handled inside the
 //! step, not at its end). Exact for held `v`.
 
-use crate::model::{checked_inputs, convert, non_negative, positive, FrictionModel, ParamError};
+use crate::model::{
+    check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
+    VELOCITY_LIMIT,
+};
+use crate::observer::Observable;
 use crate::stribeck::{StribeckCurve, StribeckParams};
 use crate::Scalar;
 
@@ -61,8 +65,12 @@ impl ResetIntegratorParams {
     }
 
     /// Validates and builds the run-time model.
+    /// Rejects parameters that underflow in the scalar type and force terms
+    /// that overflow it at the velocity limit.
     pub fn build<S: Scalar>(&self) -> Result<ResetIntegrator<S>, ParamError> {
         self.validate()?;
+        check_force::<S>("sigma0", (1.0 + self.stiction) * self.sigma0 * self.z0)?;
+        check_force::<S>("sigma1", self.sigma1 * 2.0 * VELOCITY_LIMIT)?;
         let (curve, inv_fs) = match &self.curve {
             Some(c) => (Some(c.build()?), convert("fs", 1.0 / c.fs)?),
             None => (None, S::ONE),
@@ -103,7 +111,7 @@ impl<S: Scalar> ResetIntegrator<S> {
     #[inline]
     fn stiffness(&self, v: S) -> S {
         match &self.curve {
-            Some(c) => self.sigma0 * c.eval(v) * self.inv_fs,
+            Some(c) => self.sigma0 * (c.eval(v) * self.inv_fs),
             None => self.sigma0,
         }
     }
@@ -112,7 +120,7 @@ impl<S: Scalar> ResetIntegrator<S> {
     #[inline]
     fn elastic(&self, z: S, v: S) -> S {
         let a = if z.abs() < self.z0 { self.a } else { S::ZERO };
-        (S::ONE + a) * self.stiffness(v) * z
+        (S::ONE + a) * (self.stiffness(v) * z)
     }
 
     /// The breakaway deflection `z0`.
@@ -121,47 +129,64 @@ impl<S: Scalar> ResetIntegrator<S> {
     }
 }
 
+impl<S: Scalar> ResetIntegrator<S> {
+    /// One step of the bond strain driven by `u = v - c` (`c` an observer's
+    /// correction, 0 for the model): `z + u h`, stopped at `±z0` inside the
+    /// step; the bond rate `dz/dt` is `u`, or 0 once the bond has reset.
+    /// `h = 0` leaves the state untouched.
+    #[inline]
+    fn advance(&self, state: &mut ResetIntegratorState<S>, v: S, c: S, h: S) -> S {
+        let u = v - c;
+        let z = state.z;
+        let (z_next, dz) = if h > S::ZERO {
+            let zn = z + u * h;
+            let reset = zn.abs() >= self.z0;
+            let zn = zn.sat(self.z0);
+            state.z = zn;
+            (zn, if reset { S::ZERO } else { u })
+        } else if z.abs() >= self.z0 && u * z > S::ZERO {
+            (z, S::ZERO)
+        } else {
+            (z, u)
+        };
+        self.elastic(z_next, v) + self.sigma1 * dz
+    }
+}
+
 impl<S: Scalar> FrictionModel<S> for ResetIntegrator<S> {
     type State = ResetIntegratorState<S>;
 
     fn step(&self, state: &mut ResetIntegratorState<S>, v: S, h: S) -> S {
-        let Some(v) = checked_inputs(v, h) else {
-            return self.hold_force(state);
-        };
-        let z = state.z;
-        let (z_next, reset) = if v > S::ZERO {
-            if z >= self.z0 {
-                (z, true)
-            } else {
-                let zn = z + v * h;
-                if zn >= self.z0 {
-                    (self.z0, true)
-                } else {
-                    (zn, false)
-                }
-            }
-        } else if v < S::ZERO {
-            if z <= -self.z0 {
-                (z, true)
-            } else {
-                let zn = z + v * h;
-                if zn <= -self.z0 {
-                    (-self.z0, true)
-                } else {
-                    (zn, false)
-                }
-            }
-        } else {
-            (z, false)
-        };
-        state.z = z_next;
-        let dz = if reset { S::ZERO } else { v };
-        self.elastic(z_next, v) + self.sigma1 * dz
+        match checked_inputs(v, h) {
+            Some(v) => self.advance(state, v, S::ZERO, h),
+            None => self.hold_force(state),
+        }
     }
 
     /// `(1 + a(z)) sigma0 z` at `v = 0`.
     fn hold_force(&self, state: &ResetIntegratorState<S>) -> S {
         self.elastic(state.z, S::ZERO)
+    }
+}
+
+/// Observer form: the correction offsets the velocity that strains the bond.
+/// The bond has no separate damping state: `damping` has no effect (the
+/// `sigma1 dz/dt` term is part of the force law).
+impl<S: Scalar> Observable<S> for ResetIntegrator<S> {
+    fn step_corrected(
+        &self,
+        state: &mut ResetIntegratorState<S>,
+        v: S,
+        correction: S,
+        h: S,
+        _damping: bool,
+    ) -> S {
+        self.advance(state, v, correction, h)
+    }
+
+    /// `(1 + a) sigma0(v) z0 + sigma1 |v|`.
+    fn force_bound(&self, v: S) -> S {
+        (S::ONE + self.a) * (self.stiffness(v) * self.z0) + self.sigma1 * v.abs()
     }
 }
 
