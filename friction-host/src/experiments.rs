@@ -25,6 +25,61 @@ pub const NAMES: &[&str] = &[
     "rate-independence",
 ];
 
+/// The most samples one experiment run may take (checked before anything
+/// is allocated): 20 million, about 1 GB of trace columns.
+pub const MAX_SAMPLES: f64 = 2e7;
+
+/// Checks a run of `duration` seconds at period `h` against [`MAX_SAMPLES`].
+fn check_samples(name: &str, duration: f64, h: f64) -> Result<()> {
+    let n = duration / h;
+    if !(n.is_finite() && n <= MAX_SAMPLES) {
+        bail!(
+            "experiment `{name}` would take {n:.3e} samples ({duration} s at --dt {h} s), more than the limit {MAX_SAMPLES:.0e}: shorten --duration (or the rig's `cycles`/`frequency`) or lengthen --dt"
+        );
+    }
+    Ok(())
+}
+
+/// The experiments whose length is fixed by their definition (no `--duration`).
+const FIXED_LENGTH: &[&str] = &[
+    "stribeck",
+    "frictional-lag",
+    "breakaway",
+    "rate-independence",
+];
+
+/// Notes on the `[rig]` keys an experiment uses that the file does not give.
+fn rig_defaults(name: &str, file: &ParamFile) -> Vec<String> {
+    let r = &file.rig;
+    let keys: &[(&str, bool, &str)] = match name {
+        "presliding" => &[
+            ("mass", r.mass.is_none(), "1 kg"),
+            ("force_rate", r.force_rate.is_none(), "0.095 Fs per second"),
+        ],
+        "breakaway" => &[("mass", r.mass.is_none(), "1 kg")],
+        "stick-slip" => &[
+            ("mass", r.mass.is_none(), "1 kg"),
+            ("stiffness", r.stiffness.is_none(), "2 N/m"),
+            ("pull_velocity", r.pull_velocity.is_none(), "0.1 m/s"),
+        ],
+        "drift" => &[
+            ("mass", r.mass.is_none(), "1 kg"),
+            (
+                "force",
+                r.force.is_none(),
+                "Fs/2 (elasto-plastic: 0.9 sigma0 z_ba)",
+            ),
+            ("frequency", r.frequency.is_none(), "1 Hz"),
+            ("cycles", r.cycles.is_none(), "10"),
+        ],
+        _ => &[],
+    };
+    keys.iter()
+        .filter(|(_, missing, _)| *missing)
+        .map(|(key, _, default)| format!("[rig] `{key}` not given: default {default}"))
+        .collect()
+}
+
 /// Optional overrides of an experiment's sample period and duration.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Options {
@@ -76,6 +131,13 @@ pub fn run(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Ou
             file.model.name()
         );
     }
+    if opts.duration.is_some() && FIXED_LENGTH.contains(&name) {
+        bail!("--duration does not apply to experiment `{name}`: its length is fixed by its definition");
+    }
+    if opts.dt.is_some() && name == "rate-independence" {
+        bail!("--dt does not apply to experiment `{name}`: it takes 2000 samples a period");
+    }
+    let defaults = rig_defaults(name, file);
     let mut out = match name {
         "stribeck" => stribeck(file, opts, dir),
         "presliding" => presliding(file, opts, dir),
@@ -89,6 +151,9 @@ pub fn run(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Ou
             NAMES.join(", ")
         ),
     }?;
+    for (i, note) in defaults.into_iter().enumerate() {
+        out.summary.insert(i, note);
+    }
     let expected = expectation(&file.model, name);
     if let Some(expected) = expected {
         out.summary.push(format!(
@@ -318,6 +383,7 @@ fn presliding(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
     let rate = file.rig.force_rate.unwrap_or(0.095 * fs);
     let leg = peak / rate;
     let duration = opts.duration.unwrap_or(5.0 * leg);
+    check_samples("presliding", duration, h)?;
     let u = move |t: f64, _x: f64| {
         let s = t / leg; // in ramp lengths
         if s <= 1.0 {
@@ -378,6 +444,8 @@ fn presliding(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
 /// `v = v0 (cos(w t) + 1.5)` with `w = 1, 10, 25 rad/s`: the F-v loop widens with `w`.
 fn frictional_lag(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
     let h = opts.dt.unwrap_or(1e-4);
+    // three periods at w = 1, 10 and 25 rad/s
+    check_samples("frictional-lag", 6.0 * std::f64::consts::PI * 1.14, h)?;
     let mut series = Vec::new();
     let mut areas = Vec::new();
     let (mut cw, mut ct, mut cv, mut cf, mut cr) = (vec![], vec![], vec![], vec![], vec![]);
@@ -445,6 +513,7 @@ fn breakaway(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
     let h = opts.dt.unwrap_or(1e-4);
     let fs = file.model.max_static_force();
     let rates = [1.0, 2.0, 5.0, 10.0, 20.0, 50.0];
+    check_samples("breakaway", rates.iter().map(|r| 2.0 * fs / r).sum(), h)?;
     let (mut peaks, mut peaks_ref) = (Vec::new(), Vec::new());
     let (mut cr, mut ct, mut cx, mut cv, mut cf, mut cu) =
         (vec![], vec![], vec![], vec![], vec![], vec![]);
@@ -600,6 +669,7 @@ pub fn compare_stick_slip(core: &StickSlipFigures, reference: &StickSlipFigures)
 fn stick_slip(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
     let h = opts.dt.unwrap_or(1e-3);
     let duration = opts.duration.unwrap_or(20.0);
+    check_samples("stick-slip", duration, h)?;
     let k = file.rig.stiffness.unwrap_or(2.0);
     let pull = file.rig.pull_velocity.unwrap_or(0.1);
     let u = move |t: f64, x: f64| k * (pull * t - x);
@@ -662,6 +732,7 @@ fn drift(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
     let freq = file.rig.frequency.unwrap_or(1.0);
     let cycles = file.rig.cycles.unwrap_or(10).max(1);
     let duration = opts.duration.unwrap_or(cycles as f64 / freq);
+    check_samples("drift", duration, h)?;
     let u =
         move |t: f64, _x: f64| force * (1.0 - (2.0 * std::f64::consts::PI * freq * t).cos()) / 2.0;
     let rig = Rig {

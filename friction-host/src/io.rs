@@ -1,51 +1,169 @@
-//! CSV input and output.
+//! Files in and out, safely: outputs are written to a temporary file in the
+//! same folder and renamed into place only when complete (a failed run
+//! leaves the old file or none, never half a file), no output may overwrite
+//! an input, and CSV input is read as a stream with errors that name the
+//! file, the line and the column.
 
 use anyhow::{bail, Context, Result};
-use std::path::Path;
+use std::fs::File;
+use std::io::{BufWriter, Read, Write};
+use std::path::{Path, PathBuf};
 
-/// Writes equal-length columns with a header row.
-pub fn write_columns(path: &Path, headers: &[&str], columns: &[&[f64]]) -> Result<()> {
-    let mut w =
-        csv::Writer::from_path(path).with_context(|| format!("cannot write {}", path.display()))?;
-    w.write_record(headers)?;
-    let n = columns.iter().map(|c| c.len()).min().unwrap_or(0);
-    for k in 0..n {
-        w.write_record(columns.iter().map(|c| format!("{:.12e}", c[k])))?;
+/// Writes `path` atomically: `fill` writes into a temporary file next to it,
+/// which is flushed, synced and renamed onto `path` only if `fill` succeeds.
+/// On any error the temporary file is removed and `path` is left as it was.
+/// A device or a pipe (`/dev/null`, `/dev/stdout`) is written directly.
+pub fn write_atomic<T>(
+    path: &Path,
+    fill: impl FnOnce(&mut BufWriter<File>) -> Result<T>,
+) -> Result<T> {
+    // a device or pipe (e.g. /dev/null) is written in place: renaming onto
+    // it would replace it
+    if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+        let file = File::options()
+            .write(true)
+            .open(path)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        let mut w = BufWriter::new(file);
+        let value = fill(&mut w)?;
+        w.flush()
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        return Ok(value);
     }
-    w.flush()?;
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let name = path
+        .file_name()
+        .ok_or_else(|| anyhow::anyhow!("{}: not a file path", path.display()))?;
+    let tmp = dir.join(format!(
+        ".{}.tmp-{}",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    let result = (|| {
+        let file =
+            File::create(&tmp).with_context(|| format!("cannot write {}", path.display()))?;
+        let mut w = BufWriter::new(file);
+        let value = fill(&mut w)?;
+        let file = w
+            .into_inner()
+            .map_err(|e| e.into_error())
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        file.sync_all()
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        std::fs::rename(&tmp, path)
+            .with_context(|| format!("cannot move the finished output onto {}", path.display()))?;
+        Ok(value)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// Writes `bytes` to `path` atomically (see [`write_atomic`]).
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<()> {
+    write_atomic(path, |w| {
+        w.write_all(bytes)
+            .with_context(|| format!("cannot write {}", path.display()))
+    })
+}
+
+/// Whether two paths name the same existing file (through links too).
+fn same_file(a: &Path, b: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        if let (Ok(ma), Ok(mb)) = (std::fs::metadata(a), std::fs::metadata(b)) {
+            return ma.dev() == mb.dev() && ma.ino() == mb.ino();
+        }
+    }
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(ca), Ok(cb)) => ca == cb,
+        _ => false,
+    }
+}
+
+/// Refuses to let `output` (named by `option`) overwrite any of `inputs`.
+pub fn refuse_overwrite(option: &str, output: &Path, inputs: &[&Path]) -> Result<()> {
+    for input in inputs {
+        if same_file(output, input) {
+            bail!(
+                "{option} {} is an input of this run ({}): refusing to overwrite it; choose another output",
+                output.display(),
+                input.display()
+            );
+        }
+    }
     Ok(())
 }
 
-/// Reads the `t` and `v` columns of a CSV file with a header. Errors name
-/// the file, the line and the column.
-pub fn read_tv(path: &Path) -> Result<(Vec<f64>, Vec<f64>)> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    parse_tv(&text, &path.display().to_string())
+/// Writes equal-length columns with a header row, atomically.
+pub fn write_columns(path: &Path, headers: &[&str], columns: &[&[f64]]) -> Result<()> {
+    write_atomic(path, |w| {
+        let mut w = csv::Writer::from_writer(w);
+        let io = |e: csv::Error| anyhow::anyhow!("cannot write {}: {e}", path.display());
+        w.write_record(headers).map_err(io)?;
+        let n = columns.iter().map(|c| c.len()).min().unwrap_or(0);
+        for k in 0..n {
+            w.write_record(columns.iter().map(|c| format!("{:.12e}", c[k])))
+                .map_err(io)?;
+        }
+        w.flush()
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        Ok(())
+    })
 }
 
-/// Parses `t,v` CSV text; see [`read_tv`].
-pub fn parse_tv(text: &str, origin: &str) -> Result<(Vec<f64>, Vec<f64>)> {
-    let mut r = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_reader(text.as_bytes());
-    let headers = r
-        .headers()
-        .with_context(|| format!("{origin}: cannot read the header"))?
-        .clone();
-    let col = |name: &str| headers.iter().position(|h| h == name);
-    let (Some(it), Some(iv)) = (col("t"), col("v")) else {
-        bail!(
-            "{origin}:1: the header must name columns `t` and `v` (found: {})",
-            headers.iter().collect::<Vec<_>>().join(",")
-        );
-    };
-    let (mut t, mut v) = (Vec::new(), Vec::new());
-    for rec in r.records() {
-        let rec = rec.map_err(|e| {
-            let line = e.position().map_or(0, |p| p.line());
-            anyhow::anyhow!("{origin}:{line}: {e}")
-        })?;
+/// A stream of `(line, t, v)` rows from CSV text with a header naming `t`
+/// and `v`: time strictly increasing, every value finite. Errors name the
+/// origin, the line and the column.
+pub struct TvRows<R: Read> {
+    records: csv::StringRecordsIntoIter<R>,
+    origin: String,
+    it: usize,
+    iv: usize,
+    last_t: Option<f64>,
+}
+
+impl TvRows<File> {
+    /// Opens a CSV file for streaming.
+    pub fn open(path: &Path) -> Result<Self> {
+        let file = File::open(path).with_context(|| format!("cannot read {}", path.display()))?;
+        Self::new(file, &path.display().to_string())
+    }
+}
+
+impl<R: Read> TvRows<R> {
+    /// Reads the header from `reader`; `origin` names the source in errors.
+    pub fn new(reader: R, origin: &str) -> Result<Self> {
+        let mut r = csv::ReaderBuilder::new()
+            .trim(csv::Trim::All)
+            .from_reader(reader);
+        let headers = r
+            .headers()
+            .with_context(|| format!("{origin}: cannot read the header"))?
+            .clone();
+        let col = |name: &str| headers.iter().position(|h| h == name);
+        let (Some(it), Some(iv)) = (col("t"), col("v")) else {
+            bail!(
+                "{origin}:1: the header must name columns `t` and `v` (found: {})",
+                headers.iter().collect::<Vec<_>>().join(",")
+            );
+        };
+        Ok(Self {
+            records: r.into_records(),
+            origin: origin.to_string(),
+            it,
+            iv,
+            last_t: None,
+        })
+    }
+
+    fn parse(&mut self, rec: &csv::StringRecord) -> Result<(u64, f64, f64)> {
+        let origin = &self.origin;
         let line = rec.position().map_or(0, |p| p.line());
         let field = |i: usize, name: &str| -> Result<f64> {
             let s = rec.get(i).unwrap_or("");
@@ -63,12 +181,47 @@ pub fn parse_tv(text: &str, origin: &str) -> Result<(Vec<f64>, Vec<f64>)> {
             }
             Ok(x)
         };
-        let (tk, vk) = (field(it, "t")?, field(iv, "v")?);
-        if let Some(&prev) = t.last() {
+        let (tk, vk) = (field(self.it, "t")?, field(self.iv, "v")?);
+        if let Some(prev) = self.last_t {
             if tk <= prev {
-                bail!("{origin}:{line}: column {} (`t`): time {tk} does not increase (previous {prev})", it + 1);
+                bail!(
+                    "{origin}:{line}: column {} (`t`): time {tk} does not increase (previous {prev})",
+                    self.it + 1
+                );
             }
         }
+        self.last_t = Some(tk);
+        Ok((line, tk, vk))
+    }
+}
+
+impl<R: Read> Iterator for TvRows<R> {
+    type Item = Result<(u64, f64, f64)>;
+    fn next(&mut self) -> Option<Self::Item> {
+        let rec = self.records.next()?;
+        Some(match rec {
+            Ok(rec) => self.parse(&rec),
+            Err(e) => {
+                let line = e.position().map_or(0, |p| p.line());
+                Err(anyhow::anyhow!("{}:{line}: {e}", self.origin))
+            }
+        })
+    }
+}
+
+/// Reads the `t` and `v` columns of a CSV file with a header (whole file
+/// in memory; `friction simulate` streams with [`TvRows`] instead).
+pub fn read_tv(path: &Path) -> Result<(Vec<f64>, Vec<f64>)> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    parse_tv(&text, &path.display().to_string())
+}
+
+/// Parses `t,v` CSV text; see [`TvRows`].
+pub fn parse_tv(text: &str, origin: &str) -> Result<(Vec<f64>, Vec<f64>)> {
+    let (mut t, mut v) = (Vec::new(), Vec::new());
+    for row in TvRows::new(text.as_bytes(), origin)? {
+        let (_, tk, vk) = row?;
         t.push(tk);
         v.push(vk);
     }
@@ -104,5 +257,41 @@ mod tests {
         assert!(e.contains("in.csv:3"), "{e}");
         let e = parse_tv("t,v\n0,NaN\n", "in.csv").unwrap_err().to_string();
         assert!(e.contains("not finite"), "{e}");
+    }
+
+    #[test]
+    fn a_failed_write_leaves_the_old_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.csv");
+        std::fs::write(&path, "old").unwrap();
+        let r: Result<()> = write_atomic(&path, |w| {
+            w.write_all(b"half a row,")?;
+            bail!("disk full")
+        });
+        assert!(r.is_err());
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");
+        // and no temporary file is left behind
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+        write_bytes(&path, b"new").unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "new");
+    }
+
+    #[test]
+    fn outputs_never_overwrite_inputs() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("in.csv");
+        std::fs::write(&input, "t,v\n").unwrap();
+        let alias = dir.path().join(".").join("in.csv");
+        let e = refuse_overwrite("--output", &alias, &[&input])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("refusing to overwrite"), "{e}");
+        #[cfg(unix)]
+        {
+            let link = dir.path().join("link.csv");
+            std::os::unix::fs::symlink(&input, &link).unwrap();
+            assert!(refuse_overwrite("--output", &link, &[&input]).is_err());
+        }
+        assert!(refuse_overwrite("--output", &dir.path().join("new.csv"), &[&input]).is_ok());
     }
 }

@@ -3,10 +3,10 @@
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use friction_host::experiments::{self, Options};
-use friction_host::io::{read_tv, write_columns};
+use friction_host::io;
 use friction_host::models::ScalarKind;
 use friction_host::params::ParamFile;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -27,6 +27,9 @@ enum Command {
     /// Row k of the output is the force at t[k]: the model is stepped from
     /// t[k-1] to t[k] with the velocity held at v[k]; row 0 is the initial
     /// state (at rest). Output columns: t, v, f and the model's states.
+    /// The input is streamed (constant memory), the output written to a
+    /// temporary file and renamed into place when complete; it may not be
+    /// an input. Velocities beyond ±1e6 are clamped, with a warning.
     Simulate {
         /// Parameter file (TOML with `model = "..."`).
         #[arg(long)]
@@ -42,6 +45,8 @@ enum Command {
         scalar: ScalarKind,
     },
     /// Run one of the classic friction experiments: writes DIR/trace.csv and a plot.
+    ///
+    /// Exit code 0 when the verdict is pass or not judged, 1 on FAIL, 2 on bad input.
     Experiment {
         /// One of: stribeck, presliding, frictional-lag, breakaway, stick-slip, drift.
         #[arg(value_parser = clap::builder::PossibleValuesParser::new(experiments::NAMES))]
@@ -60,6 +65,8 @@ enum Command {
         output: PathBuf,
     },
     /// Validate every model against the reference solver and judge the experiments.
+    ///
+    /// Exit code 0 when every check passes, 1 when one fails, 2 on bad input.
     Validate {
         /// Output folder of the report.
         #[arg(long, default_value = "validation")]
@@ -76,6 +83,69 @@ fn positive(name: &str, x: Option<f64>) -> Result<()> {
     }
 }
 
+/// `friction simulate`: streams the input row by row into the output, so
+/// memory stays constant in the input's length.
+fn simulate(params: &Path, input: &Path, output: &Path, scalar: ScalarKind) -> Result<()> {
+    io::refuse_overwrite("--output", output, &[params, input])?;
+    let file = ParamFile::load(params)?;
+    let mut model = file.model.stepper(scalar).with_context(|| {
+        format!(
+            "{}: `{}` in {scalar:?}",
+            params.display(),
+            file.model.name()
+        )
+    })?;
+    let rows = io::TvRows::open(input)?;
+    let names = model.state_names();
+    let limit = friction_core::VELOCITY_LIMIT;
+    let count = io::write_atomic(output, |w| {
+        let mut csv = csv::Writer::from_writer(w);
+        let werr = |e: csv::Error| anyhow::anyhow!("cannot write {}: {e}", output.display());
+        let mut header = vec!["t", "v", "f"];
+        header.extend(names.iter().map(String::as_str));
+        csv.write_record(&header).map_err(werr)?;
+        let (mut prev_t, mut clamped, mut count) = (None, 0u64, 0u64);
+        for row in rows {
+            let (line, t, v) = row?;
+            let h = prev_t.map_or(0.0, |p| t - p);
+            prev_t = Some(t);
+            let v_used = v.clamp(-limit, limit);
+            if v_used != v {
+                if clamped == 0 {
+                    eprintln!(
+                        "warning: {}:{line}: |v| = {v:e} exceeds the velocity limit {limit:e}: clamped (the output's `v` column shows the velocity the model saw)",
+                        input.display()
+                    );
+                }
+                clamped += 1;
+            }
+            let f = model.step(v_used, h);
+            let mut record = vec![
+                format!("{t:.12e}"),
+                format!("{v_used:.12e}"),
+                format!("{f:.12e}"),
+            ];
+            record.extend(model.states().iter().map(|s| format!("{s:.12e}")));
+            csv.write_record(&record).map_err(werr)?;
+            count += 1;
+        }
+        if count == 0 {
+            anyhow::bail!("{}: no data rows", input.display());
+        }
+        if clamped > 1 {
+            eprintln!(
+                "warning: {clamped} rows of {} were clamped",
+                input.display()
+            );
+        }
+        csv.flush()
+            .with_context(|| format!("cannot write {}", output.display()))?;
+        Ok(count)
+    })?;
+    eprintln!("{count} rows -> {}", output.display());
+    Ok(())
+}
+
 fn run(cli: Cli) -> Result<bool> {
     match cli.command {
         Command::Simulate {
@@ -84,25 +154,7 @@ fn run(cli: Cli) -> Result<bool> {
             output,
             scalar,
         } => {
-            let file = ParamFile::load(&params)?;
-            let (t, v) = read_tv(&input)?;
-            let mut model = file.model.stepper(scalar)?;
-            let names = model.state_names();
-            let mut f = Vec::with_capacity(t.len());
-            let mut states: Vec<Vec<f64>> = vec![Vec::with_capacity(t.len()); names.len()];
-            for k in 0..t.len() {
-                let h = if k == 0 { 0.0 } else { t[k] - t[k - 1] };
-                f.push(model.step(v[k], h));
-                for (col, s) in states.iter_mut().zip(model.states()) {
-                    col.push(s);
-                }
-            }
-            let mut headers = vec!["t", "v", "f"];
-            headers.extend(names.iter().map(String::as_str));
-            let mut cols: Vec<&[f64]> = vec![&t, &v, &f];
-            cols.extend(states.iter().map(|c| &c[..]));
-            write_columns(&output, &headers, &cols)?;
-            eprintln!("{} rows -> {}", t.len(), output.display());
+            simulate(&params, &input, &output, scalar)?;
             Ok(true)
         }
         Command::Experiment {
@@ -115,6 +167,7 @@ fn run(cli: Cli) -> Result<bool> {
             positive("dt", dt)?;
             positive("duration", duration)?;
             let file = ParamFile::load(&params)?;
+            io::refuse_overwrite("--output", &output.join("trace.csv"), &[&params])?;
             let out = experiments::run(&name, &file, Options { dt, duration }, &output)
                 .with_context(|| format!("experiment `{name}`"))?;
             println!(
@@ -129,7 +182,8 @@ fn run(cli: Cli) -> Result<bool> {
             }
             println!("  trace: {}", output.join("trace.csv").display());
             println!("  plot:  {}", out.plot.display());
-            Ok(true)
+            // exit code 1 when the verdict is FAIL, so scripts see it
+            Ok(out.pass != Some(false))
         }
         Command::Validate { output } => friction_host::validate::run(&output),
     }

@@ -105,12 +105,25 @@ fn stepper_in<S: Scalar + 'static>(
         ModelSpec::Dahl(p) => boxed::<_, S>(p.build::<S>()?, &["fh"], dahl_states::<S>),
         ModelSpec::ElastoPlastic(p) => boxed::<_, S>(p.build::<S>()?, &["z"], lugre_states::<S>),
         ModelSpec::ResetIntegrator(p) => boxed::<_, S>(p.build::<S>()?, &["z"], reset_states::<S>),
-        ModelSpec::Bristle { params, bristles } => match bristles {
-            1 => bristle::<S, 1>(params)?,
-            8 => bristle::<S, 8>(params)?,
-            25 => bristle::<S, 25>(params)?,
-            _ => bristle::<S, 64>(params)?,
-        },
+        ModelSpec::Bristle { params, bristles } => {
+            // every count from 1 to MAX_BRISTLES onto the const generic N
+            macro_rules! dispatch {
+                ($($n:literal)*) => {
+                    match *bristles {
+                        $($n => bristle::<S, $n>(params)?,)*
+                        _ => {
+                            return Err(friction_core::ParamError::NotBelow {
+                                name: "bristles",
+                                limit: "65",
+                            })
+                        }
+                    }
+                };
+            }
+            dispatch!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26
+                27 28 29 30 31 32 33 34 35 36 37 38 39 40 41 42 43 44 45 46 47 48 49 50 51 52
+                53 54 55 56 57 58 59 60 61 62 63 64)
+        }
     })
 }
 

@@ -27,7 +27,7 @@ pub enum ModelSpec {
     ElastoPlastic(ElastoPlasticParams),
     /// `reset-integrator`: `sigma0`, `sigma1`, `z0`, `stiction`, optional Stribeck keys.
     ResetIntegrator(ResetIntegratorParams),
-    /// `bristle`: `sigma0`, `delta_s`, `bristles` (one of [`BRISTLE_COUNTS`]), `seed`.
+    /// `bristle`: `sigma0`, `delta_s`, `bristles` (1 to [`MAX_BRISTLES`]), `seed`.
     Bristle {
         /// The parameters.
         params: BristleParams,
@@ -36,8 +36,9 @@ pub enum ModelSpec {
     },
 }
 
-/// The bristle counts the host offers (the core takes any `N >= 1` as a const generic).
-pub const BRISTLE_COUNTS: &[usize] = &[1, 8, 25, 64];
+/// The largest bristle count the host dispatches onto the core's const
+/// generic `N` (every count from 1 to this; the core itself takes any `N >= 1`).
+pub const MAX_BRISTLES: usize = 64;
 
 impl ModelSpec {
     /// The `model = "..."` name.
@@ -138,6 +139,37 @@ pub struct Rig {
     pub cycles: Option<u32>,
     /// Force rate of the pre-sliding ramps (N/s).
     pub force_rate: Option<f64>,
+}
+
+/// The most force cycles a drift rig may ask for.
+pub const MAX_CYCLES: u32 = 10_000;
+
+impl Rig {
+    /// Checks every key that is given: masses, stiffnesses, rates and
+    /// frequencies finite and positive, `cycles` in `1..=MAX_CYCLES`. The
+    /// error names the key.
+    pub fn validate(&self) -> Result<()> {
+        for (key, value) in [
+            ("mass", self.mass),
+            ("stiffness", self.stiffness),
+            ("pull_velocity", self.pull_velocity),
+            ("force", self.force),
+            ("frequency", self.frequency),
+            ("force_rate", self.force_rate),
+        ] {
+            if let Some(x) = value {
+                if !(x.is_finite() && x > 0.0) {
+                    bail!("[rig] `{key}` = {x} must be a finite number > 0");
+                }
+            }
+        }
+        if let Some(c) = self.cycles {
+            if !(1..=MAX_CYCLES).contains(&c) {
+                bail!("[rig] `cycles` = {c} must be between 1 and {MAX_CYCLES}");
+            }
+        }
+        Ok(())
+    }
 }
 
 /// A parsed parameter file.
@@ -412,11 +444,10 @@ impl ParamFile {
             }
             "bristle" => {
                 let f: BristleFile = toml::from_str(text).with_context(ctx)?;
-                if !BRISTLE_COUNTS.contains(&f.bristles) {
+                if !(1..=MAX_BRISTLES).contains(&f.bristles) {
                     bail!(
-                        "{origin}: `bristles` = {} is not offered; choose one of {:?}",
-                        f.bristles,
-                        BRISTLE_COUNTS
+                        "{origin}: `bristles` = {} is out of range: the host runs 1 to {MAX_BRISTLES} bristles",
+                        f.bristles
                     );
                 }
                 ParamFile {
@@ -437,6 +468,9 @@ impl ParamFile {
             ),
         };
         file.model
+            .validate()
+            .map_err(|e| anyhow::anyhow!("{origin}: {e}"))?;
+        file.rig
             .validate()
             .map_err(|e| anyhow::anyhow!("{origin}: {e}"))?;
         Ok(file)
@@ -509,6 +543,35 @@ pull_velocity = 0.1
     }
 
     #[test]
+    fn rig_keys_are_checked_by_name() {
+        for (key, bad) in [
+            ("mass = 1.0", "mass = -1"),
+            ("mass = 1.0", "mass = 0"),
+            ("stiffness = 2.0", "stiffness = nan"),
+            ("pull_velocity = 0.1", "pull_velocity = 0"),
+        ] {
+            let text = LUGRE.replace(key, bad);
+            let e = format!("{:#}", ParamFile::parse(&text, "p.toml").unwrap_err());
+            let name = bad.split(' ').next().unwrap();
+            assert!(
+                e.contains(&format!("`{name}`")) && e.starts_with("p.toml"),
+                "{e}"
+            );
+        }
+        for extra in [
+            "cycles = 4294967295",
+            "cycles = 0",
+            "frequency = 0",
+            "force_rate = 0",
+        ] {
+            let text = format!("{LUGRE}{extra}\n");
+            let e = format!("{:#}", ParamFile::parse(&text, "p.toml").unwrap_err());
+            let name = extra.split(' ').next().unwrap();
+            assert!(e.contains(&format!("`{name}`")), "{e}");
+        }
+    }
+
+    #[test]
     fn static_maps_parse() {
         let f = ParamFile::parse("model = \"coulomb\"\nfc = 0.3", "t").unwrap();
         assert_eq!(f.model, ModelSpec::Coulomb(CoulombParams { fc: 0.3 }));
@@ -553,9 +616,11 @@ pull_velocity = 0.1
         let ri = "model = \"reset-integrator\"\nsigma0 = 1e5\nz0 = 1e-5\nstiction = 0.5\nfc = 1";
         let e = format!("{:#}", ParamFile::parse(ri, "t").unwrap_err());
         assert!(e.contains("needs all of"), "{e}");
-        let b = "model = \"bristle\"\nsigma0 = 1e3\ndelta_s = 1e-5\nbristles = 7";
-        let e = format!("{:#}", ParamFile::parse(b, "t").unwrap_err());
-        assert!(e.contains("not offered"), "{e}");
+        for n in [0, 65] {
+            let b = format!("model = \"bristle\"\nsigma0 = 1e3\ndelta_s = 1e-5\nbristles = {n}");
+            let e = format!("{:#}", ParamFile::parse(&b, "t").unwrap_err());
+            assert!(e.contains("out of range") && e.contains("1 to 64"), "{e}");
+        }
         let b = "model = \"bristle\"\nsigma0 = 1e3\ndelta_s = 1e-5\nbristles = 64\nseed = 3";
         assert_eq!(
             ParamFile::parse(b, "t").unwrap().model.max_static_force(),

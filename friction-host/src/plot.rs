@@ -58,7 +58,21 @@ pub fn line_plot(
     y_label: &str,
     series: &[Series],
 ) -> Result<()> {
-    let root = SVGBackend::new(path, (900, 560)).into_drawing_area();
+    let mut svg = String::new();
+    draw_svg(&mut svg, path, title, (x_label, x_axis), y_label, series)?;
+    crate::io::write_bytes(path, svg.as_bytes())
+}
+
+/// Renders the plot into `svg` (written to `path` atomically by [`line_plot`]).
+fn draw_svg(
+    svg: &mut String,
+    path: &Path,
+    title: &str,
+    (x_label, x_axis): (&str, Axis),
+    y_label: &str,
+    series: &[Series],
+) -> Result<()> {
+    let root = SVGBackend::with_string(svg, (900, 560)).into_drawing_area();
     let err = |e: &dyn std::fmt::Display| anyhow!("plot {}: {e}", path.display());
     root.fill(&WHITE).map_err(|e| err(&e))?;
     let (x0, x1) = range(
@@ -119,6 +133,7 @@ pub fn line_plot(
         Axis::Log => draw!(builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1)),
     }
     root.present().map_err(|e| err(&e))?;
+    drop(root);
     Ok(())
 }
 

@@ -466,7 +466,7 @@ pub struct BristleConvergence {
 /// (after 50 of running in) and measures the mean and spread of the force.
 pub fn bristle_convergence() -> Result<Vec<BristleConvergence>> {
     let mut out = Vec::new();
-    for &n in crate::params::BRISTLE_COUNTS {
+    for n in [1, 8, 25, 64] {
         let params = friction_core::BristleParams {
             sigma0: 1.0,
             delta_s: 1.0,
@@ -618,6 +618,6 @@ fn write_report(
         }
         writeln!(md, "\n![{}]({})", o.name, rel.display())?;
     }
-    std::fs::write(dir.join("report.md"), md)?;
+    crate::io::write_bytes(&dir.join("report.md"), md.as_bytes())?;
     Ok(())
 }

@@ -211,3 +211,292 @@ fn simulate_every_state_model() {
         assert_eq!(csv.lines().count(), 502);
     }
 }
+
+fn stderr(out: &std::process::Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn sine_input(dir: &Path, rows: usize) -> std::path::PathBuf {
+    let input = dir.join("in.csv");
+    let mut text = String::from("t,v\n");
+    for k in 0..rows {
+        text.push_str(&format!(
+            "{},{}\n",
+            k as f64 * 1e-3,
+            0.01 * (k as f64 * 0.02).sin()
+        ));
+    }
+    std::fs::write(&input, text).unwrap();
+    input
+}
+
+#[test]
+fn simulate_never_overwrites_its_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sine_input(dir.path(), 10);
+    let before = std::fs::read(&input).unwrap();
+    let p = dir.path().join("p.toml");
+    std::fs::copy(params(), &p).unwrap();
+    for output in [&input, &p] {
+        let out = friction(&[
+            "simulate",
+            "--params",
+            p.to_str().unwrap(),
+            "--input",
+            input.to_str().unwrap(),
+            "--output",
+            output.to_str().unwrap(),
+        ]);
+        assert_eq!(out.status.code(), Some(2));
+        assert!(
+            stderr(&out).contains("refusing to overwrite"),
+            "{}",
+            stderr(&out)
+        );
+    }
+    assert_eq!(std::fs::read(&input).unwrap(), before);
+    assert_eq!(std::fs::read(&p).unwrap(), std::fs::read(params()).unwrap());
+}
+
+#[test]
+fn failed_simulate_leaves_the_old_output() {
+    // a bad row late in the input: the old output stays whole, no temporary file remains
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.csv");
+    let mut text = String::from("t,v\n");
+    for k in 0..5000 {
+        text.push_str(&format!("{},0.01\n", k as f64 * 1e-3));
+    }
+    text.push_str("9,oops\n");
+    std::fs::write(&input, text).unwrap();
+    let output = dir.path().join("out.csv");
+    std::fs::write(&output, "previous results\n").unwrap();
+    let out = friction(&[
+        "simulate",
+        "--params",
+        &params(),
+        "--input",
+        input.to_str().unwrap(),
+        "--output",
+        output.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("in.csv:5002"), "{}", stderr(&out));
+    assert_eq!(
+        std::fs::read_to_string(&output).unwrap(),
+        "previous results\n"
+    );
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
+}
+
+#[cfg(unix)]
+#[test]
+fn simulate_streams_its_input() {
+    // The input comes through a pipe that stays open: output rows appear
+    // before the input ends, so memory does not grow with the input.
+    use std::io::Write;
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("in.csv");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let output = dir.path().join("out.csv");
+    let child = Command::new(env!("CARGO_BIN_EXE_friction"))
+        .args([
+            "simulate",
+            "--params",
+            &params(),
+            "--input",
+            fifo.to_str().unwrap(),
+            "--output",
+            output.to_str().unwrap(),
+        ])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut w = std::fs::OpenOptions::new().write(true).open(&fifo).unwrap();
+    writeln!(w, "t,v").unwrap();
+    let mut k = 0;
+    let mut write_rows = |w: &mut std::fs::File, n: usize| {
+        for _ in 0..n {
+            writeln!(w, "{},{}", k as f64 * 1e-3, 0.01).unwrap();
+            k += 1;
+        }
+        w.flush().unwrap();
+    };
+    write_rows(&mut w, 20_000);
+    // the temporary output grows while the input is still open
+    let start = std::time::Instant::now();
+    let grown = loop {
+        let size: u64 = std::fs::read_dir(dir.path())
+            .unwrap()
+            .filter_map(|e| e.ok())
+            .filter(|e| e.file_name().to_string_lossy().contains(".tmp-"))
+            .map(|e| e.metadata().map(|m| m.len()).unwrap_or(0))
+            .sum();
+        if size > 0 {
+            break true;
+        }
+        if start.elapsed().as_secs() > 60 {
+            break false;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    assert!(grown, "no output before the input ended");
+    assert!(!output.exists(), "the output appears only when complete");
+    write_rows(&mut w, 1000);
+    drop(w);
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(
+        std::fs::read_to_string(&output).unwrap().lines().count(),
+        21_001
+    );
+}
+
+#[test]
+fn simulate_warns_once_when_it_clamps() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.csv");
+    std::fs::write(&input, "t,v\n0,0\n0.001,2e6\n0.002,-3e6\n").unwrap();
+    let output = dir.path().join("out.csv");
+    let out = friction(&[
+        "simulate",
+        "--params",
+        &params(),
+        "--input",
+        input.to_str().unwrap(),
+        "--output",
+        output.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert_eq!(
+        err.matches("exceeds the velocity limit").count(),
+        1,
+        "{err}"
+    );
+    assert!(err.contains("in.csv:3") && err.contains("2 rows"), "{err}");
+    let csv = std::fs::read_to_string(&output).unwrap();
+    let v: Vec<f64> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(v, vec![0.0, 1e6, -1e6]);
+}
+
+#[test]
+fn scalar_overflow_names_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sine_input(dir.path(), 3);
+    let p = dir.path().join("stiff.toml");
+    std::fs::write(
+        &p,
+        "model = \"lugre\"\nfc = 1\nfs = 1.5\nvs = 1e-3\nsigma0 = 1e300\nsigma1 = 300\n",
+    )
+    .unwrap();
+    let out = friction(&[
+        "simulate",
+        "--params",
+        p.to_str().unwrap(),
+        "--input",
+        input.to_str().unwrap(),
+        "--output",
+        dir.path().join("o.csv").to_str().unwrap(),
+        "--scalar",
+        "f32",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = stderr(&out);
+    assert!(
+        err.contains("stiff.toml") && err.contains("sigma0"),
+        "{err}"
+    );
+}
+
+#[test]
+fn runs_too_long_or_rigs_out_of_range_fail_up_front() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("out");
+    let run = |args: &[&str]| {
+        let mut all = vec!["experiment"];
+        all.extend_from_slice(args);
+        all.extend(["--output", out_dir.to_str().unwrap()]);
+        friction(&all)
+    };
+    let out = run(&["stick-slip", "--params", &params(), "--duration", "1e9"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("--duration") && stderr(&out).contains("samples"),
+        "{}",
+        stderr(&out)
+    );
+    let out = run(&["stribeck", "--params", &params(), "--duration", "3"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("--duration does not apply"),
+        "{}",
+        stderr(&out)
+    );
+    let text = std::fs::read_to_string(params()).unwrap();
+    for (edit, key) in [("mass = 1.0", "mass = -1"), ("mass = 1.0", "mass = 0")] {
+        let p = dir.path().join("rig.toml");
+        std::fs::write(&p, text.replace(edit, key)).unwrap();
+        let out = run(&["stick-slip", "--params", p.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2), "{key}");
+        assert!(
+            stderr(&out).contains("`mass`") && stderr(&out).contains("rig.toml"),
+            "{}",
+            stderr(&out)
+        );
+    }
+    for (extra, key) in [
+        ("cycles = 4294967295", "`cycles`"),
+        ("frequency = 0", "`frequency`"),
+        ("force_rate = 0", "`force_rate`"),
+    ] {
+        let p = dir.path().join("rig.toml");
+        std::fs::write(
+            &p,
+            text.replace("force_rate = 0.1425   # N/s, pre-sliding ramps", extra),
+        )
+        .unwrap();
+        let out = run(&["drift", "--params", p.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2), "{extra}");
+        assert!(stderr(&out).contains(key), "{}", stderr(&out));
+    }
+}
+
+#[test]
+fn a_failed_verdict_exits_1_and_defaults_are_named() {
+    // elasto-plastic pushed above its elastic limit sigma0 z_ba = 0.5 N drifts:
+    // the experiment's verdict is FAIL (it is expected not to drift)
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("ep.toml");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../params");
+    let text = std::fs::read_to_string(root.join("canudas1995-ep.toml")).unwrap();
+    let body: String = text
+        .lines()
+        .take_while(|l| !l.starts_with("[rig]"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(&p, format!("{body}[rig]\nforce = 1.2\ncycles = 3\n")).unwrap();
+    let out = friction(&[
+        "experiment",
+        "drift",
+        "--params",
+        p.to_str().unwrap(),
+        "--output",
+        dir.path().join("out").to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}{}", stderr(&out));
+    assert!(stdout.contains("FAIL"), "{stdout}");
+    assert!(
+        stdout.contains("[rig] `mass` not given: default 1 kg"),
+        "{stdout}"
+    );
+}
