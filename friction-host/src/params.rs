@@ -3,122 +3,11 @@
 //! name the key, with line and column.
 
 use anyhow::{bail, Context, Result};
-use friction_core::{
-    BristleParams, CoulombParams, CoulombViscousParams, DahlParams, ElastoPlasticParams,
-    LuGreParams, ResetIntegratorParams, StribeckMapParams, StribeckParams,
-};
 use serde::Deserialize;
 use std::path::Path;
 
-/// A model of the library with its parameters.
-#[derive(Clone, Debug, PartialEq)]
-pub enum ModelSpec {
-    /// `coulomb`: `fc`.
-    Coulomb(CoulombParams),
-    /// `coulomb-viscous`: `fc`, `sigma2`.
-    CoulombViscous(CoulombViscousParams),
-    /// `stribeck`: `fc`, `fs`, `vs`, `stribeck_exponent`, `sigma2`.
-    Stribeck(StribeckMapParams),
-    /// `lugre`: `fc`, `fs`, `vs`, `stribeck_exponent`, `sigma0`, `sigma1`, `sigma2`, `vd`.
-    LuGre(LuGreParams),
-    /// `dahl`: `sigma`, `fc`, `delta`, `sigma2`.
-    Dahl(DahlParams),
-    /// `elasto-plastic`: the LuGre keys and `z_ba`.
-    ElastoPlastic(ElastoPlasticParams),
-    /// `reset-integrator`: `sigma0`, `sigma1`, `z0`, `stiction`, optional Stribeck keys.
-    ResetIntegrator(ResetIntegratorParams),
-    /// `bristle`: `sigma0`, `delta_s`, `bristles` (1 to [`MAX_BRISTLES`]), `seed`.
-    Bristle {
-        /// The parameters.
-        params: BristleParams,
-        /// Number of bristles `N`.
-        bristles: usize,
-    },
-}
-
-/// The largest bristle count the host dispatches onto the core's const
-/// generic `N` (every count from 1 to this; the core itself takes any `N >= 1`).
-pub const MAX_BRISTLES: usize = 64;
-
-impl ModelSpec {
-    /// The `model = "..."` name.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Self::Coulomb(_) => "coulomb",
-            Self::CoulombViscous(_) => "coulomb-viscous",
-            Self::Stribeck(_) => "stribeck",
-            Self::LuGre(_) => "lugre",
-            Self::Dahl(_) => "dahl",
-            Self::ElastoPlastic(_) => "elasto-plastic",
-            Self::ResetIntegrator(_) => "reset-integrator",
-            Self::Bristle { .. } => "bristle",
-        }
-    }
-
-    /// The static friction level: the largest force the model holds at rest
-    /// (`Fs` for Stribeck-shaped models, `Fc` for Coulomb).
-    pub fn max_static_force(&self) -> f64 {
-        match self {
-            Self::Coulomb(p) => p.fc,
-            Self::CoulombViscous(p) => p.fc,
-            Self::Stribeck(p) => p.curve.fs,
-            Self::LuGre(p) => p.curve.fs,
-            Self::Dahl(p) => p.fc,
-            Self::ElastoPlastic(p) => p.lugre.curve.fs,
-            Self::ResetIntegrator(p) => (1.0 + p.stiction) * p.sigma0 * p.z0,
-            Self::Bristle { params, bristles } => *bristles as f64 * params.sigma0 * params.delta_s,
-        }
-    }
-
-    /// The pre-sliding displacement scale: how far the contact deflects
-    /// before it slides (`Fs/sigma0` for LuGre, `Fc/sigma` for Dahl); 0 for
-    /// static maps.
-    pub fn presliding_scale(&self) -> f64 {
-        match self {
-            Self::LuGre(p) => p.curve.fs / p.sigma0,
-            Self::Dahl(p) => p.fc / p.sigma,
-            Self::ElastoPlastic(p) => p.lugre.curve.fs / p.lugre.sigma0,
-            Self::ResetIntegrator(p) => p.z0,
-            Self::Bristle { params, .. } => params.delta_s,
-            _ => 0.0,
-        }
-    }
-
-    /// The viscous coefficient `sigma2` (0 for `coulomb`).
-    pub fn sigma2(&self) -> f64 {
-        match self {
-            Self::Coulomb(_) => 0.0,
-            Self::CoulombViscous(p) => p.sigma2,
-            Self::Stribeck(p) => p.sigma2,
-            Self::LuGre(p) => p.sigma2,
-            Self::Dahl(p) => p.sigma2,
-            Self::ElastoPlastic(p) => p.lugre.sigma2,
-            Self::ResetIntegrator(_) | Self::Bristle { .. } => 0.0,
-        }
-    }
-
-    /// Whether the model has internal state (and so pre-sliding, rigs, ...).
-    pub fn has_state(&self) -> bool {
-        !matches!(
-            self,
-            Self::Coulomb(_) | Self::CoulombViscous(_) | Self::Stribeck(_)
-        )
-    }
-
-    /// Validates the parameters (the core's checks), naming the offending one.
-    pub fn validate(&self) -> Result<(), friction_core::ParamError> {
-        match self {
-            Self::Coulomb(p) => p.build::<f64>().map(|_| ()),
-            Self::CoulombViscous(p) => p.build::<f64>().map(|_| ()),
-            Self::Stribeck(p) => p.build::<f64>().map(|_| ()),
-            Self::LuGre(p) => p.validate(),
-            Self::Dahl(p) => p.validate(),
-            Self::ElastoPlastic(p) => p.validate(),
-            Self::ResetIntegrator(p) => p.validate(),
-            Self::Bristle { params, .. } => params.validate(),
-        }
-    }
-}
+pub use crate::models::MAX_BRISTLES;
+pub use crate::models::{ModelSpec, MODEL_NAMES};
 
 /// The `[rig]` table: the mechanical set-up of the experiments. Every key is
 /// optional; each experiment documents its defaults.
@@ -184,288 +73,24 @@ pub struct ParamFile {
 #[derive(Deserialize)]
 struct Probe {
     model: Option<String>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct CoulombFile {
-    #[allow(dead_code)]
-    model: String,
-    fc: f64,
     #[serde(default)]
     rig: Rig,
 }
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct CoulombViscousFile {
-    #[allow(dead_code)]
-    model: String,
-    fc: f64,
-    sigma2: f64,
-    #[serde(default)]
-    rig: Rig,
-}
-
-fn default_exponent() -> f64 {
-    StribeckParams::DEFAULT_EXPONENT
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct StribeckFile {
-    #[allow(dead_code)]
-    model: String,
-    fc: f64,
-    fs: f64,
-    vs: f64,
-    #[serde(default = "default_exponent")]
-    stribeck_exponent: f64,
-    #[serde(default)]
-    sigma2: f64,
-    #[serde(default)]
-    rig: Rig,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct LuGreFile {
-    #[allow(dead_code)]
-    model: String,
-    fc: f64,
-    fs: f64,
-    vs: f64,
-    #[serde(default = "default_exponent")]
-    stribeck_exponent: f64,
-    sigma0: f64,
-    sigma1: f64,
-    #[serde(default)]
-    sigma2: f64,
-    vd: Option<f64>,
-    /// Only for `elasto-plastic`.
-    z_ba: Option<f64>,
-    #[serde(default)]
-    rig: Rig,
-}
-
-impl LuGreFile {
-    fn params(&self) -> LuGreParams {
-        LuGreParams {
-            curve: StribeckParams {
-                fc: self.fc,
-                fs: self.fs,
-                vs: self.vs,
-                exponent: self.stribeck_exponent,
-            },
-            sigma0: self.sigma0,
-            sigma1: self.sigma1,
-            sigma2: self.sigma2,
-            vd: self.vd,
-        }
-    }
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct DahlFile {
-    #[allow(dead_code)]
-    model: String,
-    sigma: f64,
-    fc: f64,
-    #[serde(default = "one")]
-    delta: f64,
-    #[serde(default)]
-    sigma2: f64,
-    #[serde(default)]
-    rig: Rig,
-}
-
-fn one() -> f64 {
-    1.0
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct ResetIntegratorFile {
-    #[allow(dead_code)]
-    model: String,
-    sigma0: f64,
-    #[serde(default)]
-    sigma1: f64,
-    z0: f64,
-    #[serde(default)]
-    stiction: f64,
-    fc: Option<f64>,
-    fs: Option<f64>,
-    vs: Option<f64>,
-    stribeck_exponent: Option<f64>,
-    #[serde(default)]
-    rig: Rig,
-}
-
-fn default_bristles() -> usize {
-    25
-}
-
-fn default_seed() -> u64 {
-    1
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct BristleFile {
-    #[allow(dead_code)]
-    model: String,
-    sigma0: f64,
-    delta_s: f64,
-    #[serde(default = "default_bristles")]
-    bristles: usize,
-    #[serde(default = "default_seed")]
-    seed: u64,
-    #[serde(default)]
-    rig: Rig,
-}
-
-/// The model names a file may give.
-pub const MODEL_NAMES: &[&str] = &[
-    "coulomb",
-    "coulomb-viscous",
-    "stribeck",
-    "lugre",
-    "dahl",
-    "elasto-plastic",
-    "reset-integrator",
-    "bristle",
-];
 
 impl ParamFile {
     /// Parses TOML text; `origin` names the source in messages.
     pub fn parse(text: &str, origin: &str) -> Result<Self> {
         let probe: Probe =
-            toml::from_str(text).with_context(|| format!("{origin}: not valid TOML"))?;
+            toml::from_str(text).with_context(|| format!("{origin}: invalid parameter file"))?;
         let Some(name) = probe.model else {
             bail!(
                 "{origin}: missing key `model` (one of {})",
                 MODEL_NAMES.join(", ")
             );
         };
-        let ctx = || format!("{origin}: invalid `{name}` parameters");
-        let file = match name.as_str() {
-            "coulomb" => {
-                let f: CoulombFile = toml::from_str(text).with_context(ctx)?;
-                ParamFile {
-                    model: ModelSpec::Coulomb(CoulombParams { fc: f.fc }),
-                    rig: f.rig,
-                }
-            }
-            "coulomb-viscous" => {
-                let f: CoulombViscousFile = toml::from_str(text).with_context(ctx)?;
-                ParamFile {
-                    model: ModelSpec::CoulombViscous(CoulombViscousParams {
-                        fc: f.fc,
-                        sigma2: f.sigma2,
-                    }),
-                    rig: f.rig,
-                }
-            }
-            "stribeck" => {
-                let f: StribeckFile = toml::from_str(text).with_context(ctx)?;
-                let curve = StribeckParams {
-                    fc: f.fc,
-                    fs: f.fs,
-                    vs: f.vs,
-                    exponent: f.stribeck_exponent,
-                };
-                ParamFile {
-                    model: ModelSpec::Stribeck(StribeckMapParams {
-                        curve,
-                        sigma2: f.sigma2,
-                    }),
-                    rig: f.rig,
-                }
-            }
-            "lugre" => {
-                let f: LuGreFile = toml::from_str(text).with_context(ctx)?;
-                if f.z_ba.is_some() {
-                    bail!("{origin}: `z_ba` belongs to `elasto-plastic`, not `lugre`");
-                }
-                ParamFile {
-                    model: ModelSpec::LuGre(f.params()),
-                    rig: f.rig,
-                }
-            }
-            "dahl" => {
-                let f: DahlFile = toml::from_str(text).with_context(ctx)?;
-                ParamFile {
-                    model: ModelSpec::Dahl(DahlParams {
-                        sigma: f.sigma,
-                        fc: f.fc,
-                        delta: f.delta,
-                        sigma2: f.sigma2,
-                    }),
-                    rig: f.rig,
-                }
-            }
-            "elasto-plastic" => {
-                let f: LuGreFile = toml::from_str(text).with_context(ctx)?;
-                let Some(z_ba) = f.z_ba else {
-                    bail!("{origin}: `elasto-plastic` needs `z_ba` (the break-away deflection)");
-                };
-                ParamFile {
-                    model: ModelSpec::ElastoPlastic(ElastoPlasticParams {
-                        lugre: f.params(),
-                        z_ba,
-                    }),
-                    rig: f.rig,
-                }
-            }
-            "reset-integrator" => {
-                let f: ResetIntegratorFile = toml::from_str(text).with_context(ctx)?;
-                let curve = match (f.fc, f.fs, f.vs) {
-                    (Some(fc), Some(fs), Some(vs)) => Some(StribeckParams {
-                        fc,
-                        fs,
-                        vs,
-                        exponent: f.stribeck_exponent.unwrap_or(StribeckParams::DEFAULT_EXPONENT),
-                    }),
-                    (None, None, None) if f.stribeck_exponent.is_none() => None,
-                    _ => bail!("{origin}: the Stribeck shape of `reset-integrator` needs all of `fc`, `fs`, `vs` (or none)"),
-                };
-                ParamFile {
-                    model: ModelSpec::ResetIntegrator(ResetIntegratorParams {
-                        sigma0: f.sigma0,
-                        sigma1: f.sigma1,
-                        z0: f.z0,
-                        stiction: f.stiction,
-                        curve,
-                    }),
-                    rig: f.rig,
-                }
-            }
-            "bristle" => {
-                let f: BristleFile = toml::from_str(text).with_context(ctx)?;
-                if !(1..=MAX_BRISTLES).contains(&f.bristles) {
-                    bail!(
-                        "{origin}: `bristles` = {} is out of range: the host runs 1 to {MAX_BRISTLES} bristles",
-                        f.bristles
-                    );
-                }
-                ParamFile {
-                    model: ModelSpec::Bristle {
-                        params: BristleParams {
-                            sigma0: f.sigma0,
-                            delta_s: f.delta_s,
-                            seed: f.seed,
-                        },
-                        bristles: f.bristles,
-                    },
-                    rig: f.rig,
-                }
-            }
-            other => bail!(
-                "{origin}: unknown model `{other}` (expected one of {})",
-                MODEL_NAMES.join(", ")
-            ),
+        let file = ParamFile {
+            model: ModelSpec::parse(&name, text, origin)?,
+            rig: probe.rig,
         };
         file.model
             .validate()
@@ -487,6 +112,7 @@ impl ParamFile {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use friction_core::CoulombParams;
 
     const LUGRE: &str = r#"
 model = "lugre"

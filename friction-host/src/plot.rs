@@ -50,31 +50,91 @@ fn range(values: impl Iterator<Item = f64>, axis: Axis) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-/// Draws `series` into an SVG file at `path`.
+/// Draws `series` into an SVG file at `path` (written atomically).
 pub fn line_plot(
     path: &Path,
     title: &str,
-    (x_label, x_axis): (&str, Axis),
+    x: (&str, Axis),
     y_label: &str,
     series: &[Series],
 ) -> Result<()> {
     let mut svg = String::new();
-    draw_svg(&mut svg, path, title, (x_label, x_axis), y_label, series)?;
+    {
+        let root = SVGBackend::with_string(&mut svg, (900, 560)).into_drawing_area();
+        let err = |e: &dyn std::fmt::Display| anyhow!("plot {}: {e}", path.display());
+        root.fill(&WHITE).map_err(|e| err(&e))?;
+        draw_chart(&root, path, title, x, y_label, series)?;
+        root.present().map_err(|e| err(&e))?;
+    }
     crate::io::write_bytes(path, svg.as_bytes())
 }
 
-/// Renders the plot into `svg` (written to `path` atomically by [`line_plot`]).
-fn draw_svg(
-    svg: &mut String,
+/// Core against reference with their difference below: the top panel shows
+/// both curves (the reference drawn first, the core over it), the bottom
+/// panel `core - reference`, so a reader sees where they differ even when
+/// the curves cover each other.
+pub fn comparison_plot(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    core: Vec<(f64, f64)>,
+    reference: Vec<(f64, f64)>,
+) -> Result<()> {
+    let error: Vec<(f64, f64)> = core
+        .iter()
+        .zip(&reference)
+        .map(|(c, r)| (c.0, c.1 - r.1))
+        .collect();
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (900, 760)).into_drawing_area();
+        let err = |e: &dyn std::fmt::Display| anyhow!("plot {}: {e}", path.display());
+        root.fill(&WHITE).map_err(|e| err(&e))?;
+        let (top, bottom) = root.split_vertically(470);
+        draw_chart(
+            &top,
+            path,
+            title,
+            (x_label, Axis::Linear),
+            y_label,
+            &[
+                Series {
+                    label: "reference",
+                    points: reference,
+                },
+                Series {
+                    label: "core",
+                    points: core,
+                },
+            ],
+        )?;
+        draw_chart(
+            &bottom,
+            path,
+            "",
+            (x_label, Axis::Linear),
+            &format!("core - reference ({y_label})"),
+            &[Series {
+                label: "core - reference",
+                points: error,
+            }],
+        )?;
+        root.present().map_err(|e| err(&e))?;
+    }
+    crate::io::write_bytes(path, svg.as_bytes())
+}
+
+/// Draws one chart with its mesh, series and legend into `area`.
+fn draw_chart<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
     path: &Path,
     title: &str,
     (x_label, x_axis): (&str, Axis),
     y_label: &str,
     series: &[Series],
 ) -> Result<()> {
-    let root = SVGBackend::with_string(svg, (900, 560)).into_drawing_area();
     let err = |e: &dyn std::fmt::Display| anyhow!("plot {}: {e}", path.display());
-    root.fill(&WHITE).map_err(|e| err(&e))?;
     let (x0, x1) = range(
         series.iter().flat_map(|s| s.points.iter().map(|p| p.0)),
         x_axis,
@@ -83,7 +143,7 @@ fn draw_svg(
         series.iter().flat_map(|s| s.points.iter().map(|p| p.1)),
         Axis::Linear,
     );
-    let mut builder = ChartBuilder::on(&root);
+    let mut builder = ChartBuilder::on(area);
     builder
         .caption(title, ("sans-serif", 22))
         .margin(12)
@@ -132,8 +192,6 @@ fn draw_svg(
         Axis::Linear => draw!(builder.build_cartesian_2d(x0..x1, y0..y1)),
         Axis::Log => draw!(builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1)),
     }
-    root.present().map_err(|e| err(&e))?;
-    drop(root);
     Ok(())
 }
 

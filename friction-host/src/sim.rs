@@ -7,8 +7,6 @@ use crate::params::ModelSpec;
 use crate::reference::{integrate, Tolerances};
 use crate::signals::Signal;
 use anyhow::Result;
-use friction_core::random::CounterRng;
-use friction_core::BristleParams;
 
 /// Relative tolerance of every reference solve.
 pub const REFERENCE_RTOL: f64 = 1e-9;
@@ -35,11 +33,11 @@ pub struct ReferenceRun {
 }
 
 /// The reference force for the continuous velocity signal at times `t`:
-/// diffsol on the continuous equations, or for the bristle model the exact
-/// event-driven solution.
+/// the model's own reference where it has one (the bristle model's exact
+/// event-driven solution), else diffsol on its continuous equations.
 pub fn drive_reference(spec: &ModelSpec, signal: &Signal, t: &[f64]) -> Result<ReferenceRun> {
-    if let ModelSpec::Bristle { params, bristles } = spec {
-        return Ok(bristle_reference(params, *bristles, signal, t));
+    if let Some(run) = spec.host().own_reference(signal, t) {
+        return Ok(run);
     }
     let model = spec
         .continuous()
@@ -67,76 +65,6 @@ pub fn drive_reference(spec: &ModelSpec, signal: &Signal, t: &[f64]) -> Result<R
         switching[k] = model.switched(&z[k - 1], v[k - 1], &z[k], v[k]);
     }
     Ok(ReferenceRun { force, switching })
-}
-
-/// Splits the signal's displacement over `[a, b]` at its velocity reversals
-/// (located by bisection), so that each piece is monotone.
-fn monotone_pieces(signal: &Signal, a: f64, b: f64) -> Vec<f64> {
-    const PROBES: usize = 8;
-    let mut cuts = vec![a];
-    for j in 0..PROBES {
-        let (mut lo, mut hi) = (
-            a + (b - a) * j as f64 / PROBES as f64,
-            a + (b - a) * (j + 1) as f64 / PROBES as f64,
-        );
-        let (vlo, vhi) = (signal.v(lo), signal.v(hi));
-        if vlo * vhi < 0.0 {
-            for _ in 0..60 {
-                let mid = 0.5 * (lo + hi);
-                if signal.v(mid) * vlo > 0.0 {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            cuts.push(0.5 * (lo + hi));
-        }
-    }
-    cuts.push(b);
-    cuts.windows(2)
-        .map(|w| signal.x(w[1]) - signal.x(w[0]))
-        .collect()
-}
-
-/// The bristle model driven exactly by the signal's displacement: strains
-/// move with each monotone piece of `x(t)` and snap when they reach
-/// `±delta_s`, re-bonding at the strain the model's generator gives
-/// (stream = bristle, index = its re-bond count: the random numbers are part
-/// of the model's definition).
-pub fn bristle_reference(
-    params: &BristleParams,
-    n: usize,
-    signal: &Signal,
-    t: &[f64],
-) -> ReferenceRun {
-    let rng = CounterRng::new(params.seed);
-    let ds = params.delta_s;
-    let mut strain = vec![0.0f64; n];
-    let mut bonds = vec![0u32; n];
-    let mut run = ReferenceRun {
-        force: vec![0.0],
-        switching: vec![false],
-    };
-    for k in 1..t.len() {
-        let mut snapped = false;
-        for dx in monotone_pieces(signal, t[k - 1], t[k]) {
-            let dir = dx.signum();
-            for (i, (s, b)) in strain.iter_mut().zip(bonds.iter_mut()).enumerate() {
-                let mut x = *s + dx;
-                while dir * x >= ds {
-                    let beyond = dir * x - ds;
-                    *b += 1;
-                    let u: f64 = rng.unit(i as u32, *b);
-                    x = ds * (2.0 * u - 1.0) + dir * beyond;
-                    snapped = true;
-                }
-                *s = x;
-            }
-        }
-        run.force.push(params.sigma0 * strain.iter().sum::<f64>());
-        run.switching.push(snapped);
-    }
-    run
 }
 
 /// A mass `m` on the friction contact, driven by an applied force `u(t, x)`:

@@ -3,9 +3,9 @@
 //! printed table and a Markdown report with plots.
 
 use crate::experiments::{self, Options, Outcome};
-use crate::models::ScalarKind;
+use crate::models::{BristleSpec, ScalarKind};
 use crate::params::{ModelSpec, ParamFile};
-use crate::plot::{line_plot, zip, Axis, Series};
+use crate::plot::{comparison_plot, line_plot, zip, Axis, Series};
 use crate::signals::validation_signals;
 use crate::sim::{drive_core, drive_reference, max_diff, rms_diff};
 use anyhow::Result;
@@ -57,26 +57,10 @@ pub fn param_set(name: &str) -> Result<ParamFile> {
     ParamFile::parse(text, &format!("params/{name}.toml"))
 }
 
-/// Accuracy bounds (fractions of the model's static force) at 1 and 10 kHz.
-pub fn accuracy_bound(spec: &ModelSpec, h: f64) -> f64 {
-    match spec {
-        ModelSpec::LuGre(_) => {
-            if h >= 1e-3 {
-                0.02
-            } else {
-                0.005
-            }
-        }
-        ModelSpec::Dahl(_) | ModelSpec::ElastoPlastic(_) => {
-            if h >= 1e-3 {
-                0.03
-            } else {
-                0.01
-            }
-        }
-        // static maps are evaluated exactly at the sample: only rounding is left
-        _ => 1e-9,
-    }
+/// Accuracy bound (fraction of the model's static force) at step `h`, from
+/// the model's host module; `None` where none is set.
+pub fn accuracy_bound(spec: &ModelSpec, h: f64) -> Option<f64> {
+    spec.host().accuracy_bound(h)
 }
 
 /// Bound on the f32 against f64 difference (fraction of the static force).
@@ -167,21 +151,13 @@ pub fn accuracy(
                 rms_diff(&pick(&f64_), &pick(fr)) / fs
             };
             if let (Some(dir), true) = (plot_dir, h >= 1e-3) {
-                line_plot(
+                comparison_plot(
                     &dir.join(accuracy_plot_name(label, spec, i)),
-                    &format!("{label} {}: {} at 1 kHz", spec.name(), s.name),
-                    ("t (s)", Axis::Linear),
+                    &format!("{label} {}: {} at 1 kHz (core in f64)", spec.name(), s.name),
+                    "t (s)",
                     "F (N)",
-                    &[
-                        Series {
-                            label: "core (f64)",
-                            points: zip(&t, &f64_),
-                        },
-                        Series {
-                            label: "reference",
-                            points: zip(&t, fr),
-                        },
-                    ],
+                    zip(&t, &f64_),
+                    zip(&t, fr),
                 )?;
             }
             rows.push(AccuracyRow {
@@ -194,7 +170,11 @@ pub fn accuracy(
                 rms_smooth,
                 kept: smooth.len() as f64 / t.len() as f64,
                 f32_rms: rms_diff(&f32_, &f64_) / fs,
-                bound: bounded.then(|| accuracy_bound(spec, h)),
+                bound: if bounded {
+                    accuracy_bound(spec, h)
+                } else {
+                    None
+                },
                 f32_bound: bounded.then_some(F32_BOUND),
             });
         }
@@ -284,7 +264,8 @@ pub fn run(dir: &Path) -> Result<bool> {
         false,
         true,
     ));
-    if let ModelSpec::Bristle { params, .. } = param_set("haessig1991-bristle")?.model {
+    if let ModelSpec::Bristle(BristleSpec { params, .. }) = param_set("haessig1991-bristle")?.model
+    {
         for n in [8, 64] {
             let scaled = friction_core::BristleParams {
                 sigma0: params.sigma0 * 25.0 / n as f64,
@@ -292,36 +273,15 @@ pub fn run(dir: &Path) -> Result<bool> {
             };
             models.push((
                 format!("haessig1991-bristle N={n}"),
-                ModelSpec::Bristle {
+                ModelSpec::Bristle(BristleSpec {
                     params: scaled,
                     bristles: n,
-                },
+                }),
                 false,
                 n == 64,
             ));
         }
     }
-    for (label, spec, bounded, plots) in &models {
-        for r in accuracy(label, spec, *bounded, plots.then_some(dir))? {
-            println!(
-                "{:<40} {:<28} {:>5.0}Hz {:>9.4}% {:>9.3}% {:>11.4}% {:>9.4}% ({:>3.0}%) {:>9.2e} {:>5}",
-                r.model,
-                r.signal,
-                1.0 / r.h,
-                100.0 * r.rms,
-                100.0 * r.max,
-                100.0 * r.rms_mean_v,
-                100.0 * r.rms_smooth,
-                100.0 * r.kept,
-                r.f32_rms,
-                r.verdict()
-            );
-            rows.push(r);
-        }
-    }
-
-    println!("\nPhenomena");
-    let mut outcomes: Vec<(String, Outcome)> = Vec::new();
     let plan: &[(&str, &[&str])] = &[
         (
             "canudas1995",
@@ -342,9 +302,34 @@ pub fn run(dir: &Path) -> Result<bool> {
         ("haessig1991-reset", experiments::NAMES),
         ("haessig1991-bristle", experiments::NAMES),
     ];
+    let experiments: usize = plan.iter().map(|(_, names)| names.len()).sum();
+    let mut progress = Progress::new(models.len() + experiments + 1);
+    for (label, spec, bounded, plots) in &models {
+        progress.tick(&format!("accuracy {label} {}", spec.name()));
+        for r in accuracy(label, spec, *bounded, plots.then_some(dir))? {
+            println!(
+                "{:<40} {:<28} {:>5.0}Hz {:>9.4}% {:>9.3}% {:>11.4}% {:>9.4}% ({:>3.0}%) {:>9.2e} {:>5}",
+                r.model,
+                r.signal,
+                1.0 / r.h,
+                100.0 * r.rms,
+                100.0 * r.max,
+                100.0 * r.rms_mean_v,
+                100.0 * r.rms_smooth,
+                100.0 * r.kept,
+                r.f32_rms,
+                r.verdict()
+            );
+            rows.push(r);
+        }
+    }
+
+    println!("\nPhenomena");
+    let mut outcomes: Vec<(String, Outcome)> = Vec::new();
     for (set, names) in plan {
         let file = param_set(set)?;
         for name in names.iter() {
+            progress.tick(&format!("experiment {set} {name}"));
             let out = experiments::run(
                 name,
                 &file,
@@ -364,6 +349,7 @@ pub fn run(dir: &Path) -> Result<bool> {
     println!(
         "\nBristle model: sliding force against N (mean / (N sigma0 delta_s / 3), relative spread)"
     );
+    progress.tick("bristle convergence");
     let convergence = bristle_convergence()?;
     for c in &convergence {
         println!(
@@ -375,6 +361,7 @@ pub fn run(dir: &Path) -> Result<bool> {
         );
     }
     drift_comparison(dir)?;
+    progress.finish();
     let all_pass =
         rows.iter().all(AccuracyRow::pass) && outcomes.iter().all(|(_, o)| o.pass != Some(false));
     write_report(dir, &rows, &outcomes, &convergence, all_pass)?;
@@ -388,6 +375,53 @@ pub fn run(dir: &Path) -> Result<bool> {
         dir.join("report.md").display()
     );
     Ok(all_pass)
+}
+
+/// Progress on stderr for a long run: silent for the first two seconds,
+/// then one line per step (rewritten in place on a terminal).
+struct Progress {
+    start: std::time::Instant,
+    total: usize,
+    done: usize,
+    tty: bool,
+    shown: bool,
+}
+
+impl Progress {
+    fn new(total: usize) -> Self {
+        use std::io::IsTerminal;
+        Self {
+            start: std::time::Instant::now(),
+            total,
+            done: 0,
+            tty: std::io::stderr().is_terminal(),
+            shown: false,
+        }
+    }
+
+    fn tick(&mut self, what: &str) {
+        self.done += 1;
+        let elapsed = self.start.elapsed().as_secs_f64();
+        if elapsed < 2.0 {
+            return;
+        }
+        self.shown = true;
+        let line = format!(
+            "validate [{}/{}] {elapsed:.0} s: {what}",
+            self.done, self.total
+        );
+        if self.tty {
+            eprint!("\r\x1b[K{line}");
+        } else {
+            eprintln!("{line}");
+        }
+    }
+
+    fn finish(&self) {
+        if self.shown && self.tty {
+            eprintln!();
+        }
+    }
 }
 
 /// `accuracy-<label>-<model>-<signal>.svg`, with the label made file-name safe.
@@ -472,10 +506,10 @@ pub fn bristle_convergence() -> Result<Vec<BristleConvergence>> {
             delta_s: 1.0,
             seed: 1,
         };
-        let mut m = ModelSpec::Bristle {
+        let mut m = ModelSpec::Bristle(BristleSpec {
             params,
             bristles: n,
-        }
+        })
         .stepper(ScalarKind::F64)?;
         let h = 0.05; // v = 1: 1/20 of delta_s a step
         for _ in 0..1000 {
@@ -493,6 +527,142 @@ pub fn bristle_convergence() -> Result<Vec<BristleConvergence>> {
     Ok(out)
 }
 
+/// A fraction as a readable percentage: `2.5 %`, `0.031 %`, `1.0e-7 %`.
+pub fn pct(x: f64) -> String {
+    let p = 100.0 * x;
+    if !p.is_finite() {
+        "-".into()
+    } else if p == 0.0 {
+        "0 %".into()
+    } else if p.abs() >= 0.01 {
+        // three significant digits, no trailing noise
+        let digits = (2 - p.abs().log10().floor() as i32).clamp(0, 4) as usize;
+        format!("{p:.digits$} %")
+    } else {
+        format!("{p:.1e} %")
+    }
+}
+
+/// The phenomena of the matrix: (column title, experiment name).
+const PHENOMENA: &[(&str, Option<&str>)] = &[
+    ("Stribeck curve", Some("stribeck")),
+    ("pre-sliding hysteresis", Some("presliding")),
+    ("non-local memory", None),
+    ("frictional lag", Some("frictional-lag")),
+    ("varying break-away", Some("breakaway")),
+    ("stick-slip", Some("stick-slip")),
+    ("drift", Some("drift")),
+    ("rate independence", Some("rate-independence")),
+];
+
+/// One row per model, one column per phenomenon: what was measured against
+/// what the model is expected to do.
+fn write_matrix(md: &mut String, outcomes: &[(String, Outcome)]) -> Result<()> {
+    writeln!(md, "## Phenomena: measured against expected\n")?;
+    writeln!(
+        md,
+        "Each cell: whether the phenomenon showed (`yes`/`no`, one per parameter set run), then \
+         what the model is known to do (`expected`, `not expected`, or `not judged`), and ✓ or \
+         **✗**. Details, figures and plots are in the sections below.\n"
+    )?;
+    write!(md, "| model |")?;
+    for (title, _) in PHENOMENA {
+        write!(md, " {title} |")?;
+    }
+    writeln!(md)?;
+    writeln!(md, "|---|{}", "---|".repeat(PHENOMENA.len()))?;
+    let mut models: Vec<&str> = Vec::new();
+    for (_, o) in outcomes {
+        if !models.contains(&o.model) {
+            models.push(o.model);
+        }
+    }
+    for model in models {
+        write!(md, "| {model} |")?;
+        for (_, experiment) in PHENOMENA {
+            let runs: Vec<&Outcome> = outcomes
+                .iter()
+                .map(|(_, o)| o)
+                .filter(|o| o.model == model && Some(o.name) == *experiment)
+                .collect();
+            if experiment.is_none() {
+                write!(md, " not measured yet |")?;
+                continue;
+            }
+            if runs.is_empty() {
+                write!(md, " not run |")?;
+                continue;
+            }
+            let shown: Vec<&str> = runs
+                .iter()
+                .map(|o| if o.shown { "yes" } else { "no" })
+                .collect();
+            let expected = match runs[0].expected {
+                Some(true) => "expected",
+                Some(false) => "not expected",
+                None => "not judged",
+            };
+            let mark = if runs.iter().any(|o| o.pass == Some(false)) {
+                " **✗**"
+            } else if runs.iter().all(|o| o.pass.is_none()) {
+                ""
+            } else {
+                " ✓"
+            };
+            write!(md, " {} ({expected}){mark} |", shown.join("/"))?;
+        }
+        writeln!(md)?;
+    }
+    writeln!(md)?;
+    Ok(())
+}
+
+/// One accuracy line per model: the worst RMS at 1 and 10 kHz against its
+/// bound, and the worst f32 against f64.
+fn write_accuracy_summary(md: &mut String, rows: &[AccuracyRow]) -> Result<()> {
+    writeln!(md, "## Accuracy at a glance\n")?;
+    writeln!(
+        md,
+        "Worst RMS force error of the core against the reference over the validation signals, \
+         as a fraction of the static force, for the parameter sets with a bound (the full table is below).\n"
+    )?;
+    writeln!(
+        md,
+        "| model | worst at 1 kHz (bound) | worst at 10 kHz (bound) | worst f32 - f64 | ok |"
+    )?;
+    writeln!(md, "|---|---|---|---|---|")?;
+    let mut labels: Vec<&str> = Vec::new();
+    for r in rows.iter().filter(|r| r.bound.is_some()) {
+        if !labels.contains(&r.model.as_str()) {
+            labels.push(&r.model);
+        }
+    }
+    for label in labels {
+        let mine: Vec<&AccuracyRow> = rows.iter().filter(|r| r.model == label).collect();
+        let worst = |slow: bool| {
+            let sel = mine.iter().filter(|r| (r.h >= 1e-3) == slow);
+            let rms = sel.clone().map(|r| r.rms).fold(0.0, f64::max);
+            let bound = sel.filter_map(|r| r.bound).fold(f64::INFINITY, f64::min);
+            format!("{} ({})", pct(rms), pct(bound))
+        };
+        let f32_worst = mine.iter().map(|r| r.f32_rms).fold(0.0, f64::max);
+        let ok = if mine.iter().all(|r| r.pass()) {
+            "✓"
+        } else {
+            "**✗**"
+        };
+        writeln!(
+            md,
+            "| {label} | {} | {} | {} | {ok} |",
+            worst(true),
+            worst(false),
+            pct(f32_worst)
+        )?;
+    }
+    writeln!(md)?;
+    Ok(())
+}
+
 fn write_report(
     dir: &Path,
     rows: &[AccuracyRow],
@@ -502,12 +672,24 @@ fn write_report(
 ) -> Result<()> {
     let mut md = String::new();
     writeln!(md, "# friction validation report\n")?;
+    let failed_rows = rows.iter().filter(|r| !r.pass()).count();
+    let failed_outcomes = outcomes
+        .iter()
+        .filter(|(_, o)| o.pass == Some(false))
+        .count();
     writeln!(
         md,
-        "Generated by `friction validate` (friction-host {}). Overall: **{}**.\n",
+        "**Verdict: {}** — {} accuracy rows ({} failing), {} experiments ({} failing). \
+         Generated by `friction validate` (friction-host {}).\n",
+        if all_pass { "pass" } else { "FAIL" },
+        rows.len(),
+        failed_rows,
+        outcomes.len(),
+        failed_outcomes,
         env!("CARGO_PKG_VERSION"),
-        if all_pass { "pass" } else { "FAIL" }
     )?;
+    write_matrix(&mut md, outcomes)?;
+    write_accuracy_summary(&mut md, rows)?;
     writeln!(md, "## Accuracy of the core's discrete step\n")?;
     writeln!(
         md,
@@ -545,7 +727,7 @@ fn write_report(
             100.0 * r.kept,
             r.f32_rms,
             r.bound
-                .map_or("-".to_string(), |b| format!("{} %", 100.0 * b)),
+                .map_or("-".to_string(), pct),
             bold_fail(r.verdict())
         )?;
     }
@@ -620,4 +802,19 @@ fn write_report(
     }
     crate::io::write_bytes(&dir.join("report.md"), md.as_bytes())?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::pct;
+
+    #[test]
+    fn percentages_read_at_a_glance() {
+        assert_eq!(pct(0.02), "2.00 %");
+        assert_eq!(pct(0.005), "0.500 %");
+        assert_eq!(pct(0.000_31), "0.0310 %");
+        assert_eq!(pct(1e-9), "1.0e-7 %");
+        assert_eq!(pct(0.25), "25.0 %");
+        assert_eq!(pct(0.0), "0 %");
+    }
 }

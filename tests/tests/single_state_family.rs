@@ -91,7 +91,7 @@ fn switching_models_agree_with_the_reference_on_exact_displacements() {
                 &s.mean_velocities(&t),
             );
             let err = rms_diff(&f, &reference.force) / spec.max_static_force();
-            let limit = if matches!(spec, ModelSpec::Bristle { .. }) {
+            let limit = if matches!(spec, ModelSpec::Bristle(_)) {
                 1e-9
             } else {
                 0.03

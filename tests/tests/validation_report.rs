@@ -6,7 +6,41 @@ fn validate_passes_and_writes_the_report() {
     let pass = friction_host::validate::run(dir.path()).unwrap();
     let report = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
     assert!(pass, "validation failed:\n{report}");
-    assert!(report.contains("Overall: **pass**"));
+    // it opens with the verdict, then the model-by-phenomenon matrix and the accuracy lines
+    assert!(
+        report
+            .lines()
+            .nth(2)
+            .unwrap()
+            .starts_with("**Verdict: pass**"),
+        "{report}"
+    );
+    let matrix = report
+        .find("## Phenomena: measured against expected")
+        .unwrap();
+    let glance = report.find("## Accuracy at a glance").unwrap();
+    let details = report
+        .find("## Accuracy of the core's discrete step")
+        .unwrap();
+    assert!(matrix < glance && glance < details);
+    for model in [
+        "| lugre |",
+        "| elasto-plastic |",
+        "| dahl |",
+        "| reset-integrator |",
+        "| bristle |",
+    ] {
+        assert!(
+            report[matrix..glance].contains(model),
+            "matrix lacks {model}"
+        );
+    }
+    assert!(report[matrix..glance].contains("yes (expected) ✓"));
+    // readable numbers: no long runs of zeros
+    assert!(
+        !report.contains("00000000"),
+        "unreadable number in the report"
+    );
     assert!(report.contains("LuGre creeps, elasto-plastic does not"));
     for name in friction_host::experiments::NAMES {
         assert!(

@@ -1,0 +1,261 @@
+//! The classic friction experiments of the model sheet. Each writes
+//! `trace.csv` and a plot into its folder and returns an [`Outcome`]: whether
+//! the phenomenon showed, the figure that decided it, and where the model's
+//! expected behaviour is known ([`expectation`]) a pass/fail judgement. Rig
+//! experiments also run the reference solver and, for stick-slip, require
+//! the core to agree with it.
+
+use crate::io::write_columns;
+use crate::models::{ScalarKind, Stepper};
+use crate::params::{ModelSpec, ParamFile};
+use crate::plot::{comparison_plot, line_plot, zip, Axis, Series};
+use crate::signals::Signal;
+use crate::sim::{drive_core, drive_reference, rig_core, rig_reference, rms_diff, Rig, Trace};
+use anyhow::{bail, Result};
+use std::path::{Path, PathBuf};
+
+mod breakaway;
+mod drift;
+mod frictional_lag;
+mod presliding;
+mod rate_independence;
+mod stick_slip;
+mod stribeck;
+
+pub use stick_slip::{compare_stick_slip, slip_onsets, StickSlipFigures};
+
+/// The experiment names, in the order `validate` runs them.
+pub const NAMES: &[&str] = &[
+    "stribeck",
+    "presliding",
+    "frictional-lag",
+    "breakaway",
+    "stick-slip",
+    "drift",
+    "rate-independence",
+];
+
+/// The most samples one experiment run may take (checked before anything
+/// is allocated): 20 million, about 1 GB of trace columns.
+pub const MAX_SAMPLES: f64 = 2e7;
+
+/// Checks a run of `duration` seconds at period `h` against [`MAX_SAMPLES`].
+pub(crate) fn check_samples(name: &str, duration: f64, h: f64) -> Result<()> {
+    let n = duration / h;
+    if !(n.is_finite() && n <= MAX_SAMPLES) {
+        bail!(
+            "experiment `{name}` would take {n:.3e} samples ({duration} s at --dt {h} s), more than the limit {MAX_SAMPLES:.0e}: shorten --duration (or the rig's `cycles`/`frequency`) or lengthen --dt"
+        );
+    }
+    Ok(())
+}
+
+/// The experiments whose length is fixed by their definition (no `--duration`).
+const FIXED_LENGTH: &[&str] = &[
+    "stribeck",
+    "frictional-lag",
+    "breakaway",
+    "rate-independence",
+];
+
+/// Notes on the `[rig]` keys an experiment uses that the file does not give.
+fn rig_defaults(name: &str, file: &ParamFile) -> Vec<String> {
+    let r = &file.rig;
+    let keys: &[(&str, bool, &str)] = match name {
+        "presliding" => &[
+            ("mass", r.mass.is_none(), "1 kg"),
+            ("force_rate", r.force_rate.is_none(), "0.095 Fs per second"),
+        ],
+        "breakaway" => &[("mass", r.mass.is_none(), "1 kg")],
+        "stick-slip" => &[
+            ("mass", r.mass.is_none(), "1 kg"),
+            ("stiffness", r.stiffness.is_none(), "2 N/m"),
+            ("pull_velocity", r.pull_velocity.is_none(), "0.1 m/s"),
+        ],
+        "drift" => &[
+            ("mass", r.mass.is_none(), "1 kg"),
+            (
+                "force",
+                r.force.is_none(),
+                "Fs/2 (elasto-plastic: 0.9 sigma0 z_ba)",
+            ),
+            ("frequency", r.frequency.is_none(), "1 Hz"),
+            ("cycles", r.cycles.is_none(), "10"),
+        ],
+        _ => &[],
+    };
+    keys.iter()
+        .filter(|(_, missing, _)| *missing)
+        .map(|(key, _, default)| format!("[rig] `{key}` not given: default {default}"))
+        .collect()
+}
+
+/// Optional overrides of an experiment's sample period and duration.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Options {
+    /// Sample period of the core's step (s).
+    pub dt: Option<f64>,
+    /// Duration (s), for the time-based experiments.
+    pub duration: Option<f64>,
+}
+
+/// What an experiment found.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    /// Experiment name.
+    pub name: &'static str,
+    /// The model's `model = "..."` name.
+    pub model: &'static str,
+    /// What the model is known to do ([`expectation`]).
+    pub expected: Option<bool>,
+    /// The phenomenon it shows.
+    pub phenomenon: &'static str,
+    /// Whether the phenomenon showed.
+    pub shown: bool,
+    /// Whether the core agreed with the reference solver, where compared.
+    pub agrees: Option<bool>,
+    /// `Some(true)` when the model did what it is known to do (and agreed
+    /// with the reference); `None` when not judged.
+    pub pass: Option<bool>,
+    /// The figure that decided `shown`, in words.
+    pub figure: String,
+    /// Further lines of summary.
+    pub summary: Vec<String>,
+    /// The plot file.
+    pub plot: PathBuf,
+}
+
+impl Outcome {
+    /// `pass`, `FAIL`, or `-` when not judged.
+    pub fn verdict(&self) -> &'static str {
+        match self.pass {
+            Some(true) => "pass",
+            Some(false) => "FAIL",
+            None => "-",
+        }
+    }
+}
+
+/// Runs experiment `name` for the model of `file`, writing into `dir`.
+pub fn run(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
+    std::fs::create_dir_all(dir)?;
+    if name != "stribeck" && !file.model.has_state() {
+        bail!(
+            "experiment `{name}` does not apply to the static map `{}`: it needs a model with internal state",
+            file.model.name()
+        );
+    }
+    if opts.duration.is_some() && FIXED_LENGTH.contains(&name) {
+        bail!("--duration does not apply to experiment `{name}`: its length is fixed by its definition");
+    }
+    if opts.dt.is_some() && name == "rate-independence" {
+        bail!("--dt does not apply to experiment `{name}`: it takes 2000 samples a period");
+    }
+    let defaults = rig_defaults(name, file);
+    let mut out = match name {
+        "stribeck" => stribeck::stribeck(file, opts, dir),
+        "presliding" => presliding::presliding(file, opts, dir),
+        "frictional-lag" => frictional_lag::frictional_lag(file, opts, dir),
+        "breakaway" => breakaway::breakaway(file, opts, dir),
+        "stick-slip" => stick_slip::stick_slip(file, opts, dir),
+        "drift" => drift::drift(file, opts, dir),
+        "rate-independence" => rate_independence::rate_independence(file, opts, dir),
+        other => bail!(
+            "unknown experiment `{other}` (expected one of {})",
+            NAMES.join(", ")
+        ),
+    }?;
+    for (i, note) in defaults.into_iter().enumerate() {
+        out.summary.insert(i, note);
+    }
+    let expected = expectation(&file.model, name);
+    if let Some(expected) = expected {
+        out.summary.push(format!(
+            "{} is {} for `{}`; here it {}",
+            out.phenomenon,
+            if expected { "expected" } else { "not expected" },
+            file.model.name(),
+            if out.shown { "shows" } else { "does not show" }
+        ));
+    }
+    out.model = file.model.name();
+    out.expected = expected;
+    out.pass = match (expected, out.agrees) {
+        (Some(e), agrees) => Some(e == out.shown && agrees != Some(false)),
+        (None, agrees) => agrees,
+    };
+    Ok(out)
+}
+
+/// Whether `model` is known to show the phenomenon of `experiment`
+/// (`None`: not judged, the figures are reported only), from each model's
+/// host module ([`crate::models::HostModel::expectations`]). `stribeck`
+/// means "the steady state is the model's map" (for the bristle model: its
+/// sliding mean).
+pub fn expectation(model: &ModelSpec, experiment: &str) -> Option<bool> {
+    let row = model.host().expectations();
+    NAMES
+        .iter()
+        .position(|n| *n == experiment)
+        .and_then(|i| row[i])
+}
+
+pub(crate) fn core(spec: &ModelSpec) -> Result<Box<dyn Stepper>> {
+    Ok(spec.stepper(ScalarKind::F64)?)
+}
+
+pub(crate) fn mass(file: &ParamFile) -> f64 {
+    file.rig.mass.unwrap_or(1.0)
+}
+
+pub(crate) fn trace_csv(dir: &Path, tr: &Trace, reference: Option<&Trace>) -> Result<()> {
+    let mut headers = vec!["t", "x", "v", "f", "u"];
+    let mut cols: Vec<&[f64]> = vec![&tr.t, &tr.x, &tr.v, &tr.f, &tr.u];
+    if let Some(r) = reference {
+        headers.extend(["x_ref", "v_ref", "f_ref"]);
+        cols.extend([&r.x[..], &r.v[..], &r.f[..]]);
+    }
+    write_columns(&dir.join("trace.csv"), &headers, &cols)
+}
+
+/// Runs the rig with the core and, where the model has a continuous form,
+/// with the reference solver on the same sample times; writes `trace.csv`.
+pub(crate) fn rig_pair(
+    file: &ParamFile,
+    rig: &Rig,
+    h: f64,
+    duration: f64,
+    dir: &Path,
+) -> Result<(Trace, Option<Trace>)> {
+    let tr = rig_core(core(&file.model)?.as_mut(), rig, h, duration);
+    let rf = match file.model.continuous() {
+        Some(c) => Some(rig_reference(c.as_ref(), rig, &tr.t)?),
+        None => None,
+    };
+    trace_csv(dir, &tr, rf.as_ref())?;
+    Ok((tr, rf))
+}
+
+/// Plots one quantity of the core's trajectory, with the reference's and
+/// their difference where there is a reference.
+pub(crate) fn plot_pair(
+    path: &Path,
+    title: &str,
+    (x_label, y_label): (&str, &str),
+    core: Vec<(f64, f64)>,
+    reference: Option<Vec<(f64, f64)>>,
+) -> Result<()> {
+    match reference {
+        Some(reference) => comparison_plot(path, title, x_label, y_label, core, reference),
+        None => line_plot(
+            path,
+            title,
+            (x_label, Axis::Linear),
+            y_label,
+            &[Series {
+                label: "core",
+                points: core,
+            }],
+        ),
+    }
+}

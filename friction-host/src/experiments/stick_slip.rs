@@ -1,0 +1,127 @@
+//! Stick-slip: a mass on a spring pulled at constant velocity.
+
+use super::*;
+
+/// Times at which `v` crosses `threshold` upwards (slip onsets).
+pub fn slip_onsets(t: &[f64], v: &[f64], threshold: f64) -> Vec<f64> {
+    (1..v.len())
+        .filter(|&k| v[k - 1] < threshold && v[k] >= threshold)
+        .map(|k| t[k])
+        .collect()
+}
+
+/// Stick-slip figures of one trajectory.
+#[derive(Clone, Debug)]
+pub struct StickSlipFigures {
+    /// Slip onset times (s).
+    pub onsets: Vec<f64>,
+    /// Peak velocity (m/s).
+    pub peak_velocity: f64,
+    /// Final position (m).
+    pub final_position: f64,
+}
+
+impl StickSlipFigures {
+    fn of(tr: &Trace, pull: f64) -> Self {
+        Self {
+            onsets: slip_onsets(&tr.t, &tr.v, 0.5 * pull),
+            peak_velocity: tr.v.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            final_position: tr.x.last().copied().unwrap_or(0.0),
+        }
+    }
+}
+
+/// Compares core and reference stick-slip: the same number of slips, onsets
+/// within 1 % of the mean period, peak velocity within 2 %, final position
+/// within 1 %.
+pub fn compare_stick_slip(core: &StickSlipFigures, reference: &StickSlipFigures) -> (bool, String) {
+    let same_count = core.onsets.len() == reference.onsets.len();
+    let period = if reference.onsets.len() >= 2 {
+        (reference.onsets[reference.onsets.len() - 1] - reference.onsets[0])
+            / (reference.onsets.len() - 1) as f64
+    } else {
+        f64::INFINITY
+    };
+    let onset_err = core
+        .onsets
+        .iter()
+        .zip(&reference.onsets)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    let peak_err =
+        (core.peak_velocity - reference.peak_velocity).abs() / reference.peak_velocity.abs();
+    let pos_err =
+        (core.final_position - reference.final_position).abs() / reference.final_position.abs();
+    let pass = same_count && onset_err <= 0.01 * period && peak_err <= 0.02 && pos_err <= 0.01;
+    let text = format!(
+        "{} slips (reference {}), onsets within {:.2} ms ({:.2} % of the {:.3} s period, bound 1 %), peak velocity {:.4} vs {:.4} m/s ({:.2} %, bound 2 %), final position {:.5} vs {:.5} m ({:.3} %, bound 1 %)",
+        core.onsets.len(),
+        reference.onsets.len(),
+        1e3 * onset_err,
+        100.0 * onset_err / period,
+        period,
+        core.peak_velocity,
+        reference.peak_velocity,
+        100.0 * peak_err,
+        core.final_position,
+        reference.final_position,
+        100.0 * pos_err
+    );
+    (pass, text)
+}
+
+/// Mass on a spring whose end is pulled at constant velocity.
+pub(super) fn stick_slip(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
+    let h = opts.dt.unwrap_or(1e-3);
+    let duration = opts.duration.unwrap_or(20.0);
+    check_samples("stick-slip", duration, h)?;
+    let k = file.rig.stiffness.unwrap_or(2.0);
+    let pull = file.rig.pull_velocity.unwrap_or(0.1);
+    let u = move |t: f64, x: f64| k * (pull * t - x);
+    let rig = Rig {
+        mass: mass(file),
+        force: &u,
+    };
+    let (tr, rf) = rig_pair(file, &rig, h, duration, dir)?;
+    let c = StickSlipFigures::of(&tr, pull);
+    let comparison = rf
+        .as_ref()
+        .map(|r| compare_stick_slip(&c, &StickSlipFigures::of(r, pull)));
+    let plot = dir.join("stick-slip.svg");
+    plot_pair(
+        &plot,
+        &format!("Stick-slip: mass on a spring pulled at {pull} m/s (core at h = {h} s)"),
+        ("t (s)", "v (m/s)"),
+        zip(&tr.t, &tr.v),
+        rf.as_ref().map(|r| zip(&r.t, &r.v)),
+    )?;
+    let onsets = c
+        .onsets
+        .iter()
+        .map(|t| format!("{t:.3}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let mut summary = vec![format!("slip onsets (s): {onsets}")];
+    if let Some((_, text)) = &comparison {
+        summary.push(format!("against the reference: {text}"));
+    }
+    Ok(Outcome {
+        name: "stick-slip",
+        model: "",
+        expected: None,
+        phenomenon: "stick-slip",
+        shown: c.onsets.len() >= 2,
+        agrees: comparison.as_ref().map(|(ok, _)| *ok),
+        pass: None,
+        figure: match &comparison {
+            Some((_, text)) => text.clone(),
+            None => format!(
+                "{} slips, peak velocity {:.4} m/s (no reference for this model)",
+                c.onsets.len(),
+                c.peak_velocity
+            ),
+        },
+        summary,
+        plot,
+    })
+}

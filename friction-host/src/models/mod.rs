@@ -1,0 +1,330 @@
+//! Every model's host side, one module each, behind one trait
+//! ([`HostModel`]), and the one registry that lists them ([`ModelSpec`]).
+//!
+//! A model's module holds everything the host knows of it: its file keys
+//! and their checks, the continuous-time equations for the reference solver
+//! (written again from the model sheet, sharing no code with the core's
+//! steps), what each experiment is expected to show, its accuracy bounds,
+//! its state column names, and how to build its core stepper in each scalar.
+//!
+//! Adding a model: its core file, its host module here, and one line in
+//! the `registry!` call below.
+
+use crate::signals::Signal;
+use crate::sim::ReferenceRun;
+use anyhow::Result;
+use friction_core::{FrictionModel, ParamError, Scalar};
+
+mod bristle;
+mod dahl;
+mod elasto_plastic;
+mod lugre;
+mod reset_integrator;
+mod static_maps;
+
+pub use bristle::{bristle_reference, BristleSpec, MAX_BRISTLES};
+pub use lugre::lugre_force;
+
+/// The number type a core model is built with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ScalarKind {
+    /// 32-bit float, as on a Cortex-M4F.
+    F32,
+    /// 64-bit float.
+    F64,
+}
+
+/// A core model with its state, stepped from `f64` inputs.
+pub trait Stepper {
+    /// Advances by `h` with velocity `v` held; returns the force.
+    fn step(&mut self, v: f64, h: f64) -> f64;
+    /// Names of the internal states (CSV columns).
+    fn state_names(&self) -> Vec<String>;
+    /// Current internal states.
+    fn states(&self) -> Vec<f64>;
+}
+
+struct Core<M: FrictionModel<S>, S: Scalar> {
+    model: M,
+    state: M::State,
+    names: Vec<String>,
+    read: fn(&M::State) -> Vec<f64>,
+    _s: std::marker::PhantomData<S>,
+}
+
+impl<M: FrictionModel<S>, S: Scalar> Stepper for Core<M, S> {
+    fn step(&mut self, v: f64, h: f64) -> f64 {
+        self.model
+            .step(&mut self.state, S::from_f64(v), S::from_f64(h))
+            .to_f64()
+    }
+    fn state_names(&self) -> Vec<String> {
+        self.names.clone()
+    }
+    fn states(&self) -> Vec<f64> {
+        (self.read)(&self.state)
+    }
+}
+
+/// Boxes a built core model at rest, with its state column names and reader.
+pub(crate) fn boxed<M, S>(
+    model: M,
+    names: &[&str],
+    read: fn(&M::State) -> Vec<f64>,
+) -> Box<dyn Stepper>
+where
+    M: FrictionModel<S> + 'static,
+    S: Scalar + 'static,
+{
+    Box::new(Core {
+        model,
+        state: M::State::default(),
+        names: names.iter().map(|n| n.to_string()).collect(),
+        read,
+        _s: std::marker::PhantomData,
+    })
+}
+
+/// Builds a core stepper in the chosen scalar from a function generic over it.
+macro_rules! in_scalar {
+    ($scalar:expr, $build:ident ( $($arg:expr),* )) => {
+        match $scalar {
+            $crate::models::ScalarKind::F32 => $build::<f32>($($arg),*),
+            $crate::models::ScalarKind::F64 => $build::<f64>($($arg),*),
+        }
+    };
+}
+pub(crate) use in_scalar;
+
+/// Continuous-time friction: `dz/dt = rhs(z, v)`, `F = force(z, v)`.
+pub trait Continuous {
+    /// Number of internal states.
+    fn n(&self) -> usize;
+    /// `dz/dt`.
+    fn rhs(&self, z: &[f64], v: f64, dz: &mut [f64]);
+    /// The friction force.
+    fn force(&self, z: &[f64], v: f64) -> f64;
+    /// Absolute tolerance for each state (states are often micrometres).
+    fn atol(&self) -> Vec<f64>;
+    /// The steady-state force at constant velocity `v`.
+    fn steady_force(&self, v: f64) -> f64;
+    /// Whether the model switched (a discontinuity of its force) between two
+    /// samples, given the states and velocities at both.
+    fn switched(&self, _z0: &[f64], _v0: f64, _z1: &[f64], _v1: f64) -> bool {
+        false
+    }
+}
+
+/// An expectation: `Some(true)` the model shows the phenomenon, `Some(false)`
+/// it does not, `None` not judged.
+pub type Expect = Option<bool>;
+/// Expected.
+pub const Y: Expect = Some(true);
+/// Not expected.
+pub const N: Expect = Some(false);
+/// Not judged (figures reported only).
+pub const U: Expect = None;
+
+/// Everything the host knows of one model.
+pub trait HostModel {
+    /// The `model = "..."` name.
+    fn name(&self) -> &'static str;
+    /// Validates the parameters (the core's checks), naming the offending one.
+    fn validate(&self) -> Result<(), ParamError>;
+    /// The core's model in the given scalar, at rest.
+    fn stepper(&self, scalar: ScalarKind) -> Result<Box<dyn Stepper>, ParamError>;
+    /// The static friction level: the largest force the model holds at rest.
+    fn max_static_force(&self) -> f64;
+    /// How far the contact deflects before it slides; 0 for static maps.
+    fn presliding_scale(&self) -> f64 {
+        0.0
+    }
+    /// The viscous coefficient `sigma2`.
+    fn sigma2(&self) -> f64 {
+        0.0
+    }
+    /// Whether the model has internal state.
+    fn has_state(&self) -> bool {
+        true
+    }
+    /// The continuous-time equations for the reference solver, if any.
+    fn continuous(&self) -> Option<Box<dyn Continuous>>;
+    /// A reference of its own along a velocity signal (event-driven models),
+    /// used instead of integrating [`HostModel::continuous`].
+    fn own_reference(&self, _signal: &Signal, _t: &[f64]) -> Option<ReferenceRun> {
+        None
+    }
+    /// The steady-state force at constant `v` the core must reach.
+    fn steady_force(&self, v: f64) -> f64 {
+        self.continuous().map_or(f64::NAN, |c| c.steady_force(v))
+    }
+    /// Whether the steady state is the mean of a random force.
+    fn stochastic(&self) -> bool {
+        false
+    }
+    /// What the model is known to show, per experiment of
+    /// [`crate::experiments::NAMES`], in that order.
+    fn expectations(&self) -> [Expect; 7] {
+        [Y, U, U, U, U, U, U]
+    }
+    /// RMS force error bound (fraction of the static force) against the
+    /// reference at step `h` (1 or 10 kHz); `None`: reported, not judged.
+    fn accuracy_bound(&self, _h: f64) -> Option<f64> {
+        None
+    }
+    /// The drift experiment's default peak force.
+    fn drift_force(&self) -> f64 {
+        0.5 * self.max_static_force()
+    }
+}
+
+/// The registry: one line per model, `Variant(Type) = "file name"`. It
+/// generates [`ModelSpec`], [`MODEL_NAMES`], the parser dispatch and the
+/// [`HostModel`] delegation.
+macro_rules! registry {
+    ($($(#[$doc:meta])* $variant:ident($ty:ty) = $name:literal => $parse:path,)*) => {
+        /// A model of the library with its parameters.
+        #[derive(Clone, Debug, PartialEq)]
+        pub enum ModelSpec {
+            $($(#[$doc])* $variant($ty),)*
+        }
+
+        /// The model names a file may give.
+        pub const MODEL_NAMES: &[&str] = &[$($name),*];
+
+        impl ModelSpec {
+            /// The host side of the model.
+            pub fn host(&self) -> &dyn HostModel {
+                match self {
+                    $(Self::$variant(p) => p,)*
+                }
+            }
+
+            /// Parses the model's keys from a parameter file's text.
+            pub fn parse(name: &str, text: &str, origin: &str) -> Result<Self> {
+                match name {
+                    $($name => Ok(Self::$variant($parse(text, origin)?)),)*
+                    other => anyhow::bail!(
+                        "{origin}: unknown model `{other}` (expected one of {})",
+                        MODEL_NAMES.join(", ")
+                    ),
+                }
+            }
+        }
+    };
+}
+
+registry! {
+    /// `coulomb`: `fc`.
+    Coulomb(friction_core::CoulombParams) = "coulomb" => static_maps::parse_coulomb,
+    /// `coulomb-viscous`: `fc`, `sigma2`.
+    CoulombViscous(friction_core::CoulombViscousParams) = "coulomb-viscous" => static_maps::parse_coulomb_viscous,
+    /// `stribeck`: `fc`, `fs`, `vs`, `stribeck_exponent`, `sigma2`.
+    Stribeck(friction_core::StribeckMapParams) = "stribeck" => static_maps::parse_stribeck,
+    /// `lugre`: `fc`, `fs`, `vs`, `stribeck_exponent`, `sigma0`, `sigma1`, `sigma2`, `vd`.
+    LuGre(friction_core::LuGreParams) = "lugre" => lugre::parse,
+    /// `dahl`: `sigma`, `fc`, `delta`, `sigma2`.
+    Dahl(friction_core::DahlParams) = "dahl" => dahl::parse,
+    /// `elasto-plastic`: the LuGre keys and `z_ba`.
+    ElastoPlastic(friction_core::ElastoPlasticParams) = "elasto-plastic" => elasto_plastic::parse,
+    /// `reset-integrator`: `sigma0`, `sigma1`, `z0`, `stiction`, optional Stribeck keys.
+    ResetIntegrator(friction_core::ResetIntegratorParams) = "reset-integrator" => reset_integrator::parse,
+    /// `bristle`: `sigma0`, `delta_s`, `bristles` (1 to 64), `seed`.
+    Bristle(BristleSpec) = "bristle" => bristle::parse,
+}
+
+impl ModelSpec {
+    /// The `model = "..."` name.
+    pub fn name(&self) -> &'static str {
+        self.host().name()
+    }
+    /// See [`HostModel::max_static_force`].
+    pub fn max_static_force(&self) -> f64 {
+        self.host().max_static_force()
+    }
+    /// See [`HostModel::presliding_scale`].
+    pub fn presliding_scale(&self) -> f64 {
+        self.host().presliding_scale()
+    }
+    /// See [`HostModel::sigma2`].
+    pub fn sigma2(&self) -> f64 {
+        self.host().sigma2()
+    }
+    /// See [`HostModel::has_state`].
+    pub fn has_state(&self) -> bool {
+        self.host().has_state()
+    }
+    /// See [`HostModel::validate`].
+    pub fn validate(&self) -> Result<(), ParamError> {
+        self.host().validate()
+    }
+    /// See [`HostModel::stepper`].
+    pub fn stepper(&self, scalar: ScalarKind) -> Result<Box<dyn Stepper>, ParamError> {
+        self.host().stepper(scalar)
+    }
+    /// See [`HostModel::continuous`].
+    pub fn continuous(&self) -> Option<Box<dyn Continuous>> {
+        self.host().continuous()
+    }
+}
+
+/// `g(v) = Fc + (Fs - Fc) exp(-|v/vs|^delta)`.
+pub(crate) fn stribeck(fc: f64, fs: f64, vs: f64, delta: f64, v: f64) -> f64 {
+    fc + (fs - fc) * (-(v / vs).abs().powf(delta)).exp()
+}
+
+/// `g(v)` of a core curve's parameters.
+pub(crate) fn curve_g(c: &friction_core::StribeckParams, v: f64) -> f64 {
+    stribeck(c.fc, c.fs, c.vs, c.exponent, v)
+}
+
+/// `sign(v)`: -1, 0 or 1.
+pub(crate) fn sign(v: f64) -> f64 {
+    if v > 0.0 {
+        1.0
+    } else if v < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// Declares a model's file struct: its own keys, `deny_unknown_fields`, and
+/// the tables every parameter file may carry (`[rig]`, `[servo]`,
+/// `[plant]`), which their own readers parse.
+macro_rules! model_file {
+    ($name:ident { $($(#[$fm:meta])* $field:ident : $ty:ty),* $(,)? }) => {
+        #[derive(serde::Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct $name {
+            $($(#[$fm])* $field: $ty,)*
+            #[allow(dead_code)]
+            model: String,
+            #[serde(default)]
+            #[allow(dead_code)]
+            rig: Option<serde::de::IgnoredAny>,
+            #[serde(default)]
+            #[allow(dead_code)]
+            servo: Option<serde::de::IgnoredAny>,
+            #[serde(default)]
+            #[allow(dead_code)]
+            plant: Option<serde::de::IgnoredAny>,
+        }
+    };
+}
+pub(crate) use model_file;
+
+/// Deserializes a model file struct, the error naming the origin and model.
+pub(crate) fn from_toml<T: serde::de::DeserializeOwned>(
+    text: &str,
+    origin: &str,
+    model: &str,
+) -> Result<T> {
+    use anyhow::Context;
+    toml::from_str(text).with_context(|| format!("{origin}: invalid `{model}` parameters"))
+}
+
+/// The default Stribeck exponent for file structs.
+pub(crate) fn default_exponent() -> f64 {
+    friction_core::StribeckParams::DEFAULT_EXPONENT
+}

@@ -1,0 +1,160 @@
+//! The static maps: Coulomb, Coulomb + viscous and the Stribeck map. No
+//! state: their reference is the map itself, evaluated independently here,
+//! and only the steady-state experiment applies.
+
+use super::{
+    boxed, default_exponent, from_toml, in_scalar, model_file, sign, stribeck, Continuous,
+    HostModel, ScalarKind, Stepper,
+};
+use anyhow::Result;
+use friction_core::{
+    CoulombParams, CoulombViscousParams, ParamError, Scalar, StribeckMapParams, StribeckParams,
+};
+
+model_file!(CoulombFile { fc: f64 });
+model_file!(CoulombViscousFile {
+    fc: f64,
+    sigma2: f64,
+});
+model_file!(StribeckFile {
+    fc: f64,
+    fs: f64,
+    vs: f64,
+    #[serde(default = "default_exponent")]
+    stribeck_exponent: f64,
+    #[serde(default)]
+    sigma2: f64,
+});
+
+pub(super) fn parse_coulomb(text: &str, origin: &str) -> Result<CoulombParams> {
+    let f: CoulombFile = from_toml(text, origin, "coulomb")?;
+    Ok(CoulombParams { fc: f.fc })
+}
+
+pub(super) fn parse_coulomb_viscous(text: &str, origin: &str) -> Result<CoulombViscousParams> {
+    let f: CoulombViscousFile = from_toml(text, origin, "coulomb-viscous")?;
+    Ok(CoulombViscousParams {
+        fc: f.fc,
+        sigma2: f.sigma2,
+    })
+}
+
+pub(super) fn parse_stribeck(text: &str, origin: &str) -> Result<StribeckMapParams> {
+    let f: StribeckFile = from_toml(text, origin, "stribeck")?;
+    Ok(StribeckMapParams {
+        curve: StribeckParams {
+            fc: f.fc,
+            fs: f.fs,
+            vs: f.vs,
+            exponent: f.stribeck_exponent,
+        },
+        sigma2: f.sigma2,
+    })
+}
+
+/// `F = g(v) sign(v) + sigma2 v`, with `g = Fc` for the Coulomb maps.
+struct StaticMap {
+    fc: f64,
+    fs: f64,
+    vs: f64,
+    delta: f64,
+    sigma2: f64,
+}
+
+impl Continuous for StaticMap {
+    fn n(&self) -> usize {
+        0
+    }
+    fn rhs(&self, _: &[f64], _: f64, _: &mut [f64]) {}
+    fn force(&self, _: &[f64], v: f64) -> f64 {
+        self.steady_force(v)
+    }
+    fn atol(&self) -> Vec<f64> {
+        Vec::new()
+    }
+    fn steady_force(&self, v: f64) -> f64 {
+        stribeck(self.fc, self.fs, self.vs, self.delta, v) * sign(v) + self.sigma2 * v
+    }
+}
+
+fn no_states(_: &()) -> Vec<f64> {
+    Vec::new()
+}
+
+/// Static maps are evaluated exactly at the sample: only rounding is left.
+const EXACT: f64 = 1e-9;
+
+macro_rules! static_map {
+    ($params:ty, $name:literal, $build:ident, $map:expr) => {
+        impl HostModel for $params {
+            fn name(&self) -> &'static str {
+                $name
+            }
+            fn validate(&self) -> Result<(), ParamError> {
+                self.build::<f64>().map(|_| ())
+            }
+            fn stepper(&self, scalar: ScalarKind) -> Result<Box<dyn Stepper>, ParamError> {
+                fn $build<S: Scalar + 'static>(
+                    p: &$params,
+                ) -> Result<Box<dyn Stepper>, ParamError> {
+                    Ok(boxed::<_, S>(p.build::<S>()?, &[], no_states))
+                }
+                in_scalar!(scalar, $build(self))
+            }
+            fn max_static_force(&self) -> f64 {
+                let m: StaticMap = $map(self);
+                m.fs
+            }
+            fn sigma2(&self) -> f64 {
+                let m: StaticMap = $map(self);
+                m.sigma2
+            }
+            fn has_state(&self) -> bool {
+                false
+            }
+            fn continuous(&self) -> Option<Box<dyn Continuous>> {
+                Some(Box::new($map(self)))
+            }
+            fn accuracy_bound(&self, _h: f64) -> Option<f64> {
+                Some(EXACT)
+            }
+        }
+    };
+}
+
+static_map!(
+    CoulombParams,
+    "coulomb",
+    build_coulomb,
+    |p: &CoulombParams| StaticMap {
+        fc: p.fc,
+        fs: p.fc,
+        vs: 1.0,
+        delta: 1.0,
+        sigma2: 0.0,
+    }
+);
+static_map!(
+    CoulombViscousParams,
+    "coulomb-viscous",
+    build_coulomb_viscous,
+    |p: &CoulombViscousParams| StaticMap {
+        fc: p.fc,
+        fs: p.fc,
+        vs: 1.0,
+        delta: 1.0,
+        sigma2: p.sigma2,
+    }
+);
+static_map!(
+    StribeckMapParams,
+    "stribeck",
+    build_stribeck,
+    |p: &StribeckMapParams| StaticMap {
+        fc: p.curve.fc,
+        fs: p.curve.fs,
+        vs: p.curve.vs,
+        delta: p.curve.exponent,
+        sigma2: p.sigma2,
+    }
+);
