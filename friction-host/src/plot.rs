@@ -156,8 +156,8 @@ fn draw_chart<DB: DrawingBackend>(
                 .configure_mesh()
                 .x_desc(x_label)
                 .y_desc(y_label)
-                .x_label_formatter(&|v| tick_label(*v))
-                .y_label_formatter(&|v| tick_label(*v))
+                .x_label_formatter(&|v| tick_label(*v, x0.abs().max(x1.abs())))
+                .y_label_formatter(&|v| tick_label(*v, y0.abs().max(y1.abs())))
                 .draw()
                 .map_err(|e| err(&e))?;
             for (i, s) in series.iter().enumerate() {
@@ -195,10 +195,12 @@ fn draw_chart<DB: DrawingBackend>(
     Ok(())
 }
 
-/// Axis numbers: plain between 0.01 and 10^4, scientific outside.
-fn tick_label(v: f64) -> String {
+/// Axis numbers: plain between 0.01 and 10^4, scientific outside;
+/// `scale` is the axis' largest magnitude: a tick within 1e-9 of it from
+/// zero is zero (not `-2.2e-16`).
+fn tick_label(v: f64, scale: f64) -> String {
     let a = v.abs();
-    if a < 1e-300 {
+    if a < 1e-300 || a < 1e-9 * scale {
         "0".into()
     } else if (1e-2..1e4).contains(&a) {
         let s = format!("{v:.4}");

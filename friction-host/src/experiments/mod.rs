@@ -17,6 +17,7 @@ use std::path::{Path, PathBuf};
 mod breakaway;
 mod drift;
 mod frictional_lag;
+mod nonlocal_memory;
 mod presliding;
 mod rate_independence;
 mod stick_slip;
@@ -33,6 +34,7 @@ pub const NAMES: &[&str] = &[
     "stick-slip",
     "drift",
     "rate-independence",
+    "nonlocal-memory",
 ];
 
 /// The most samples one experiment run may take (checked before anything
@@ -52,6 +54,7 @@ pub(crate) fn check_samples(name: &str, duration: f64, h: f64) -> Result<()> {
 
 /// The experiments whose length is fixed by their definition (no `--duration`).
 const FIXED_LENGTH: &[&str] = &[
+    "nonlocal-memory",
     "stribeck",
     "frictional-lag",
     "breakaway",
@@ -148,8 +151,10 @@ pub fn run(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Ou
     if opts.duration.is_some() && FIXED_LENGTH.contains(&name) {
         bail!("--duration does not apply to experiment `{name}`: its length is fixed by its definition");
     }
-    if opts.dt.is_some() && name == "rate-independence" {
-        bail!("--dt does not apply to experiment `{name}`: it takes 2000 samples a period");
+    if opts.dt.is_some() && (name == "rate-independence" || name == "nonlocal-memory") {
+        bail!(
+            "--dt does not apply to experiment `{name}`: its sampling is fixed by its definition"
+        );
     }
     let defaults = rig_defaults(name, file);
     let mut out = match name {
@@ -160,6 +165,7 @@ pub fn run(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Ou
         "stick-slip" => stick_slip::stick_slip(file, opts, dir),
         "drift" => drift::drift(file, opts, dir),
         "rate-independence" => rate_independence::rate_independence(file, opts, dir),
+        "nonlocal-memory" => nonlocal_memory::nonlocal_memory(file, opts, dir),
         other => bail!(
             "unknown experiment `{other}` (expected one of {})",
             NAMES.join(", ")

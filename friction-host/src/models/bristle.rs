@@ -122,8 +122,8 @@ impl HostModel for BristleSpec {
     }
     /// The force is random in x, so F-v loops enclose area without any
     /// lag: rate independence is the relevant check.
-    fn expectations(&self) -> [Expect; 7] {
-        [Y, N, U, N, U, N, Y]
+    fn expectations(&self) -> [Expect; 8] {
+        [Y, N, U, N, U, N, Y, N]
     }
 }
 

@@ -84,8 +84,8 @@ impl HostModel for DahlParams {
         Some(Box::new(DahlOde(*self)))
     }
     /// Hysteresis and rate independence; no stiction, lag, varying break-away or stick-slip; it drifts.
-    fn expectations(&self) -> [Expect; 7] {
-        [Y, Y, N, N, N, Y, Y]
+    fn expectations(&self) -> [Expect; 8] {
+        [Y, Y, N, N, N, Y, Y, N]
     }
     /// 3 % of Fc at 1 kHz, 1 % at 10 kHz.
     fn accuracy_bound(&self, h: f64) -> Option<f64> {

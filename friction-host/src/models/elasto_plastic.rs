@@ -88,8 +88,8 @@ impl HostModel for ElastoPlasticParams {
         Some(Box::new(ElastoPlasticOde(*self)))
     }
     /// As LuGre, but no drift below `sigma0 z_ba`.
-    fn expectations(&self) -> [Expect; 7] {
-        [Y, Y, Y, Y, Y, N, N]
+    fn expectations(&self) -> [Expect; 8] {
+        [Y, Y, Y, Y, Y, N, N, N]
     }
     /// 3 % at 1 kHz, 1 % at 10 kHz.
     fn accuracy_bound(&self, h: f64) -> Option<f64> {

@@ -121,8 +121,8 @@ impl HostModel for LuGreParams {
         Some(Box::new(LuGreOde(*self)))
     }
     /// stribeck, presliding, lag, break-away, stick-slip, drift: yes; rate independence: no.
-    fn expectations(&self) -> [Expect; 7] {
-        [Y, Y, Y, Y, Y, Y, N]
+    fn expectations(&self) -> [Expect; 8] {
+        [Y, Y, Y, Y, Y, Y, N, N]
     }
     /// 2 % at 1 kHz, 0.5 % at 10 kHz (set for the canudas1995 parameters).
     fn accuracy_bound(&self, h: f64) -> Option<f64> {

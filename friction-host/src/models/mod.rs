@@ -164,8 +164,8 @@ pub trait HostModel {
     }
     /// What the model is known to show, per experiment of
     /// [`crate::experiments::NAMES`], in that order.
-    fn expectations(&self) -> [Expect; 7] {
-        [Y, U, U, U, U, U, U]
+    fn expectations(&self) -> [Expect; 8] {
+        [Y, U, U, U, U, U, U, U]
     }
     /// RMS force error bound (fraction of the static force) against the
     /// reference at step `h` (1 or 10 kHz); `None`: reported, not judged.

@@ -117,7 +117,7 @@ impl HostModel for ResetIntegratorParams {
     }
     /// Stiction and stick-slip, no drift; its bond is elastic (no
     /// hysteresis), no lag, and the break-away peak rises with the rate.
-    fn expectations(&self) -> [Expect; 7] {
-        [Y, N, N, N, Y, N, U]
+    fn expectations(&self) -> [Expect; 8] {
+        [Y, N, N, N, Y, N, U, N]
     }
 }
