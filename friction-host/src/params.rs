@@ -1,5 +1,6 @@
 //! Parameter files (TOML): `model = "..."`, the model's keys, and an
-//! optional `[rig]` table for the experiments. Unknown keys are errors that
+//! optional `[rig]` table for the experiments and `[plant]` table written by
+//! `friction identify`. Unknown keys are errors that
 //! name the key, with line and column.
 
 use anyhow::{bail, Context, Result};
@@ -140,6 +141,21 @@ pub struct Rig {
     pub force_rate: Option<f64>,
 }
 
+/// The `[plant]` table that `friction identify` writes: the driven axis
+/// the friction was identified on. Every key is optional.
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Plant {
+    /// Moving mass (kg), or inertia for rotary axes.
+    pub mass: Option<f64>,
+    /// Constant force offset of the drive (N).
+    pub offset: Option<f64>,
+    /// Whether the model's force parameters are friction coefficients:
+    /// the friction is the normal force times the model's output.
+    #[serde(default)]
+    pub per_normal_force: bool,
+}
+
 /// A parsed parameter file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParamFile {
@@ -147,6 +163,8 @@ pub struct ParamFile {
     pub model: ModelSpec,
     /// The rig, if the file has a `[rig]` table.
     pub rig: Rig,
+    /// The identified plant, if the file has a `[plant]` table.
+    pub plant: Plant,
 }
 
 #[derive(Deserialize)]
@@ -162,6 +180,8 @@ struct CoulombFile {
     fc: f64,
     #[serde(default)]
     rig: Rig,
+    #[serde(default)]
+    plant: Plant,
 }
 
 #[derive(Deserialize)]
@@ -173,6 +193,8 @@ struct CoulombViscousFile {
     sigma2: f64,
     #[serde(default)]
     rig: Rig,
+    #[serde(default)]
+    plant: Plant,
 }
 
 fn default_exponent() -> f64 {
@@ -193,6 +215,8 @@ struct StribeckFile {
     sigma2: f64,
     #[serde(default)]
     rig: Rig,
+    #[serde(default)]
+    plant: Plant,
 }
 
 #[derive(Deserialize)]
@@ -214,6 +238,8 @@ struct LuGreFile {
     z_ba: Option<f64>,
     #[serde(default)]
     rig: Rig,
+    #[serde(default)]
+    plant: Plant,
 }
 
 impl LuGreFile {
@@ -246,6 +272,8 @@ struct DahlFile {
     sigma2: f64,
     #[serde(default)]
     rig: Rig,
+    #[serde(default)]
+    plant: Plant,
 }
 
 fn one() -> f64 {
@@ -269,6 +297,8 @@ struct ResetIntegratorFile {
     stribeck_exponent: Option<f64>,
     #[serde(default)]
     rig: Rig,
+    #[serde(default)]
+    plant: Plant,
 }
 
 fn default_bristles() -> usize {
@@ -292,6 +322,8 @@ struct BristleFile {
     seed: u64,
     #[serde(default)]
     rig: Rig,
+    #[serde(default)]
+    plant: Plant,
 }
 
 /// The model names a file may give.
@@ -324,6 +356,7 @@ impl ParamFile {
                 ParamFile {
                     model: ModelSpec::Coulomb(CoulombParams { fc: f.fc }),
                     rig: f.rig,
+                    plant: f.plant,
                 }
             }
             "coulomb-viscous" => {
@@ -334,6 +367,7 @@ impl ParamFile {
                         sigma2: f.sigma2,
                     }),
                     rig: f.rig,
+                    plant: f.plant,
                 }
             }
             "stribeck" => {
@@ -350,6 +384,7 @@ impl ParamFile {
                         sigma2: f.sigma2,
                     }),
                     rig: f.rig,
+                    plant: f.plant,
                 }
             }
             "lugre" => {
@@ -360,6 +395,7 @@ impl ParamFile {
                 ParamFile {
                     model: ModelSpec::LuGre(f.params()),
                     rig: f.rig,
+                    plant: f.plant,
                 }
             }
             "dahl" => {
@@ -372,6 +408,7 @@ impl ParamFile {
                         sigma2: f.sigma2,
                     }),
                     rig: f.rig,
+                    plant: f.plant,
                 }
             }
             "elasto-plastic" => {
@@ -385,6 +422,7 @@ impl ParamFile {
                         z_ba,
                     }),
                     rig: f.rig,
+                    plant: f.plant,
                 }
             }
             "reset-integrator" => {
@@ -408,6 +446,7 @@ impl ParamFile {
                         curve,
                     }),
                     rig: f.rig,
+                    plant: f.plant,
                 }
             }
             "bristle" => {
@@ -429,6 +468,7 @@ impl ParamFile {
                         bristles: f.bristles,
                     },
                     rig: f.rig,
+                    plant: f.plant,
                 }
             }
             other => bail!(

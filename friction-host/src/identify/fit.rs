@@ -1,0 +1,548 @@
+//! The models' fits on conditioned signals, and their predictions.
+
+use super::solve::{self, Estimate, FitFailure};
+use super::Signals;
+use friction_core::{FrictionModel, LuGreParams, LuGreState, StribeckParams};
+use indicatif::ProgressBar;
+
+/// A fitted friction law (parameters in force units, or coefficients when
+/// the fit used a normal force).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Friction {
+    /// `fc sign(v) + sigma2 v`.
+    CoulombViscous {
+        /// Coulomb level.
+        fc: f64,
+        /// Viscous coefficient.
+        sigma2: f64,
+    },
+    /// `g(v) sign(v) + sigma2 v`.
+    Stribeck {
+        /// The curve.
+        curve: StribeckParams,
+        /// Viscous coefficient.
+        sigma2: f64,
+    },
+    /// LuGre.
+    LuGre(LuGreParams),
+}
+
+fn sign(v: f64) -> f64 {
+    if v > 0.0 {
+        1.0
+    } else if v < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// `exp(-|v/vs|^delta)`, the Stribeck shape.
+fn shape(v: f64, vs: f64, delta: f64) -> f64 {
+    (-(v / vs).abs().powf(delta)).exp()
+}
+
+impl Friction {
+    /// The model name as parameter files spell it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::CoulombViscous { .. } => "coulomb-viscous",
+            Self::Stribeck { .. } => "stribeck",
+            Self::LuGre(_) => "lugre",
+        }
+    }
+
+    /// The steady-state friction at constant velocity `v`.
+    pub fn steady(&self, v: f64) -> f64 {
+        let stribeck = |c: &StribeckParams, s2: f64| {
+            (c.fc + (c.fs - c.fc) * shape(v, c.vs, c.exponent)) * sign(v) + s2 * v
+        };
+        match self {
+            Self::CoulombViscous { fc, sigma2 } => fc * sign(v) + sigma2 * v,
+            Self::Stribeck { curve, sigma2 } => stribeck(curve, *sigma2),
+            Self::LuGre(p) => stribeck(&p.curve, p.sigma2),
+        }
+    }
+
+    /// The friction force along the signals (times the normal force): static
+    /// maps sample by sample, LuGre by the core's step from rest, row 0 at
+    /// `h = 0` and row `k` after a step of `t[k] - t[k-1]` with `v[k]` held
+    /// (as `friction simulate` does). `None` if LuGre's parameters are invalid.
+    pub fn force(&self, s: &Signals) -> Option<Vec<f64>> {
+        match self {
+            Self::LuGre(p) => {
+                let m = p.build::<f64>().ok()?;
+                let mut state = LuGreState::default();
+                Some(
+                    (0..s.len())
+                        .map(|k| {
+                            let h = if k == 0 { 0.0 } else { s.t[k] - s.t[k - 1] };
+                            s.n(k) * m.step(&mut state, s.v[k], h)
+                        })
+                        .collect(),
+                )
+            }
+            _ => Some((0..s.len()).map(|k| s.n(k) * self.steady(s.v[k])).collect()),
+        }
+    }
+}
+
+/// One estimated parameter.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Param {
+    /// Its key in the parameter file (`mass` and `offset` go to `[plant]`).
+    pub name: &'static str,
+    /// The estimate.
+    pub value: f64,
+    /// Its standard deviation.
+    pub std: f64,
+}
+
+impl Param {
+    /// The relative standard deviation in percent.
+    pub fn relative_std(&self) -> f64 {
+        100.0 * self.std / self.value.abs()
+    }
+}
+
+/// A fit.
+#[derive(Clone, Debug)]
+pub struct Fit {
+    /// The friction law.
+    pub friction: Friction,
+    /// The moving mass, if estimated.
+    pub mass: Option<f64>,
+    /// The force offset, if estimated.
+    pub offset: Option<f64>,
+    /// Every estimated parameter with its standard deviation.
+    pub params: Vec<Param>,
+    /// Residual evaluations of the iterative stages.
+    pub evaluations: usize,
+    /// What each stage did.
+    pub stages: Vec<String>,
+}
+
+impl Fit {
+    /// The predicted force `mass a + N friction(v) + offset`.
+    pub fn predict(&self, s: &Signals) -> Option<Vec<f64>> {
+        let f = self.friction.force(s)?;
+        Some(
+            f.iter()
+                .enumerate()
+                .map(|(k, fk)| fk + self.mass.unwrap_or(0.0) * s.a[k] + self.offset.unwrap_or(0.0))
+                .collect(),
+        )
+    }
+
+    /// The value of parameter `name`.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        self.params.iter().find(|p| p.name == name).map(|p| p.value)
+    }
+}
+
+/// Why a fit is rejected (a judged failure, exit code 1).
+#[derive(Clone, Debug)]
+pub struct Rejected {
+    /// What went wrong, with the figure.
+    pub reason: String,
+    /// The estimate, when there is one.
+    pub fit: Option<Fit>,
+}
+
+impl std::fmt::Display for Rejected {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.reason)
+    }
+}
+
+fn failure(stage: &str, e: FitFailure) -> Rejected {
+    Rejected {
+        reason: format!("{stage}: {e}"),
+        fit: None,
+    }
+}
+
+/// Options of the fits.
+#[derive(Clone, Copy, Debug)]
+pub struct FitOptions {
+    /// Estimate `mass` and `offset`.
+    pub inertia: bool,
+    /// The Stribeck exponent (fixed).
+    pub stribeck_exponent: f64,
+}
+
+fn names(v: &[&str]) -> Vec<String> {
+    v.iter().map(|s| s.to_string()).collect()
+}
+
+/// Appends the inertia columns `a` and `1`.
+fn inertia_columns(s: &Signals, idx: &[usize], cols: &mut Vec<Vec<f64>>, names: &mut Vec<String>) {
+    cols.push(idx.iter().map(|&k| s.a[k]).collect());
+    cols.push(vec![1.0; idx.len()]);
+    names.extend(["mass".to_string(), "offset".to_string()]);
+}
+
+/// `coulomb-viscous` by linear least squares.
+pub fn coulomb_viscous(s: &Signals, o: &FitOptions) -> Result<Fit, Rejected> {
+    let idx: Vec<usize> = (0..s.len()).collect();
+    let mut cols = vec![
+        idx.iter().map(|&k| s.n(k) * sign(s.v[k])).collect(),
+        idx.iter().map(|&k| s.n(k) * s.v[k]).collect::<Vec<f64>>(),
+    ];
+    let mut nm = names(&["fc", "sigma2"]);
+    if o.inertia {
+        inertia_columns(s, &idx, &mut cols, &mut nm);
+    }
+    let e = solve::linear(&cols, &s.f, &nm).map_err(|e| failure("linear least squares", e))?;
+    let fit = Fit {
+        friction: Friction::CoulombViscous {
+            fc: e.theta[0],
+            sigma2: e.theta[1],
+        },
+        mass: o.inertia.then(|| e.theta[2]),
+        offset: o.inertia.then(|| e.theta[3]),
+        params: params(&["fc", "sigma2", "mass", "offset"], &e),
+        evaluations: 1,
+        stages: vec![format!(
+            "linear least squares on {} samples, parameters {}",
+            s.len(),
+            nm.join(", ")
+        )],
+    };
+    check_bounds(fit, &[])
+}
+
+fn params(names: &[&'static str], e: &Estimate) -> Vec<Param> {
+    e.theta
+        .iter()
+        .zip(&e.std)
+        .zip(names)
+        .map(|((&value, &std), &name)| Param { name, value, std })
+        .collect()
+}
+
+/// A bound of a parameter, checked after a fit.
+struct Bound {
+    name: &'static str,
+    lo: f64,
+    hi: f64,
+    what: String,
+}
+
+/// Rejects a fit whose parameter lies at or beyond a bound: the loader's
+/// (`fc > 0`, `fs >= fc`, `sigma* >= 0`, `mass > 0`) and the extra ones given.
+fn check_bounds(fit: Fit, extra: &[Bound]) -> Result<Fit, Rejected> {
+    let get = |n: &str| fit.get(n);
+    let mut bounds = vec![
+        Bound {
+            name: "fc",
+            lo: 0.0,
+            hi: f64::INFINITY,
+            what: "fc > 0".into(),
+        },
+        Bound {
+            name: "sigma2",
+            lo: 0.0,
+            hi: f64::INFINITY,
+            what: "sigma2 >= 0".into(),
+        },
+        Bound {
+            name: "mass",
+            lo: 0.0,
+            hi: f64::INFINITY,
+            what: "mass > 0".into(),
+        },
+        Bound {
+            name: "sigma1",
+            lo: 0.0,
+            hi: f64::INFINITY,
+            what: "sigma1 >= 0".into(),
+        },
+    ];
+    if let Some(fc) = get("fc") {
+        bounds.push(Bound {
+            name: "fs",
+            lo: fc,
+            hi: f64::INFINITY,
+            what: format!("fs >= fc = {fc:.6e}"),
+        });
+    }
+    for b in bounds.iter().chain(extra) {
+        let Some(x) = get(b.name) else { continue };
+        let strict = b.name == "fc" || b.name == "mass";
+        let out = x < b.lo || x > b.hi || (strict && x <= b.lo);
+        if out || !x.is_finite() {
+            let std = fit
+                .params
+                .iter()
+                .find(|p| p.name == b.name)
+                .map_or(0.0, |p| p.std);
+            return Err(Rejected {
+                reason: format!(
+                    "parameter `{}` ends at its bound ({}): estimate {x:.6e} (standard deviation {std:.2e})",
+                    b.name, b.what
+                ),
+                fit: Some(fit),
+            });
+        }
+    }
+    Ok(fit)
+}
+
+/// The range of `|v|` over which `vs` can be identified: from the 2nd
+/// percentile of the non-zero speeds to the largest.
+fn speed_range(s: &Signals, idx: &[usize]) -> (f64, f64) {
+    let mut speeds: Vec<f64> = idx
+        .iter()
+        .map(|&k| s.v[k].abs())
+        .filter(|v| *v > 0.0)
+        .collect();
+    speeds.sort_by(f64::total_cmp);
+    if speeds.is_empty() {
+        return (1.0, 1.0);
+    }
+    (speeds[speeds.len() / 50], speeds[speeds.len() - 1])
+}
+
+/// The Stribeck map on the samples `idx`: a grid over `vs` (at each point
+/// the other parameters enter linearly), then Levenberg-Marquardt on all of
+/// them from the best grid point. Returns the fit and the `vs` range.
+fn stribeck_on(
+    s: &Signals,
+    idx: &[usize],
+    o: &FitOptions,
+    progress: &ProgressBar,
+) -> Result<(Fit, Bound), Rejected> {
+    let delta = o.stribeck_exponent;
+    let (vlo, vhi) = speed_range(s, idx);
+    let y: Vec<f64> = idx.iter().map(|&k| s.f[k]).collect();
+    let mut best: Option<(f64, f64, Estimate)> = None;
+    const GRID: usize = 41;
+    for i in 0..GRID {
+        let vs = vlo * (vhi / vlo).powf(i as f64 / (GRID - 1) as f64);
+        let mut cols = vec![
+            idx.iter().map(|&k| s.n(k) * sign(s.v[k])).collect(),
+            idx.iter()
+                .map(|&k| s.n(k) * sign(s.v[k]) * shape(s.v[k], vs, delta))
+                .collect(),
+            idx.iter().map(|&k| s.n(k) * s.v[k]).collect::<Vec<f64>>(),
+        ];
+        let mut nm = names(&["fc", "fs - fc", "sigma2"]);
+        if o.inertia {
+            inertia_columns(s, idx, &mut cols, &mut nm);
+        }
+        if let Ok(e) = solve::linear(&cols, &y, &nm) {
+            let ssr: f64 = e.residual.iter().map(|r| r * r).sum();
+            if best.as_ref().is_none_or(|b| ssr < b.0) {
+                best = Some((ssr, vs, e));
+            }
+        }
+        progress.inc(1);
+    }
+    let Some((_, vs0, e0)) = best else {
+        return Err(Rejected {
+            reason: format!(
+                "stribeck: no point of the grid over vs in [{vlo:.3e}, {vhi:.3e}] gives an identifiable linear problem"
+            ),
+            fit: None,
+        });
+    };
+    // theta = [fc, fs, ln vs, sigma2, (mass, offset)]
+    let mut theta0 = vec![
+        e0.theta[0],
+        e0.theta[0] + e0.theta[1],
+        vs0.ln(),
+        e0.theta[2],
+    ];
+    if o.inertia {
+        theta0.extend([e0.theta[3], e0.theta[4]]);
+    }
+    let typical = y.iter().map(|f| f.abs()).fold(0.0, f64::max).max(1e-300);
+    let scale: Vec<f64> = theta0
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            if i == 2 {
+                1.0
+            } else {
+                t.abs().max(1e-6 * typical)
+            }
+        })
+        .collect();
+    let nm = names(&["fc", "fs", "vs", "sigma2", "mass", "offset"][..theta0.len()]);
+    let residual = |p: &[f64]| -> Option<Vec<f64>> {
+        let vs = p[2].exp();
+        Some(
+            idx.iter()
+                .map(|&k| {
+                    let v = s.v[k];
+                    let fr = (p[0] + (p[1] - p[0]) * shape(v, vs, delta)) * sign(v) + p[3] * v;
+                    let mut pred = s.n(k) * fr;
+                    if o.inertia {
+                        pred += p[4] * s.a[k] + p[5];
+                    }
+                    s.f[k] - pred
+                })
+                .collect(),
+        )
+    };
+    let e = solve::nonlinear(&residual, &theta0, &scale, &nm, 200, progress)
+        .map_err(|e| failure("stribeck (Levenberg-Marquardt)", e))?;
+    let vs = e.theta[2].exp();
+    let mut ps = params(&["fc", "fs", "vs", "sigma2", "mass", "offset"], &e);
+    ps[2] = Param {
+        name: "vs",
+        value: vs,
+        std: vs * e.std[2],
+    };
+    let fit = Fit {
+        friction: Friction::Stribeck {
+            curve: StribeckParams {
+                fc: e.theta[0],
+                fs: e.theta[1],
+                vs,
+                exponent: delta,
+            },
+            sigma2: e.theta[3],
+        },
+        mass: o.inertia.then(|| e.theta[4]),
+        offset: o.inertia.then(|| e.theta[5]),
+        params: ps,
+        evaluations: e.evaluations + GRID,
+        stages: vec![format!(
+            "Stribeck map on {} samples: grid of {GRID} values of vs in [{vlo:.3e}, {vhi:.3e}] (linear least squares at each, best vs = {vs0:.4e}), then Levenberg-Marquardt on {} ({} evaluations); exponent fixed at {delta}",
+            idx.len(),
+            nm.join(", "),
+            e.evaluations
+        )],
+    };
+    let bound = Bound {
+        name: "vs",
+        lo: vlo,
+        hi: vhi,
+        what: format!("the measured speeds {vlo:.3e} <= vs <= {vhi:.3e}"),
+    };
+    Ok((fit, bound))
+}
+
+/// `stribeck` on all samples.
+pub fn stribeck(s: &Signals, o: &FitOptions, progress: &ProgressBar) -> Result<Fit, Rejected> {
+    let idx: Vec<usize> = (0..s.len()).collect();
+    let (fit, bound) = stribeck_on(s, &idx, o, progress)?;
+    check_bounds(fit, &[bound])
+}
+
+/// Samples whose speed exceeds this fraction of the largest count as
+/// sliding for the first stage of `lugre`.
+pub const SLIDING_FRACTION: f64 = 0.01;
+
+/// `lugre`: the Stribeck map (with `mass`, `offset`) from the sliding
+/// samples, then `sigma0` (a grid over the pre-sliding distance
+/// `fs / sigma0`, then Levenberg-Marquardt on `ln sigma0` and `sigma1`) by
+/// minimising the simulation error over all samples.
+pub fn lugre(s: &Signals, o: &FitOptions, progress: &ProgressBar) -> Result<Fit, Rejected> {
+    let vmax = s.v.iter().map(|v| v.abs()).fold(0.0, f64::max);
+    let idx: Vec<usize> = (0..s.len())
+        .filter(|&k| s.v[k].abs() >= SLIDING_FRACTION * vmax)
+        .collect();
+    let (stat, bound) = stribeck_on(s, &idx, o, progress)?;
+    let stat = check_bounds(stat, &[bound]).map_err(|mut r| {
+        r.reason = format!("lugre, static part: {}", r.reason);
+        r
+    })?;
+    let Friction::Stribeck { curve, sigma2 } = stat.friction else {
+        unreachable!("stribeck_on fits a Stribeck map")
+    };
+    let base = |sigma0: f64, sigma1: f64| LuGreParams {
+        curve,
+        sigma0,
+        sigma1,
+        sigma2,
+        vd: None,
+    };
+    let with = |p: LuGreParams| Fit {
+        friction: Friction::LuGre(p),
+        params: Vec::new(),
+        evaluations: 0,
+        stages: Vec::new(),
+        ..stat.clone()
+    };
+    let sim_residual = |p: LuGreParams| -> Option<Vec<f64>> {
+        let pred = with(p).predict(s)?;
+        Some(s.f.iter().zip(&pred).map(|(a, b)| a - b).collect())
+    };
+    // displacement range, from the velocity
+    let (mut x, mut xlo, mut xhi) = (0.0f64, 0.0f64, 0.0f64);
+    for k in 1..s.len() {
+        x += s.v[k] * (s.t[k] - s.t[k - 1]);
+        xlo = xlo.min(x);
+        xhi = xhi.max(x);
+    }
+    let range = (xhi - xlo).max(f64::MIN_POSITIVE);
+    let (dlo, dhi) = (1e-7 * range, 1e-1 * range);
+    const GRID: usize = 25;
+    let mut best = (f64::INFINITY, 0.0);
+    for i in 0..GRID {
+        let d = dlo * (dhi / dlo).powf(i as f64 / (GRID - 1) as f64);
+        let sigma0 = curve.fs / d;
+        if let Some(r) = sim_residual(base(sigma0, 0.0)) {
+            let ssr: f64 = r.iter().map(|x| x * x).sum();
+            if ssr < best.0 {
+                best = (ssr, sigma0);
+            }
+        }
+        progress.inc(1);
+    }
+    let sigma0_init = best.1;
+    // sigma1 scale: the damping that matters at the pre-sliding speeds
+    let s1scale = (curve.fs / (vmax * SLIDING_FRACTION)).max(sigma2);
+    let theta0 = [sigma0_init.ln(), 0.1 * s1scale];
+    let scale = [1.0, s1scale];
+    let residual = |p: &[f64]| sim_residual(base(p[0].exp(), p[1]));
+    let nm = names(&["sigma0", "sigma1"]);
+    let e = solve::nonlinear(&residual, &theta0, &scale, &nm, 100, progress).map_err(|e| {
+        failure(
+            "lugre, pre-sliding (Levenberg-Marquardt on the simulation error)",
+            e,
+        )
+    })?;
+    let sigma0 = e.theta[0].exp();
+    let mut ps: Vec<Param> = stat.params.clone();
+    ps.push(Param {
+        name: "sigma0",
+        value: sigma0,
+        std: sigma0 * e.std[0],
+    });
+    ps.push(Param {
+        name: "sigma1",
+        value: e.theta[1],
+        std: e.std[1],
+    });
+    let mut stages = stat.stages.clone();
+    stages[0] = format!(
+        "{} (the sliding samples: |v| >= {SLIDING_FRACTION} max |v| = {:.4e})",
+        stages[0],
+        SLIDING_FRACTION * vmax
+    );
+    stages.push(format!(
+        "sigma0 from a grid of {GRID} pre-sliding distances fs/sigma0 in [{dlo:.3e}, {dhi:.3e}] (best sigma0 = {sigma0_init:.4e}), then Levenberg-Marquardt on ln sigma0 and sigma1 minimising the simulation error of the core's LuGre step over all {} samples ({} evaluations); static part, mass and offset held",
+        s.len(),
+        e.evaluations
+    ));
+    let fit = Fit {
+        friction: Friction::LuGre(base(sigma0, e.theta[1])),
+        params: ps,
+        evaluations: stat.evaluations + GRID + e.evaluations,
+        stages,
+        ..stat
+    };
+    let bound = Bound {
+        name: "sigma0",
+        lo: curve.fs / dhi,
+        hi: curve.fs / dlo,
+        what: format!(
+            "pre-sliding distance fs/sigma0 between {dlo:.3e} and {dhi:.3e}, a 1e-7 to 1e-1 fraction of the travel"
+        ),
+    };
+    check_bounds(fit, &[bound])
+}

@@ -1,0 +1,217 @@
+//! `friction identify`: synthetic recovery for every model, the EMPS
+//! benchmark's published IDIM-LS figures, the tribometer, and the errors.
+
+use friction_core::{FrictionModel, LuGreParams, LuGreState, StribeckParams};
+use friction_host::identify::{self, Columns, Conditioning, Options};
+use friction_host::params::{ModelSpec, ParamFile};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn data(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(rel)
+}
+
+fn friction(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_friction"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// Gaussian noise from a fixed-seed generator (SplitMix64 and Box-Muller).
+struct Noise(u64);
+
+impl Noise {
+    fn unit(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        ((z >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+    fn gauss(&mut self) -> f64 {
+        let (a, b) = (self.unit(), self.unit());
+        (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
+    }
+}
+
+/// The true motion: a sum of sines, `(x, v, a)` at time `t`.
+fn motion(t: f64) -> (f64, f64, f64) {
+    // (amplitude of velocity, frequency Hz)
+    const PARTS: [(f64, f64); 3] = [(0.08, 0.31), (0.03, 1.13), (0.01, 2.7)];
+    let (mut x, mut v, mut a) = (0.0, 0.0, 0.0);
+    for (amp, f) in PARTS {
+        let w = 2.0 * std::f64::consts::PI * f;
+        x += -amp / w * (w * t).cos();
+        v += amp * (w * t).sin();
+        a += amp * w * (w * t).cos();
+    }
+    (x, v, a)
+}
+
+const MASS: f64 = 2.0;
+const OFFSET: f64 = 0.3;
+const NOISE: f64 = 0.02;
+const FS: f64 = 1000.0;
+const DURATION: f64 = 20.0;
+
+/// Writes `t,x,f` of the motion with friction `friction(v, h)` (called at
+/// 10 kHz sub-steps, velocity at each sub-step's end), sampled at 1 kHz,
+/// with Gaussian force noise.
+fn synthetic(dir: &Path, mut friction: impl FnMut(f64, f64) -> f64) -> PathBuf {
+    let mut noise = Noise(7);
+    let mut text = String::from("t,x,f\n");
+    const SUB: usize = 10;
+    let h = 1.0 / (FS * SUB as f64);
+    let mut fr = friction(motion(0.0).1, 0.0);
+    let n = (DURATION * FS) as usize;
+    for k in 0..=n {
+        let t = k as f64 / FS;
+        if k > 0 {
+            for j in 1..=SUB {
+                fr = friction(motion(t - 1.0 / FS + j as f64 * h).1, h);
+            }
+        }
+        let (x, _, a) = motion(t);
+        let f = MASS * a + fr + OFFSET + NOISE * noise.gauss();
+        text.push_str(&format!("{t},{x},{f}\n"));
+    }
+    let path = dir.join("synthetic.csv");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn options(input: &Path, model: &str, output: &Path) -> Options {
+    Options {
+        input: input.to_path_buf(),
+        model: model.into(),
+        output: output.to_path_buf(),
+        columns: Columns::default(),
+        inertia: true,
+        conditioning: Conditioning::default(),
+        stribeck_exponent: 2.0,
+        validate: None,
+        progress: false,
+    }
+}
+
+fn close(name: &str, got: f64, want: f64, rel: f64) {
+    let e = (got - want).abs() / want.abs();
+    assert!(
+        e <= rel,
+        "{name}: {got} against {want}: {:.3} % > {} %",
+        100.0 * e,
+        100.0 * rel
+    );
+}
+
+fn sign(v: f64) -> f64 {
+    if v > 0.0 {
+        1.0
+    } else if v < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// The written file loads and runs through `friction simulate`.
+fn loads_and_simulates(dir: &Path) -> ParamFile {
+    let params = dir.join("params.toml");
+    let file = ParamFile::load(&params).unwrap();
+    let input = dir.join("v.csv");
+    std::fs::write(&input, "t,v\n0,0\n0.001,0.01\n0.002,0.02\n0.003,-0.01\n").unwrap();
+    let out = friction(&[
+        "simulate",
+        "--params",
+        params.to_str().unwrap(),
+        "--input",
+        input.to_str().unwrap(),
+        "--output",
+        dir.join("sim.csv").to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    file
+}
+
+#[test]
+fn synthetic_coulomb_viscous_is_recovered_within_1_percent() {
+    let dir = tempfile::tempdir().unwrap();
+    let (fc, sigma2) = (1.0, 5.0);
+    let input = synthetic(dir.path(), |v, _| fc * sign(v) + sigma2 * v);
+    let out = identify::identify(&options(&input, "coulomb-viscous", dir.path())).unwrap();
+    assert!(out.rejected.is_none(), "{:?}", out.rejected);
+    let fit = out.fit.unwrap();
+    close("fc", fit.get("fc").unwrap(), fc, 0.01);
+    close("sigma2", fit.get("sigma2").unwrap(), sigma2, 0.01);
+    close("mass", fit.get("mass").unwrap(), MASS, 0.01);
+    close("offset", fit.get("offset").unwrap(), OFFSET, 0.01);
+    let file = loads_and_simulates(dir.path());
+    assert_eq!(file.model.name(), "coulomb-viscous");
+    assert_eq!(file.plant.mass, fit.mass);
+    assert_eq!(file.plant.offset, fit.offset);
+}
+
+#[test]
+fn synthetic_stribeck_is_recovered() {
+    let dir = tempfile::tempdir().unwrap();
+    let curve = StribeckParams {
+        fc: 1.0,
+        fs: 1.5,
+        vs: 0.01,
+        exponent: 2.0,
+    };
+    let sigma2 = 5.0;
+    let g = |v: f64| curve.fc + (curve.fs - curve.fc) * (-(v / curve.vs).powi(2)).exp();
+    let input = synthetic(dir.path(), |v, _| g(v) * sign(v) + sigma2 * v);
+    let out = identify::identify(&options(&input, "stribeck", dir.path())).unwrap();
+    assert!(out.rejected.is_none(), "{:?}", out.rejected);
+    let fit = out.fit.unwrap();
+    close("fc", fit.get("fc").unwrap(), curve.fc, 0.02);
+    close("fs", fit.get("fs").unwrap(), curve.fs, 0.02);
+    close("vs", fit.get("vs").unwrap(), curve.vs, 0.05);
+    close("sigma2", fit.get("sigma2").unwrap(), sigma2, 0.02);
+    close("mass", fit.get("mass").unwrap(), MASS, 0.02);
+    close("offset", fit.get("offset").unwrap(), OFFSET, 0.05);
+    let file = loads_and_simulates(dir.path());
+    assert_eq!(file.model.name(), "stribeck");
+}
+
+#[test]
+fn synthetic_lugre_is_recovered() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = LuGreParams {
+        curve: StribeckParams {
+            fc: 1.0,
+            fs: 1.5,
+            vs: 0.01,
+            exponent: 2.0,
+        },
+        sigma0: 1e3,
+        sigma1: 10.0,
+        sigma2: 5.0,
+        vd: None,
+    };
+    let m = p.build::<f64>().unwrap();
+    let mut state = LuGreState::default();
+    let input = synthetic(dir.path(), |v, h| m.step(&mut state, v, h));
+    let out = identify::identify(&options(&input, "lugre", dir.path())).unwrap();
+    assert!(out.rejected.is_none(), "{:?}", out.rejected);
+    let fit = out.fit.unwrap();
+    close("fc", fit.get("fc").unwrap(), p.curve.fc, 0.05);
+    close("fs", fit.get("fs").unwrap(), p.curve.fs, 0.05);
+    close("vs", fit.get("vs").unwrap(), p.curve.vs, 0.1);
+    close("sigma2", fit.get("sigma2").unwrap(), p.sigma2, 0.05);
+    close("mass", fit.get("mass").unwrap(), MASS, 0.05);
+    close("sigma0", fit.get("sigma0").unwrap(), p.sigma0, 0.2);
+    close("sigma1", fit.get("sigma1").unwrap(), p.sigma1, 0.5);
+    let file = loads_and_simulates(dir.path());
+    assert!(matches!(file.model, ModelSpec::LuGre(_)));
+}
