@@ -122,6 +122,9 @@ struct IdentifyArgs {
     /// Stribeck exponent (fixed during the fit).
     #[arg(long, default_value_t = 2.0)]
     stribeck_exponent: f64,
+    /// Steady-state law of the `lugre` fit's first stage.
+    #[arg(long, value_enum, default_value = "stribeck")]
+    lugre_static: identify::fit::StaticPart,
     /// Second trajectory (same columns) for cross-validation.
     #[arg(long)]
     validate: Option<PathBuf>,
@@ -215,6 +218,7 @@ fn run(cli: Cli) -> Result<bool> {
                     decimate: a.decimate,
                 },
                 stribeck_exponent: a.stribeck_exponent,
+                lugre_static: a.lugre_static,
                 validate: a.validate,
                 progress: !a.quiet,
             };

@@ -93,6 +93,7 @@ fn options(input: &Path, model: &str, output: &Path) -> Options {
         inertia: true,
         conditioning: Conditioning::default(),
         stribeck_exponent: 2.0,
+        lugre_static: Default::default(),
         validate: None,
         progress: false,
     }

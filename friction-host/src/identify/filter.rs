@@ -32,6 +32,7 @@ pub struct Section {
 pub struct Butterworth {
     sections: Vec<Section>,
     order: usize,
+    settle: usize,
 }
 
 impl Butterworth {
@@ -67,7 +68,11 @@ impl Butterworth {
                 a: [(k - 1.0) / a0, 0.0],
             });
         }
-        Ok(Self { sections, order })
+        Ok(Self {
+            sections,
+            order,
+            settle: (3.0 * fs / fc).ceil() as usize,
+        })
     }
 
     /// The sections `(b0, b1, b2, a1, a2)`.
@@ -116,11 +121,16 @@ impl Butterworth {
         }
     }
 
-    /// The number of samples of odd-reflection padding at each end.
+    /// Samples the impulse response needs to settle: three periods of
+    /// the cut-off frequency.
+    pub fn settle(&self) -> usize {
+        self.settle
+    }
+
+    /// The number of samples of odd-reflection padding at each end:
+    /// [`Butterworth::settle`], at most `n - 1`.
     pub fn pad_len(&self, n: usize) -> usize {
-        (3 * (2 * self.sections.len() + 1))
-            .max(6 * self.order)
-            .min(n.saturating_sub(1))
+        self.settle.max(3 * self.order).min(n.saturating_sub(1))
     }
 
     /// Zero-phase filtering: forward, then backward (see the module notes).

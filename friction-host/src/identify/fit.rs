@@ -1,7 +1,7 @@
 //! The models' fits on conditioned signals, and their predictions.
 
 use super::solve::{self, Estimate, FitFailure};
-use super::Signals;
+use super::{FullRate, Signals};
 use friction_core::{FrictionModel, LuGreParams, LuGreState, StribeckParams};
 use indicatif::ProgressBar;
 
@@ -64,17 +64,18 @@ impl Friction {
         }
     }
 
-    /// The friction force along the signals (times the normal force): static
-    /// maps sample by sample, LuGre by the core's step from rest, row 0 at
-    /// `h = 0` and row `k` after a step of `t[k] - t[k-1]` with `v[k]` held
-    /// (as `friction simulate` does). `None` if LuGre's parameters are invalid.
-    pub fn force(&self, s: &Signals) -> Option<Vec<f64>> {
+    /// The friction force along the raw-rate signals (times the normal
+    /// force): static maps sample by sample, LuGre by the core's step from
+    /// rest, row 0 at `h = 0` and row `k` after a step of `t[k] - t[k-1]`
+    /// with `v[k]` held (as `friction simulate` does). `None` if LuGre's
+    /// parameters are invalid.
+    pub fn force(&self, s: &FullRate) -> Option<Vec<f64>> {
         match self {
             Self::LuGre(p) => {
                 let m = p.build::<f64>().ok()?;
                 let mut state = LuGreState::default();
                 Some(
-                    (0..s.len())
+                    (0..s.t.len())
                         .map(|k| {
                             let h = if k == 0 { 0.0 } else { s.t[k] - s.t[k - 1] };
                             s.n(k) * m.step(&mut state, s.v[k], h)
@@ -82,7 +83,11 @@ impl Friction {
                         .collect(),
                 )
             }
-            _ => Some((0..s.len()).map(|k| s.n(k) * self.steady(s.v[k])).collect()),
+            _ => Some(
+                (0..s.t.len())
+                    .map(|k| s.n(k) * self.steady(s.v[k]))
+                    .collect(),
+            ),
         }
     }
 }
@@ -123,15 +128,17 @@ pub struct Fit {
 }
 
 impl Fit {
-    /// The predicted force `mass a + N friction(v) + offset`.
+    /// The predicted force `mass a + N friction(v) + offset`, computed at
+    /// the raw rate and observed as the measured force is (filtered and
+    /// decimated).
     pub fn predict(&self, s: &Signals) -> Option<Vec<f64>> {
-        let f = self.friction.force(s)?;
-        Some(
-            f.iter()
-                .enumerate()
-                .map(|(k, fk)| fk + self.mass.unwrap_or(0.0) * s.a[k] + self.offset.unwrap_or(0.0))
-                .collect(),
-        )
+        let f = self.friction.force(&s.full)?;
+        let full: Vec<f64> = f
+            .iter()
+            .enumerate()
+            .map(|(k, fk)| fk + self.mass.unwrap_or(0.0) * s.full.a[k] + self.offset.unwrap_or(0.0))
+            .collect();
+        Some(s.observe(&full))
     }
 
     /// The value of parameter `name`.
@@ -169,15 +176,36 @@ pub struct FitOptions {
     pub inertia: bool,
     /// The Stribeck exponent (fixed).
     pub stribeck_exponent: f64,
+    /// The steady-state law of `lugre`'s first stage.
+    pub lugre_static: StaticPart,
+}
+
+/// The steady-state law `lugre` fits first.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum StaticPart {
+    /// The Stribeck curve: `fc`, `fs`, `vs` and `sigma2`.
+    #[default]
+    Stribeck,
+    /// Coulomb and viscous only: `fs = fc` (then `vs` has no effect and is
+    /// written as the largest measured speed).
+    CoulombViscous,
 }
 
 fn names(v: &[&str]) -> Vec<String> {
     v.iter().map(|s| s.to_string()).collect()
 }
 
+/// A regressor column: `g(k)` over the raw-rate samples, observed (filtered
+/// and decimated) as the force is, at the samples `idx`.
+fn observed(s: &Signals, idx: &[usize], g: impl Fn(usize) -> f64) -> Vec<f64> {
+    let full: Vec<f64> = (0..s.full.t.len()).map(g).collect();
+    let o = s.observe(&full);
+    idx.iter().map(|&k| o[k]).collect()
+}
+
 /// Appends the inertia columns `a` and `1`.
 fn inertia_columns(s: &Signals, idx: &[usize], cols: &mut Vec<Vec<f64>>, names: &mut Vec<String>) {
-    cols.push(idx.iter().map(|&k| s.a[k]).collect());
+    cols.push(observed(s, idx, |k| s.full.a[k]));
     cols.push(vec![1.0; idx.len()]);
     names.extend(["mass".to_string(), "offset".to_string()]);
 }
@@ -185,16 +213,22 @@ fn inertia_columns(s: &Signals, idx: &[usize], cols: &mut Vec<Vec<f64>>, names: 
 /// `coulomb-viscous` by linear least squares.
 pub fn coulomb_viscous(s: &Signals, o: &FitOptions) -> Result<Fit, Rejected> {
     let idx: Vec<usize> = (0..s.len()).collect();
+    check_bounds(coulomb_viscous_on(s, &idx, o)?, &[])
+}
+
+fn coulomb_viscous_on(s: &Signals, idx: &[usize], o: &FitOptions) -> Result<Fit, Rejected> {
+    let fr = &s.full;
     let mut cols = vec![
-        idx.iter().map(|&k| s.n(k) * sign(s.v[k])).collect(),
-        idx.iter().map(|&k| s.n(k) * s.v[k]).collect::<Vec<f64>>(),
+        observed(s, idx, |k| fr.n(k) * sign(fr.v[k])),
+        observed(s, idx, |k| fr.n(k) * fr.v[k]),
     ];
     let mut nm = names(&["fc", "sigma2"]);
     if o.inertia {
-        inertia_columns(s, &idx, &mut cols, &mut nm);
+        inertia_columns(s, idx, &mut cols, &mut nm);
     }
-    let e = solve::linear(&cols, &s.f, &nm).map_err(|e| failure("linear least squares", e))?;
-    let fit = Fit {
+    let y: Vec<f64> = idx.iter().map(|&k| s.f[k]).collect();
+    let e = solve::linear(&cols, &y, &nm).map_err(|e| failure("linear least squares", e))?;
+    Ok(Fit {
         friction: Friction::CoulombViscous {
             fc: e.theta[0],
             sigma2: e.theta[1],
@@ -205,11 +239,10 @@ pub fn coulomb_viscous(s: &Signals, o: &FitOptions) -> Result<Fit, Rejected> {
         evaluations: 1,
         stages: vec![format!(
             "linear least squares on {} samples, parameters {}",
-            s.len(),
+            idx.len(),
             nm.join(", ")
         )],
-    };
-    check_bounds(fit, &[])
+    })
 }
 
 fn params(names: &[&'static str], e: &Estimate) -> Vec<Param> {
@@ -312,7 +345,7 @@ fn stribeck_on(
     idx: &[usize],
     o: &FitOptions,
     progress: &ProgressBar,
-) -> Result<(Fit, Bound), Rejected> {
+) -> Result<(Fit, Bound, Option<FitFailure>), Rejected> {
     let delta = o.stribeck_exponent;
     let (vlo, vhi) = speed_range(s, idx);
     let y: Vec<f64> = idx.iter().map(|&k| s.f[k]).collect();
@@ -320,12 +353,13 @@ fn stribeck_on(
     const GRID: usize = 41;
     for i in 0..GRID {
         let vs = vlo * (vhi / vlo).powf(i as f64 / (GRID - 1) as f64);
+        let fr = &s.full;
         let mut cols = vec![
-            idx.iter().map(|&k| s.n(k) * sign(s.v[k])).collect(),
-            idx.iter()
-                .map(|&k| s.n(k) * sign(s.v[k]) * shape(s.v[k], vs, delta))
-                .collect(),
-            idx.iter().map(|&k| s.n(k) * s.v[k]).collect::<Vec<f64>>(),
+            observed(s, idx, |k| fr.n(k) * sign(fr.v[k])),
+            observed(s, idx, |k| {
+                fr.n(k) * sign(fr.v[k]) * shape(fr.v[k], vs, delta)
+            }),
+            observed(s, idx, |k| fr.n(k) * fr.v[k]),
         ];
         let mut nm = names(&["fc", "fs - fc", "sigma2"]);
         if o.inertia {
@@ -372,22 +406,21 @@ fn stribeck_on(
     let nm = names(&["fc", "fs", "vs", "sigma2", "mass", "offset"][..theta0.len()]);
     let residual = |p: &[f64]| -> Option<Vec<f64>> {
         let vs = p[2].exp();
-        Some(
-            idx.iter()
-                .map(|&k| {
-                    let v = s.v[k];
-                    let fr = (p[0] + (p[1] - p[0]) * shape(v, vs, delta)) * sign(v) + p[3] * v;
-                    let mut pred = s.n(k) * fr;
-                    if o.inertia {
-                        pred += p[4] * s.a[k] + p[5];
-                    }
-                    s.f[k] - pred
-                })
-                .collect(),
-        )
+        let fr = &s.full;
+        let pred = observed(s, idx, |k| {
+            let v = fr.v[k];
+            let f = (p[0] + (p[1] - p[0]) * shape(v, vs, delta)) * sign(v) + p[3] * v;
+            let mut pred = fr.n(k) * f;
+            if o.inertia {
+                pred += p[4] * fr.a[k] + p[5];
+            }
+            pred
+        });
+        Some(y.iter().zip(&pred).map(|(a, b)| a - b).collect())
     };
     let e = solve::nonlinear(&residual, &theta0, &scale, &nm, 200, progress)
         .map_err(|e| failure("stribeck (Levenberg-Marquardt)", e))?;
+    let singular = e.singular.clone();
     let vs = e.theta[2].exp();
     let mut ps = params(&["fc", "fs", "vs", "sigma2", "mass", "offset"], &e);
     ps[2] = Param {
@@ -422,56 +455,114 @@ fn stribeck_on(
         hi: vhi,
         what: format!("the measured speeds {vlo:.3e} <= vs <= {vhi:.3e}"),
     };
-    Ok((fit, bound))
+    Ok((fit, bound, singular))
 }
 
 /// `stribeck` on all samples.
 pub fn stribeck(s: &Signals, o: &FitOptions, progress: &ProgressBar) -> Result<Fit, Rejected> {
     let idx: Vec<usize> = (0..s.len()).collect();
-    let (fit, bound) = stribeck_on(s, &idx, o, progress)?;
-    check_bounds(fit, &[bound])
+    let (fit, bound, singular) = stribeck_on(s, &idx, o, progress)?;
+    let fit = check_bounds(fit, &[bound])?;
+    match singular {
+        Some(why) => Err(Rejected {
+            reason: format!("stribeck: {why}"),
+            fit: Some(fit),
+        }),
+        None => Ok(fit),
+    }
 }
 
 /// Samples whose speed exceeds this fraction of the largest count as
 /// sliding for the first stage of `lugre`.
 pub const SLIDING_FRACTION: f64 = 0.01;
 
-/// `lugre`: the Stribeck map (with `mass`, `offset`) from the sliding
-/// samples, then `sigma0` (a grid over the pre-sliding distance
-/// `fs / sigma0`, then Levenberg-Marquardt on `ln sigma0` and `sigma1`) by
-/// minimising the simulation error over all samples.
+/// `lugre` in three stages. 1: the steady-state law (with `mass`,
+/// `offset`) from the sliding samples, `|v| >= SLIDING_FRACTION max |v|`,
+/// clamped into the feasible set (a start, not a result). 2: `sigma0` from
+/// a grid over the pre-sliding distance `fs / sigma0`, then
+/// Levenberg-Marquardt on `ln sigma0` and `sigma1`, the rest held. 3:
+/// Levenberg-Marquardt on every parameter together. Stages 2 and 3 minimise
+/// the simulation error of the core's LuGre step over all samples.
 pub fn lugre(s: &Signals, o: &FitOptions, progress: &ProgressBar) -> Result<Fit, Rejected> {
     let vmax = s.v.iter().map(|v| v.abs()).fold(0.0, f64::max);
     let idx: Vec<usize> = (0..s.len())
         .filter(|&k| s.v[k].abs() >= SLIDING_FRACTION * vmax)
         .collect();
-    let (stat, bound) = stribeck_on(s, &idx, o, progress)?;
-    let stat = check_bounds(stat, &[bound]).map_err(|mut r| {
-        r.reason = format!("lugre, static part: {}", r.reason);
-        r
-    })?;
-    let Friction::Stribeck { curve, sigma2 } = stat.friction else {
-        unreachable!("stribeck_on fits a Stribeck map")
+    let stribeck_static = o.lugre_static == StaticPart::Stribeck;
+    let typical = s.f.iter().map(|f| f.abs()).fold(0.0, f64::max).max(1e-300);
+    // stage 1
+    let (stat, mut curve, mut sigma2) = if stribeck_static {
+        let (stat, _, _) = stribeck_on(s, &idx, o, progress)?;
+        let Friction::Stribeck { curve, sigma2 } = stat.friction else {
+            unreachable!("stribeck_on fits a Stribeck map")
+        };
+        (stat, curve, sigma2)
+    } else {
+        let stat = coulomb_viscous_on(s, &idx, o)?;
+        let Friction::CoulombViscous { fc, sigma2 } = stat.friction else {
+            unreachable!("coulomb_viscous_on fits a Coulomb-viscous map")
+        };
+        let curve = StribeckParams {
+            fc,
+            fs: fc,
+            vs: vmax,
+            exponent: o.stribeck_exponent,
+        };
+        (stat, curve, sigma2)
     };
-    let base = |sigma0: f64, sigma1: f64| LuGreParams {
-        curve,
-        sigma0,
-        sigma1,
-        sigma2,
-        vd: None,
+    curve.fc = curve.fc.max(1e-6 * typical);
+    curve.fs = curve.fs.max(curve.fc);
+    sigma2 = sigma2.max(0.0);
+    let (mass, offset) = (stat.mass.unwrap_or(0.0), stat.offset.unwrap_or(0.0));
+    // theta = [fc, (fs, ln vs), sigma2, (mass, offset), ln sigma0, sigma1]
+    let mut nm: Vec<&'static str> = vec!["fc"];
+    let mut theta0 = vec![curve.fc];
+    if stribeck_static {
+        nm.extend(["fs", "vs"]);
+        theta0.extend([curve.fs, curve.vs.ln()]);
+    }
+    nm.push("sigma2");
+    theta0.push(sigma2);
+    if o.inertia {
+        nm.extend(["mass", "offset"]);
+        theta0.extend([mass, offset]);
+    }
+    nm.extend(["sigma0", "sigma1"]);
+    let at = |name: &str| nm.iter().position(|n| *n == name);
+    // the model for a parameter vector, clamped into the feasible set (a
+    // value beyond a bound has no further effect and is reported afterwards)
+    let model = |p: &[f64]| -> Fit {
+        let fc = p[0].max(1e-9 * typical);
+        let (fs, vs) = match (at("fs"), at("vs")) {
+            (Some(i), Some(j)) => (p[i].max(fc), p[j].exp()),
+            _ => (fc, vmax),
+        };
+        let n = p.len();
+        Fit {
+            friction: Friction::LuGre(LuGreParams {
+                curve: StribeckParams {
+                    fc,
+                    fs,
+                    vs,
+                    exponent: o.stribeck_exponent,
+                },
+                sigma0: p[n - 2].exp(),
+                sigma1: p[n - 1].max(0.0),
+                sigma2: p[at("sigma2").unwrap_or(0)].max(0.0),
+                vd: None,
+            }),
+            mass: at("mass").map(|i| p[i]),
+            offset: at("offset").map(|i| p[i]),
+            params: Vec::new(),
+            evaluations: 0,
+            stages: Vec::new(),
+        }
     };
-    let with = |p: LuGreParams| Fit {
-        friction: Friction::LuGre(p),
-        params: Vec::new(),
-        evaluations: 0,
-        stages: Vec::new(),
-        ..stat.clone()
-    };
-    let sim_residual = |p: LuGreParams| -> Option<Vec<f64>> {
-        let pred = with(p).predict(s)?;
+    let sim_residual = |p: &[f64]| -> Option<Vec<f64>> {
+        let pred = model(p).predict(s)?;
         Some(s.f.iter().zip(&pred).map(|(a, b)| a - b).collect())
     };
-    // displacement range, from the velocity
+    // stage 2: grid over the pre-sliding distance, displacement range from the velocity
     let (mut x, mut xlo, mut xhi) = (0.0f64, 0.0f64, 0.0f64);
     for k in 1..s.len() {
         x += s.v[k] * (s.t[k] - s.t[k - 1]);
@@ -482,10 +573,15 @@ pub fn lugre(s: &Signals, o: &FitOptions, progress: &ProgressBar) -> Result<Fit,
     let (dlo, dhi) = (1e-7 * range, 1e-1 * range);
     const GRID: usize = 25;
     let mut best = (f64::INFINITY, 0.0);
+    let with_pre = |ln_sigma0: f64, sigma1: f64| {
+        let mut p = theta0.clone();
+        p.extend([ln_sigma0, sigma1]);
+        p
+    };
     for i in 0..GRID {
         let d = dlo * (dhi / dlo).powf(i as f64 / (GRID - 1) as f64);
         let sigma0 = curve.fs / d;
-        if let Some(r) = sim_residual(base(sigma0, 0.0)) {
+        if let Some(r) = sim_residual(&with_pre(sigma0.ln(), 0.0)) {
             let ssr: f64 = r.iter().map(|x| x * x).sum();
             if ssr < best.0 {
                 best = (ssr, sigma0);
@@ -496,53 +592,90 @@ pub fn lugre(s: &Signals, o: &FitOptions, progress: &ProgressBar) -> Result<Fit,
     let sigma0_init = best.1;
     // sigma1 scale: the damping that matters at the pre-sliding speeds
     let s1scale = (curve.fs / (vmax * SLIDING_FRACTION)).max(sigma2);
-    let theta0 = [sigma0_init.ln(), 0.1 * s1scale];
-    let scale = [1.0, s1scale];
-    let residual = |p: &[f64]| sim_residual(base(p[0].exp(), p[1]));
-    let nm = names(&["sigma0", "sigma1"]);
-    let e = solve::nonlinear(&residual, &theta0, &scale, &nm, 100, progress).map_err(|e| {
-        failure(
-            "lugre, pre-sliding (Levenberg-Marquardt on the simulation error)",
-            e,
-        )
-    })?;
-    let sigma0 = e.theta[0].exp();
-    let mut ps: Vec<Param> = stat.params.clone();
-    ps.push(Param {
-        name: "sigma0",
-        value: sigma0,
-        std: sigma0 * e.std[0],
-    });
-    ps.push(Param {
-        name: "sigma1",
-        value: e.theta[1],
-        std: e.std[1],
-    });
+    let pre = |p: &[f64]| sim_residual(&with_pre(p[0], p[1]));
+    let e2 = solve::nonlinear(
+        &pre,
+        &[sigma0_init.ln(), 0.1 * s1scale],
+        &[1.0, s1scale],
+        &names(&["sigma0", "sigma1"]),
+        100,
+        progress,
+    )
+    .map_err(|e| failure("lugre, stage 2 (sigma0, sigma1)", e))?;
+    // stage 3: everything together
+    let start = with_pre(e2.theta[0], e2.theta[1]);
+    let scale: Vec<f64> = start
+        .iter()
+        .zip(&nm)
+        .map(|(t, n)| match *n {
+            "vs" | "sigma0" => 1.0,
+            "sigma1" => t.abs().max(s1scale * 1e-3),
+            _ => t.abs().max(1e-6 * typical),
+        })
+        .collect();
+    let e = solve::nonlinear(&sim_residual, &start, &scale, &names(&nm), 100, progress)
+        .map_err(|e| failure("lugre, stage 3 (all parameters)", e))?;
+    let mut ps = params(&nm, &e);
+    for p in ps.iter_mut() {
+        if p.name == "vs" || p.name == "sigma0" {
+            p.value = p.value.exp();
+            p.std *= p.value;
+        }
+    }
+    let fitted = model(&e.theta);
+    let Friction::LuGre(lp) = fitted.friction else {
+        unreachable!()
+    };
     let mut stages = stat.stages.clone();
     stages[0] = format!(
-        "{} (the sliding samples: |v| >= {SLIDING_FRACTION} max |v| = {:.4e})",
+        "stage 1, a start for the steady-state law: {} on the sliding samples (|v| >= {SLIDING_FRACTION} max |v| = {:.4e}){}",
         stages[0],
-        SLIDING_FRACTION * vmax
+        SLIDING_FRACTION * vmax,
+        if stribeck_static {
+            ""
+        } else {
+            "; static part Coulomb-viscous: fs = fc, vs has no effect and is set to the largest speed"
+        }
     );
     stages.push(format!(
-        "sigma0 from a grid of {GRID} pre-sliding distances fs/sigma0 in [{dlo:.3e}, {dhi:.3e}] (best sigma0 = {sigma0_init:.4e}), then Levenberg-Marquardt on ln sigma0 and sigma1 minimising the simulation error of the core's LuGre step over all {} samples ({} evaluations); static part, mass and offset held",
-        s.len(),
-        e.evaluations
+        "stage 2: sigma0 from a grid of {GRID} pre-sliding distances fs/sigma0 in [{dlo:.3e}, {dhi:.3e}] (best sigma0 = {sigma0_init:.4e}), then Levenberg-Marquardt on ln sigma0 and sigma1 ({} evaluations), the rest held",
+        e2.evaluations
+    ));
+    stages.push(format!(
+        "stage 3: Levenberg-Marquardt on {} together ({} evaluations); stages 2 and 3 minimise the simulation error of the core's LuGre step over all {} samples",
+        nm.join(", "),
+        e.evaluations,
+        s.len()
     ));
     let fit = Fit {
-        friction: Friction::LuGre(base(sigma0, e.theta[1])),
         params: ps,
-        evaluations: stat.evaluations + GRID + e.evaluations,
+        evaluations: stat.evaluations + GRID + e2.evaluations + e.evaluations,
         stages,
-        ..stat
+        ..fitted
     };
-    let bound = Bound {
+    let mut bounds = vec![Bound {
         name: "sigma0",
-        lo: curve.fs / dhi,
-        hi: curve.fs / dlo,
+        lo: lp.curve.fs / dhi,
+        hi: lp.curve.fs / dlo,
         what: format!(
             "pre-sliding distance fs/sigma0 between {dlo:.3e} and {dhi:.3e}, a 1e-7 to 1e-1 fraction of the travel"
         ),
-    };
-    check_bounds(fit, &[bound])
+    }];
+    if stribeck_static {
+        let (vlo, vhi) = speed_range(s, &(0..s.len()).collect::<Vec<_>>());
+        bounds.push(Bound {
+            name: "vs",
+            lo: vlo,
+            hi: vhi,
+            what: format!("the measured speeds {vlo:.3e} <= vs <= {vhi:.3e}"),
+        });
+    }
+    let fit = check_bounds(fit, &bounds)?;
+    match e.singular {
+        Some(why) => Err(Rejected {
+            reason: format!("lugre, stage 3: {why}"),
+            fit: Some(fit),
+        }),
+        None => Ok(fit),
+    }
 }

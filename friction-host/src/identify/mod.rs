@@ -106,6 +106,8 @@ pub struct Options {
     pub conditioning: Conditioning,
     /// Stribeck exponent `delta` (fixed, not fitted).
     pub stribeck_exponent: f64,
+    /// The steady-state law of `lugre`'s first stage.
+    pub lugre_static: fit::StaticPart,
     /// A second trajectory for cross-validation.
     pub validate: Option<PathBuf>,
     /// Show a progress bar for iterative fits.
@@ -115,9 +117,43 @@ pub struct Options {
 /// Fewest raw samples accepted.
 pub const MIN_SAMPLES: usize = 50;
 
+/// The conditioned signals at the raw sample rate, before the second
+/// filtering and decimation (the end samples dropped).
+#[derive(Clone, Debug, Default)]
+pub struct FullRate {
+    /// Time (s).
+    pub t: Vec<f64>,
+    /// Velocity.
+    pub v: Vec<f64>,
+    /// Acceleration.
+    pub a: Vec<f64>,
+    /// Normal force (filtered), if used.
+    pub normal: Option<Vec<f64>>,
+}
+
+impl FullRate {
+    /// The normal force at sample `k` (1 without a normal-force column).
+    pub fn n(&self, k: usize) -> f64 {
+        self.normal.as_ref().map_or(1.0, |n| n[k])
+    }
+}
+
 /// The conditioned signals the regression sees.
+///
+/// Parallel filtering: the measured force is low-pass filtered (zero phase)
+/// and decimated; every regressor column and every model prediction, which
+/// are computed at the raw rate from the conditioned velocity and
+/// acceleration, go through the same filter and decimation
+/// ([`Signals::observe`]) before they are compared with it. A model linear
+/// in its parameters then fits the filtered data exactly as it fits the
+/// raw data, while the Coulomb jump at each reversal (which the filter
+/// smears) biases nothing.
 #[derive(Clone, Debug, Default)]
 pub struct Signals {
+    /// The raw-rate signals.
+    pub full: FullRate,
+    /// The zero-phase filter.
+    pub filter: Option<Butterworth>,
     /// Time (s).
     pub t: Vec<f64>,
     /// Velocity.
@@ -152,6 +188,14 @@ impl Signals {
     /// Whether there are no samples.
     pub fn is_empty(&self) -> bool {
         self.t.is_empty()
+    }
+    /// A raw-rate signal as the regression sees the force: zero-phase
+    /// filtered, then decimated.
+    pub fn observe(&self, x: &[f64]) -> Vec<f64> {
+        match &self.filter {
+            Some(lp) => downsample(&lp.filtfilt(x), 0, self.decimate),
+            None => downsample(x, 0, self.decimate),
+        }
     }
 }
 
@@ -195,11 +239,6 @@ pub fn prepare(path: &Path, cols: &Columns, cond: &Conditioning) -> Result<Signa
         }
         None => central_differences(&lp.filtfilt(&data[2]), h),
     };
-    let f: Vec<f64> = lp
-        .filtfilt(&data[1])
-        .iter()
-        .map(|x| x * cols.force_gain)
-        .collect();
     let normal = cols.normal_force.as_ref().map(|_| lp.filtfilt(&data[3]));
     let decimate = cond
         .decimate
@@ -207,14 +246,33 @@ pub fn prepare(path: &Path, cols: &Columns, cond: &Conditioning) -> Result<Signa
     if decimate == 0 {
         bail!("--decimate must be at least 1");
     }
-    // drop the end samples, where the central differences are one-sided
-    let inner = |x: &[f64]| downsample(&x[1..n - 1], 0, decimate);
+    // drop the ends, where the filtered position depends on the padding
+    // (three periods of the cut-off, and at least the one-sided differences)
+    let edge = lp.settle().max(1);
+    if n <= 2 * edge + MIN_SAMPLES {
+        bail!(
+            "{origin}: {n} samples; with the filter's settling time ({edge} samples at each end, dropped) identification needs at least {}",
+            2 * edge + MIN_SAMPLES + 1
+        );
+    }
+    let inner = edge..n - edge;
+    let full = FullRate {
+        t: t[inner.clone()].to_vec(),
+        v: v[inner.clone()].to_vec(),
+        a: a[inner.clone()].to_vec(),
+        normal: normal.as_ref().map(|x| x[inner.clone()].to_vec()),
+    };
+    let f: Vec<f64> = data[1][inner].iter().map(|x| x * cols.force_gain).collect();
+    let inner = |x: &[f64]| downsample(x, 0, decimate);
+    let f = downsample(&lp.filtfilt(&f), 0, decimate);
     let s = Signals {
-        t: inner(t),
-        v: inner(&v),
-        a: inner(&a),
-        f: inner(&f),
-        normal: normal.as_deref().map(inner),
+        t: inner(&full.t),
+        v: inner(&full.v),
+        a: inner(&full.a),
+        f,
+        normal: full.normal.as_deref().map(inner),
+        full,
+        filter: Some(lp),
         h: h * decimate as f64,
         fs,
         cutoff,
@@ -313,6 +371,7 @@ pub fn identify(o: &Options) -> Result<Outcome> {
     let fo = fit::FitOptions {
         inertia: o.inertia,
         stribeck_exponent: o.stribeck_exponent,
+        lugre_static: o.lugre_static,
     };
     let bar = progress_bar(o.progress, &o.model);
     let result = match o.model.as_str() {

@@ -68,6 +68,9 @@ pub struct Estimate {
     pub residual: Vec<f64>,
     /// Residual evaluations (1 for a linear fit).
     pub evaluations: usize,
+    /// Set when the Jacobian at the optimum is singular (the standard
+    /// deviations are then infinite): which parameter has no effect.
+    pub singular: Option<FitFailure>,
 }
 
 /// Columns scaled to unit norm, so the singular values measure dependency
@@ -135,6 +138,7 @@ pub fn linear(columns: &[Vec<f64>], y: &[f64], names: &[String]) -> Result<Estim
         theta: theta.iter().copied().collect(),
         residual,
         evaluations: 1,
+        singular: None,
     })
 }
 
@@ -262,12 +266,16 @@ pub fn nonlinear(
     for (mut c, s) in jn.column_iter_mut().zip(scale) {
         c /= *s;
     }
-    let inv = inverse_normal(&jn, names)?;
+    let (std, singular) = match inverse_normal(&jn, names) {
+        Ok(inv) => (std_from(&inv, &r), None),
+        Err(e) => (vec![f64::INFINITY; theta.len()], Some(e)),
+    };
     Ok(Estimate {
-        std: std_from(&inv, &r),
+        std,
         theta,
         residual: r,
         evaluations,
+        singular,
     })
 }
 
