@@ -83,7 +83,7 @@ struct IdentifyArgs {
     /// Measured trajectory (CSV; tab- or semicolon-separated text works too).
     #[arg(long)]
     input: PathBuf,
-    /// One of: coulomb-viscous, stribeck, lugre.
+    /// One of: coulomb, coulomb-viscous, stribeck, lugre.
     #[arg(long)]
     model: String,
     /// Output folder.

@@ -521,6 +521,23 @@ pull_velocity = 0.1
     }
 
     #[test]
+    fn plant_table_is_read() {
+        let f = ParamFile::parse(
+            "model = \"coulomb-viscous\"\nfc = 20.4\nsigma2 = 203.5\n[plant]\nmass = 95.1\noffset = -3.16\n",
+            "t",
+        )
+        .unwrap();
+        assert_eq!(f.plant.mass, Some(95.1));
+        assert_eq!(f.plant.offset, Some(-3.16));
+        assert!(!f.plant.per_normal_force);
+        let e = format!(
+            "{:#}",
+            ParamFile::parse(&format!("{LUGRE}\n[plant]\nmas = 1\n"), "t").unwrap_err()
+        );
+        assert!(e.contains("mas"), "{e}");
+    }
+
+    #[test]
     fn unknown_key_is_named_with_position() {
         let text = LUGRE.replace("sigma2 = 0.4", "sigma3 = 0.4");
         let e = format!("{:#}", ParamFile::parse(&text, "p.toml").unwrap_err());

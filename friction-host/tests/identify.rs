@@ -101,6 +101,11 @@ fn options(input: &Path, model: &str, output: &Path) -> Options {
 
 fn close(name: &str, got: f64, want: f64, rel: f64) {
     let e = (got - want).abs() / want.abs();
+    eprintln!(
+        "{name}: {got:.6} against {want} ({:.3} %, tolerance {} %)",
+        100.0 * e,
+        100.0 * rel
+    );
     assert!(
         e <= rel,
         "{name}: {got} against {want}: {:.3} % > {} %",
@@ -215,4 +220,265 @@ fn synthetic_lugre_is_recovered() {
     close("sigma1", fit.get("sigma1").unwrap(), p.sigma1, 0.5);
     let file = loads_and_simulates(dir.path());
     assert!(matches!(file.model, ModelSpec::LuGre(_)));
+}
+
+fn emps(model: &str, dir: &Path) -> Options {
+    Options {
+        input: data("emps/estimation.csv"),
+        model: model.into(),
+        output: dir.to_path_buf(),
+        columns: Columns {
+            position: "qm".into(),
+            force: "vir".into(),
+            force_gain: 35.15065188,
+            ..Columns::default()
+        },
+        inertia: true,
+        conditioning: Conditioning {
+            cutoff: Some(100.0),
+            ..Conditioning::default()
+        },
+        stribeck_exponent: 2.0,
+        lugre_static: Default::default(),
+        validate: Some(data("emps/validation.csv")),
+        progress: false,
+    }
+}
+
+/// The EMPS benchmark's IDIM-LS estimates (Janot, Gautier, Brunot 2019),
+/// reproduced within 1 %; then the Stribeck map and LuGre, measured on the
+/// validation run.
+#[test]
+fn emps_reproduces_the_published_idim_ls_estimates() {
+    let dir = tempfile::tempdir().unwrap();
+    let cv = identify::identify(&emps("coulomb-viscous", dir.path())).unwrap();
+    assert!(cv.rejected.is_none(), "{:?}", cv.rejected);
+    let fit = cv.fit.as_ref().unwrap();
+    for (name, published) in [
+        ("mass", 95.1089),
+        ("sigma2", 203.5034),
+        ("fc", 20.3935),
+        ("offset", -3.1648),
+    ] {
+        let got = fit.get(name).unwrap();
+        eprintln!(
+            "EMPS {name}: {got:.4} (published {published}, {:+.3} %)",
+            100.0 * (got - published) / published.abs()
+        );
+        close(name, got, published, 0.01);
+    }
+    let cv_val = cv.validation.unwrap();
+    eprintln!(
+        "EMPS coulomb-viscous: estimation {:.3} %, validation {:.3} % (RMS {:.3} N)",
+        cv.estimation.unwrap().relative,
+        cv_val.relative,
+        cv_val.rms
+    );
+    assert!(cv_val.relative < 10.0, "{cv_val:?}");
+    let file = loads_and_simulates(dir.path());
+    assert_eq!(file.plant.mass, fit.mass);
+
+    // the Stribeck map: the data want fs < fc (friction rises faster than
+    // linearly at low speed), which the model cannot take: rejected at the bound
+    let dir = tempfile::tempdir().unwrap();
+    let st = identify::identify(&emps("stribeck", dir.path())).unwrap();
+    let why = st.rejected.unwrap();
+    assert!(why.contains("`fs` ends at its bound"), "{why}");
+    assert!(!dir.path().join("params.toml").exists());
+    eprintln!(
+        "EMPS stribeck (rejected: {why}): estimation {:.3} %, validation {:.3} %",
+        st.estimation.unwrap().relative,
+        st.validation.unwrap().relative
+    );
+
+    // LuGre on the Coulomb-viscous steady state: pre-sliding dynamics
+    let dir = tempfile::tempdir().unwrap();
+    let mut o = emps("lugre", dir.path());
+    o.lugre_static = identify::fit::StaticPart::CoulombViscous;
+    let lu = identify::identify(&o).unwrap();
+    assert!(lu.rejected.is_none(), "{:?}", lu.rejected);
+    let lu_val = lu.validation.unwrap();
+    let lf = lu.fit.as_ref().unwrap();
+    eprintln!(
+        "EMPS lugre: sigma0 {:.4e}, sigma1 {:.4e}; estimation {:.3} %, validation {:.3} % (RMS {:.3} N)",
+        lf.get("sigma0").unwrap(),
+        lf.get("sigma1").unwrap(),
+        lu.estimation.unwrap().relative,
+        lu_val.relative,
+        lu_val.rms
+    );
+    assert!(lu_val.relative < cv_val.relative, "{lu_val:?} {cv_val:?}");
+    loads_and_simulates(dir.path());
+}
+
+fn tribometer(model: &str, dir: &Path) -> Options {
+    Options {
+        input: data("tribometer/test_data_2.txt"),
+        model: model.into(),
+        output: dir.to_path_buf(),
+        columns: Columns {
+            time: "Time [s]".into(),
+            position: "Position [mm]".into(),
+            force: "Friction [uN]".into(),
+            force_gain: -1.0,
+            normal_force: Some("Normal [uN]".into()),
+            velocity: None,
+        },
+        inertia: false,
+        conditioning: Conditioning::default(),
+        stribeck_exponent: 2.0,
+        lugre_static: identify::fit::StaticPart::Coulomb,
+        validate: None,
+        progress: false,
+    }
+}
+
+/// A friction coefficient from the tribometer run: the Coulomb map is
+/// accepted but explains little (the run dwells at rest under load and
+/// spends half of each stroke in pre-sliding); LuGre explains far more.
+#[test]
+fn tribometer_friction_coefficient() {
+    let dir = tempfile::tempdir().unwrap();
+    let c = identify::identify(&tribometer("coulomb", dir.path())).unwrap();
+    assert!(c.rejected.is_none(), "{:?}", c.rejected);
+    let mu = c.fit.as_ref().unwrap().get("fc").unwrap();
+    assert!(mu > 0.0 && mu < 1.0, "{mu}");
+    let file = loads_and_simulates(dir.path());
+    assert!(file.plant.per_normal_force);
+    assert!(c.signals.resampled.is_some());
+    let dir = tempfile::tempdir().unwrap();
+    let l = identify::identify(&tribometer("lugre", dir.path())).unwrap();
+    let (ce, le) = (c.estimation.unwrap(), l.estimation.unwrap());
+    let lf = l.fit.as_ref().unwrap();
+    eprintln!(
+        "tribometer: coulomb mu = {mu:.4}, relative error {:.2} %; lugre mu = {:.4}, sigma0 = {:.4} /mm, relative error {:.2} % ({:?})",
+        ce.relative,
+        lf.get("fc").unwrap(),
+        lf.get("sigma0").unwrap(),
+        le.relative,
+        l.rejected
+    );
+    assert!(le.relative < 0.5 * ce.relative, "{le:?} {ce:?}");
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
+fn identify_cli(input: &str, model: &str, out: &Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
+        "identify",
+        "--input",
+        input,
+        "--model",
+        model,
+        "--output",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    friction(&args)
+}
+
+#[test]
+fn bad_input_exits_2_with_a_clear_message() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let mut rows = String::from("t,x,f\n");
+    for k in 0..400 {
+        let t = k as f64 * 1e-3;
+        rows.push_str(&format!("{t},{},{}\n", (t * 3.0).sin(), (t * 3.0).cos()));
+    }
+    let good = write(dir.path(), "good.csv", &rows);
+    let cases: [(&str, String, &[&str], &str); 5] = [
+        (
+            "missing column",
+            good.clone(),
+            &["--force", "F"],
+            "no column `F`",
+        ),
+        (
+            "too few samples",
+            write(dir.path(), "short.csv", "t,x,f\n0,0,0\n0.001,0,0\n"),
+            &[],
+            "2 samples; identification needs at least",
+        ),
+        (
+            "time not increasing",
+            write(
+                dir.path(),
+                "time.csv",
+                &rows.replacen("0.002,", "0.0005,", 1),
+            ),
+            &[],
+            "time.csv:4: column `t`",
+        ),
+        (
+            "model not there",
+            good.clone(),
+            &[],
+            "identify supports: coulomb,",
+        ),
+        (
+            "cut-off above Nyquist",
+            good.clone(),
+            &["--cutoff", "600"],
+            "Nyquist",
+        ),
+    ];
+    for (what, input, extra, message) in cases {
+        let model = if what == "model not there" {
+            "gms"
+        } else {
+            "coulomb-viscous"
+        };
+        let o = identify_cli(&input, model, &out, extra);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{what}: {err}");
+        assert!(err.contains(message), "{what}: {err}");
+    }
+}
+
+#[test]
+fn a_parameter_beyond_its_bound_exits_1() {
+    // friction that helps the motion: fc < 0
+    let dir = tempfile::tempdir().unwrap();
+    let mut rows = String::from("t,x,f\n");
+    for k in 0..4000 {
+        let t = k as f64 * 1e-3;
+        let (x, v, _) = motion(t);
+        rows.push_str(&format!("{t},{x},{}\n", -0.5 * sign(v) + 2.0 * v));
+    }
+    let input = write(dir.path(), "neg.csv", &rows);
+    let out = dir.path().join("out");
+    let o = identify_cli(&input, "coulomb-viscous", &out, &["--quiet"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("`fc` ends at its bound (fc > 0)"), "{err}");
+    assert!(out.join("report.md").exists() && !out.join("params.toml").exists());
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("**Rejected:**"), "{report}");
+    // a good file: exit 0, every output written
+    let ok = identify_cli(
+        &input.replace("neg", "neg"),
+        "coulomb",
+        &out,
+        &["--quiet", "--force-gain", "-1"],
+    );
+    assert_eq!(
+        ok.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    for f in [
+        "params.toml",
+        "report.md",
+        "fit.csv",
+        "force.svg",
+        "friction.svg",
+    ] {
+        assert!(out.join(f).exists(), "{f}");
+    }
 }

@@ -9,6 +9,11 @@ use indicatif::ProgressBar;
 /// the fit used a normal force).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Friction {
+    /// `fc sign(v)`.
+    Coulomb {
+        /// Coulomb level.
+        fc: f64,
+    },
     /// `fc sign(v) + sigma2 v`.
     CoulombViscous {
         /// Coulomb level.
@@ -46,6 +51,7 @@ impl Friction {
     /// The model name as parameter files spell it.
     pub fn name(&self) -> &'static str {
         match self {
+            Self::Coulomb { .. } => "coulomb",
             Self::CoulombViscous { .. } => "coulomb-viscous",
             Self::Stribeck { .. } => "stribeck",
             Self::LuGre(_) => "lugre",
@@ -58,6 +64,7 @@ impl Friction {
             (c.fc + (c.fs - c.fc) * shape(v, c.vs, c.exponent)) * sign(v) + s2 * v
         };
         match self {
+            Self::Coulomb { fc } => fc * sign(v),
             Self::CoulombViscous { fc, sigma2 } => fc * sign(v) + sigma2 * v,
             Self::Stribeck { curve, sigma2 } => stribeck(curve, *sigma2),
             Self::LuGre(p) => stribeck(&p.curve, p.sigma2),
@@ -189,6 +196,8 @@ pub enum StaticPart {
     /// Coulomb and viscous only: `fs = fc` (then `vs` has no effect and is
     /// written as the largest measured speed).
     CoulombViscous,
+    /// Coulomb only: `fs = fc`, `sigma2 = 0` (data at a single speed).
+    Coulomb,
 }
 
 fn names(v: &[&str]) -> Vec<String> {
@@ -216,26 +225,52 @@ pub fn coulomb_viscous(s: &Signals, o: &FitOptions) -> Result<Fit, Rejected> {
     check_bounds(coulomb_viscous_on(s, &idx, o)?, &[])
 }
 
+/// `coulomb` by linear least squares (`coulomb-viscous` with `sigma2 = 0`).
+pub fn coulomb(s: &Signals, o: &FitOptions) -> Result<Fit, Rejected> {
+    let idx: Vec<usize> = (0..s.len()).collect();
+    check_bounds(linear_static(s, &idx, o, false)?, &[])
+}
+
 fn coulomb_viscous_on(s: &Signals, idx: &[usize], o: &FitOptions) -> Result<Fit, Rejected> {
+    linear_static(s, idx, o, true)
+}
+
+fn linear_static(
+    s: &Signals,
+    idx: &[usize],
+    o: &FitOptions,
+    viscous: bool,
+) -> Result<Fit, Rejected> {
     let fr = &s.full;
-    let mut cols = vec![
-        observed(s, idx, |k| fr.n(k) * sign(fr.v[k])),
-        observed(s, idx, |k| fr.n(k) * fr.v[k]),
-    ];
-    let mut nm = names(&["fc", "sigma2"]);
+    let mut cols = vec![observed(s, idx, |k| fr.n(k) * sign(fr.v[k]))];
+    let mut nm = names(&["fc"]);
+    if viscous {
+        cols.push(observed(s, idx, |k| fr.n(k) * fr.v[k]));
+        nm.push("sigma2".into());
+    }
     if o.inertia {
         inertia_columns(s, idx, &mut cols, &mut nm);
     }
     let y: Vec<f64> = idx.iter().map(|&k| s.f[k]).collect();
     let e = solve::linear(&cols, &y, &nm).map_err(|e| failure("linear least squares", e))?;
+    let i = if viscous { 2 } else { 1 };
+    let keys: &[&'static str] = if viscous {
+        &["fc", "sigma2", "mass", "offset"]
+    } else {
+        &["fc", "mass", "offset"]
+    };
     Ok(Fit {
-        friction: Friction::CoulombViscous {
-            fc: e.theta[0],
-            sigma2: e.theta[1],
+        friction: if viscous {
+            Friction::CoulombViscous {
+                fc: e.theta[0],
+                sigma2: e.theta[1],
+            }
+        } else {
+            Friction::Coulomb { fc: e.theta[0] }
         },
-        mass: o.inertia.then(|| e.theta[2]),
-        offset: o.inertia.then(|| e.theta[3]),
-        params: params(&["fc", "sigma2", "mass", "offset"], &e),
+        mass: o.inertia.then(|| e.theta[i]),
+        offset: o.inertia.then(|| e.theta[i + 1]),
+        params: params(keys, &e),
         evaluations: 1,
         stages: vec![format!(
             "linear least squares on {} samples, parameters {}",
@@ -476,8 +511,40 @@ pub fn stribeck(s: &Signals, o: &FitOptions, progress: &ProgressBar) -> Result<F
 /// sliding for the first stage of `lugre`.
 pub const SLIDING_FRACTION: f64 = 0.01;
 
+/// The samples of steady sliding: in a stretch of motion in one direction
+/// (speed at least `vmin`), those past half of the stretch's travel, where
+/// the contact has left its pre-sliding regime.
+pub fn sliding_samples(s: &Signals, vmin: f64) -> Vec<usize> {
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < s.len() {
+        if s.v[k].abs() < vmin {
+            k += 1;
+            continue;
+        }
+        let dir = sign(s.v[k]);
+        let start = k;
+        let mut x = vec![0.0];
+        while k + 1 < s.len() && sign(s.v[k + 1]) == dir && s.v[k + 1].abs() >= vmin {
+            k += 1;
+            let last = x[x.len() - 1];
+            x.push(last + s.v[k].abs() * (s.t[k] - s.t[k - 1]));
+        }
+        let travel = x[x.len() - 1];
+        out.extend(
+            x.iter()
+                .enumerate()
+                .filter(|(_, xi)| **xi >= 0.5 * travel)
+                .map(|(i, _)| start + i),
+        );
+        k += 1;
+    }
+    out
+}
+
 /// `lugre` in three stages. 1: the steady-state law (with `mass`,
-/// `offset`) from the sliding samples, `|v| >= SLIDING_FRACTION max |v|`,
+/// `offset`) from the sliding samples ([`sliding_samples`] at
+/// `SLIDING_FRACTION max |v|`),
 /// clamped into the feasible set (a start, not a result). 2: `sigma0` from
 /// a grid over the pre-sliding distance `fs / sigma0`, then
 /// Levenberg-Marquardt on `ln sigma0` and `sigma1`, the rest held. 3:
@@ -485,9 +552,7 @@ pub const SLIDING_FRACTION: f64 = 0.01;
 /// the simulation error of the core's LuGre step over all samples.
 pub fn lugre(s: &Signals, o: &FitOptions, progress: &ProgressBar) -> Result<Fit, Rejected> {
     let vmax = s.v.iter().map(|v| v.abs()).fold(0.0, f64::max);
-    let idx: Vec<usize> = (0..s.len())
-        .filter(|&k| s.v[k].abs() >= SLIDING_FRACTION * vmax)
-        .collect();
+    let idx = sliding_samples(s, SLIDING_FRACTION * vmax);
     let stribeck_static = o.lugre_static == StaticPart::Stribeck;
     let typical = s.f.iter().map(|f| f.abs()).fold(0.0, f64::max).max(1e-300);
     // stage 1
@@ -498,9 +563,12 @@ pub fn lugre(s: &Signals, o: &FitOptions, progress: &ProgressBar) -> Result<Fit,
         };
         (stat, curve, sigma2)
     } else {
-        let stat = coulomb_viscous_on(s, &idx, o)?;
-        let Friction::CoulombViscous { fc, sigma2 } = stat.friction else {
-            unreachable!("coulomb_viscous_on fits a Coulomb-viscous map")
+        let viscous = o.lugre_static == StaticPart::CoulombViscous;
+        let stat = linear_static(s, &idx, o, viscous)?;
+        let (fc, sigma2) = match stat.friction {
+            Friction::CoulombViscous { fc, sigma2 } => (fc, sigma2),
+            Friction::Coulomb { fc } => (fc, 0.0),
+            _ => unreachable!("linear_static fits a Coulomb(-viscous) map"),
         };
         let curve = StribeckParams {
             fc,
@@ -521,8 +589,10 @@ pub fn lugre(s: &Signals, o: &FitOptions, progress: &ProgressBar) -> Result<Fit,
         nm.extend(["fs", "vs"]);
         theta0.extend([curve.fs, curve.vs.ln()]);
     }
-    nm.push("sigma2");
-    theta0.push(sigma2);
+    if o.lugre_static != StaticPart::Coulomb {
+        nm.push("sigma2");
+        theta0.push(sigma2);
+    }
     if o.inertia {
         nm.extend(["mass", "offset"]);
         theta0.extend([mass, offset]);
@@ -548,7 +618,7 @@ pub fn lugre(s: &Signals, o: &FitOptions, progress: &ProgressBar) -> Result<Fit,
                 },
                 sigma0: p[n - 2].exp(),
                 sigma1: p[n - 1].max(0.0),
-                sigma2: p[at("sigma2").unwrap_or(0)].max(0.0),
+                sigma2: at("sigma2").map_or(0.0, |i| p[i].max(0.0)),
                 vd: None,
             }),
             mass: at("mass").map(|i| p[i]),
@@ -570,7 +640,7 @@ pub fn lugre(s: &Signals, o: &FitOptions, progress: &ProgressBar) -> Result<Fit,
         xhi = xhi.max(x);
     }
     let range = (xhi - xlo).max(f64::MIN_POSITIVE);
-    let (dlo, dhi) = (1e-7 * range, 1e-1 * range);
+    let (dlo, dhi) = (1e-7 * range, range);
     const GRID: usize = 25;
     let mut best = (f64::INFINITY, 0.0);
     let with_pre = |ln_sigma0: f64, sigma1: f64| {
@@ -590,12 +660,12 @@ pub fn lugre(s: &Signals, o: &FitOptions, progress: &ProgressBar) -> Result<Fit,
         progress.inc(1);
     }
     let sigma0_init = best.1;
-    // sigma1 scale: the damping that matters at the pre-sliding speeds
-    let s1scale = (curve.fs / (vmax * SLIDING_FRACTION)).max(sigma2);
+    // sigma1 scale: a damping force of fs at the largest speed
+    let s1scale = (curve.fs / vmax).max(sigma2);
     let pre = |p: &[f64]| sim_residual(&with_pre(p[0], p[1]));
     let e2 = solve::nonlinear(
         &pre,
-        &[sigma0_init.ln(), 0.1 * s1scale],
+        &[sigma0_init.ln(), 0.01 * s1scale],
         &[1.0, s1scale],
         &names(&["sigma0", "sigma1"]),
         100,
@@ -628,13 +698,13 @@ pub fn lugre(s: &Signals, o: &FitOptions, progress: &ProgressBar) -> Result<Fit,
     };
     let mut stages = stat.stages.clone();
     stages[0] = format!(
-        "stage 1, a start for the steady-state law: {} on the sliding samples (|v| >= {SLIDING_FRACTION} max |v| = {:.4e}){}",
+        "stage 1, a start for the steady-state law: {} on the sliding samples (the second half, by travel, of each stretch of motion in one direction at |v| >= {SLIDING_FRACTION} max |v| = {:.4e}){}",
         stages[0],
         SLIDING_FRACTION * vmax,
-        if stribeck_static {
-            ""
-        } else {
-            "; static part Coulomb-viscous: fs = fc, vs has no effect and is set to the largest speed"
+        match o.lugre_static {
+            StaticPart::Stribeck => "",
+            StaticPart::CoulombViscous => "; static part Coulomb-viscous: fs = fc, vs has no effect and is set to the largest speed",
+            StaticPart::Coulomb => "; static part Coulomb: fs = fc, sigma2 = 0, vs has no effect and is set to the largest speed",
         }
     );
     stages.push(format!(
@@ -658,7 +728,7 @@ pub fn lugre(s: &Signals, o: &FitOptions, progress: &ProgressBar) -> Result<Fit,
         lo: lp.curve.fs / dhi,
         hi: lp.curve.fs / dlo,
         what: format!(
-            "pre-sliding distance fs/sigma0 between {dlo:.3e} and {dhi:.3e}, a 1e-7 to 1e-1 fraction of the travel"
+            "pre-sliding distance fs/sigma0 between {dlo:.3e} and {dhi:.3e}, 1e-7 to 1 times the travel"
         ),
     }];
     if stribeck_static {

@@ -18,7 +18,7 @@
 //! the filtered position, the force (and normal force) go through the same
 //! zero-phase filter, and every signal is then decimated.
 //!
-//! Models: `coulomb-viscous` (linear least squares), `stribeck` (nonlinear
+//! Models: `coulomb` and `coulomb-viscous` (linear least squares), `stribeck` (nonlinear
 //! least squares from the best point of a grid over `vs`) and `lugre`
 //! (the Stribeck part from the sliding samples, then `sigma0` and `sigma1`
 //! by minimising the simulation error of the core's LuGre step).
@@ -34,7 +34,7 @@ use filter::{central_differences, downsample, Butterworth};
 use std::path::{Path, PathBuf};
 
 /// The models `identify` fits.
-pub const MODELS: &[&str] = &["coulomb-viscous", "stribeck", "lugre"];
+pub const MODELS: &[&str] = &["coulomb", "coulomb-viscous", "stribeck", "lugre"];
 
 /// Column names and scalings of a measured trajectory.
 #[derive(Clone, Debug)]
@@ -172,8 +172,31 @@ pub struct Signals {
     pub cutoff: f64,
     /// Decimation factor used.
     pub decimate: usize,
-    /// Raw samples read.
+    /// Raw samples (after resampling, if any).
     pub raw_samples: usize,
+    /// The smallest and largest time step when the file was not evenly
+    /// sampled and was resampled at its median step.
+    pub resampled: Option<(f64, f64)>,
+}
+
+/// Linear interpolation of every column onto `t0 + k h`.
+fn resample(data: &[Vec<f64>], h: f64) -> Vec<Vec<f64>> {
+    let t = &data[0];
+    let n = ((t[t.len() - 1] - t[0]) / h).floor() as usize + 1;
+    let mut out = vec![Vec::with_capacity(n); data.len()];
+    let mut j = 0;
+    for k in 0..n {
+        let tk = t[0] + k as f64 * h;
+        while j + 2 < t.len() && t[j + 1] < tk {
+            j += 1;
+        }
+        let w = ((tk - t[j]) / (t[j + 1] - t[j])).clamp(0.0, 1.0);
+        out[0].push(tk);
+        for (o, c) in out.iter_mut().zip(data).skip(1) {
+            o.push(c[j] + w * (c[j + 1] - c[j]));
+        }
+    }
+    out
 }
 
 impl Signals {
@@ -212,18 +235,22 @@ pub fn prepare(path: &Path, cols: &Columns, cond: &Conditioning) -> Result<Signa
     if n < MIN_SAMPLES {
         bail!("{origin}: {n} samples; identification needs at least {MIN_SAMPLES}");
     }
+    data::check_time(&data[0], &origin, &cols.time)?;
+    // uneven sampling (gaps, a stretch at another rate): linear
+    // interpolation onto the median period
+    let mut steps: Vec<f64> = data[0].windows(2).map(|w| w[1] - w[0]).collect();
+    steps.sort_by(f64::total_cmp);
+    let median = steps[steps.len() / 2];
+    let (dmin, dmax) = (steps[0], steps[steps.len() - 1]);
+    let resampled = dmax > 1.5 * median || dmin < 0.5 * median;
+    let data = if resampled {
+        resample(&data, median)
+    } else {
+        data
+    };
     let t = &data[0];
-    data::check_time(t, &origin, &cols.time)?;
+    let n = t.len();
     let h = (t[n - 1] - t[0]) / (n - 1) as f64;
-    let (dmin, dmax) = t
-        .windows(2)
-        .map(|w| w[1] - w[0])
-        .fold((f64::INFINITY, 0.0f64), |(a, b), d| (a.min(d), b.max(d)));
-    if dmax > 1.5 * h || dmin < 0.5 * h {
-        bail!(
-            "{origin}: the sampling is not uniform (steps from {dmin:.3e} s to {dmax:.3e} s, mean {h:.3e} s): resample the data first"
-        );
-    }
     if !(cols.force_gain.is_finite() && cols.force_gain != 0.0) {
         bail!("--force-gain must be a finite non-zero number");
     }
@@ -278,6 +305,7 @@ pub fn prepare(path: &Path, cols: &Columns, cond: &Conditioning) -> Result<Signa
         cutoff,
         decimate,
         raw_samples: n,
+        resampled: resampled.then_some((dmin, dmax)),
     };
     if s.len() < MIN_SAMPLES {
         bail!(
@@ -375,6 +403,7 @@ pub fn identify(o: &Options) -> Result<Outcome> {
     };
     let bar = progress_bar(o.progress, &o.model);
     let result = match o.model.as_str() {
+        "coulomb" => fit::coulomb(&s, &fo),
         "coulomb-viscous" => fit::coulomb_viscous(&s, &fo),
         "stribeck" => fit::stribeck(&s, &fo, &bar),
         _ => fit::lugre(&s, &fo, &bar),

@@ -67,6 +67,7 @@ pub fn params_toml(fit: &Fit, o: &Options) -> String {
         let _ = writeln!(s, "{k} = {}", toml_number(v));
     };
     match fit.friction {
+        Friction::Coulomb { fc } => kv("fc", fc),
         Friction::CoulombViscous { fc, sigma2 } => {
             kv("fc", fc);
             kv("sigma2", sigma2);
@@ -275,6 +276,12 @@ pub fn markdown(r: &Report) -> String {
             None => String::new(),
         }
     );
+    if let Some((lo, hi)) = s.resampled {
+        let _ = writeln!(
+            m,
+            "- the time steps vary from {lo:.4e} s to {hi:.4e} s: every column was linearly interpolated onto the median step"
+        );
+    }
     let _ = writeln!(
         m,
         "- model: `force = {}{}{}`",

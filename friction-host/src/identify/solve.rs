@@ -361,6 +361,11 @@ mod tests {
             matches!(e, FitFailure::NotIdentifiable { ref parameter, .. } if parameter == "k"),
             "{e}"
         );
+        // no parameter has any effect: the gradient is zero from the start
+        let none = |_: &[f64]| -> Option<Vec<f64>> { Some(vec![1.0, 2.0, 3.0]) };
+        let e = nonlinear(&none, &[1.0], &[1.0], &names(&["a"]), 100, &bar).unwrap_err();
+        assert!(matches!(e, FitFailure::ZeroGradient { .. }), "{e}");
+        assert!(e.to_string().contains("zero gradient"), "{e}");
         // too few iterations
         let e =
             nonlinear(&res, &[1.0, 0.2], &[1.0, 1.0], &names(&["a", "k"]), 1, &bar).unwrap_err();
