@@ -180,12 +180,12 @@ fn synthetic_stribeck_is_recovered() {
     let out = identify::identify(&options(&input, "stribeck", dir.path())).unwrap();
     assert!(out.rejected.is_none(), "{:?}", out.rejected);
     let fit = out.fit.unwrap();
-    close("fc", fit.get("fc").unwrap(), curve.fc, 0.02);
-    close("fs", fit.get("fs").unwrap(), curve.fs, 0.02);
-    close("vs", fit.get("vs").unwrap(), curve.vs, 0.05);
-    close("sigma2", fit.get("sigma2").unwrap(), sigma2, 0.02);
-    close("mass", fit.get("mass").unwrap(), MASS, 0.02);
-    close("offset", fit.get("offset").unwrap(), OFFSET, 0.05);
+    close("fc", fit.get("fc").unwrap(), curve.fc, 0.01);
+    close("fs", fit.get("fs").unwrap(), curve.fs, 0.01);
+    close("vs", fit.get("vs").unwrap(), curve.vs, 0.01);
+    close("sigma2", fit.get("sigma2").unwrap(), sigma2, 0.01);
+    close("mass", fit.get("mass").unwrap(), MASS, 0.01);
+    close("offset", fit.get("offset").unwrap(), OFFSET, 0.01);
     let file = loads_and_simulates(dir.path());
     assert_eq!(file.model.name(), "stribeck");
 }
@@ -211,13 +211,14 @@ fn synthetic_lugre_is_recovered() {
     let out = identify::identify(&options(&input, "lugre", dir.path())).unwrap();
     assert!(out.rejected.is_none(), "{:?}", out.rejected);
     let fit = out.fit.unwrap();
-    close("fc", fit.get("fc").unwrap(), p.curve.fc, 0.05);
-    close("fs", fit.get("fs").unwrap(), p.curve.fs, 0.05);
-    close("vs", fit.get("vs").unwrap(), p.curve.vs, 0.1);
-    close("sigma2", fit.get("sigma2").unwrap(), p.sigma2, 0.05);
-    close("mass", fit.get("mass").unwrap(), MASS, 0.05);
-    close("sigma0", fit.get("sigma0").unwrap(), p.sigma0, 0.2);
-    close("sigma1", fit.get("sigma1").unwrap(), p.sigma1, 0.5);
+    close("fc", fit.get("fc").unwrap(), p.curve.fc, 0.01);
+    close("fs", fit.get("fs").unwrap(), p.curve.fs, 0.01);
+    close("vs", fit.get("vs").unwrap(), p.curve.vs, 0.02);
+    close("sigma2", fit.get("sigma2").unwrap(), p.sigma2, 0.01);
+    close("mass", fit.get("mass").unwrap(), MASS, 0.01);
+    close("offset", fit.get("offset").unwrap(), OFFSET, 0.02);
+    close("sigma0", fit.get("sigma0").unwrap(), p.sigma0, 0.05);
+    close("sigma1", fit.get("sigma1").unwrap(), p.sigma1, 0.1);
     let file = loads_and_simulates(dir.path());
     assert!(matches!(file.model, ModelSpec::LuGre(_)));
 }
@@ -460,12 +461,7 @@ fn a_parameter_beyond_its_bound_exits_1() {
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("**Rejected:**"), "{report}");
     // a good file: exit 0, every output written
-    let ok = identify_cli(
-        &input.replace("neg", "neg"),
-        "coulomb",
-        &out,
-        &["--quiet", "--force-gain", "-1"],
-    );
+    let ok = identify_cli(&input, "coulomb", &out, &["--quiet", "--force-gain", "-1"]);
     assert_eq!(
         ok.status.code(),
         Some(0),

@@ -160,7 +160,7 @@ pub struct Rejected {
     /// What went wrong, with the figure.
     pub reason: String,
     /// The estimate, when there is one.
-    pub fit: Option<Fit>,
+    pub fit: Option<Box<Fit>>,
 }
 
 impl std::fmt::Display for Rejected {
@@ -350,7 +350,7 @@ fn check_bounds(fit: Fit, extra: &[Bound]) -> Result<Fit, Rejected> {
                     "parameter `{}` ends at its bound ({}): estimate {x:.6e} (standard deviation {std:.2e})",
                     b.name, b.what
                 ),
-                fit: Some(fit),
+                fit: Some(Box::new(fit)),
             });
         }
     }
@@ -501,7 +501,7 @@ pub fn stribeck(s: &Signals, o: &FitOptions, progress: &ProgressBar) -> Result<F
     match singular {
         Some(why) => Err(Rejected {
             reason: format!("stribeck: {why}"),
-            fit: Some(fit),
+            fit: Some(Box::new(fit)),
         }),
         None => Ok(fit),
     }
@@ -744,7 +744,7 @@ pub fn lugre(s: &Signals, o: &FitOptions, progress: &ProgressBar) -> Result<Fit,
     match e.singular {
         Some(why) => Err(Rejected {
             reason: format!("lugre, stage 3: {why}"),
-            fit: Some(fit),
+            fit: Some(Box::new(fit)),
         }),
         None => Ok(fit),
     }

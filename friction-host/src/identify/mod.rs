@@ -411,7 +411,7 @@ pub fn identify(o: &Options) -> Result<Outcome> {
     bar.finish_and_clear();
     let (fit, rejected) = match result {
         Ok(f) => (Some(f), None),
-        Err(r) => (r.fit.clone(), Some(r.reason)),
+        Err(r) => (r.fit.map(|b| *b), Some(r.reason)),
     };
     let mut out = Outcome {
         fit,

@@ -149,7 +149,7 @@ pub fn friction_plot(path: &Path, title: &str, fit: &Fit, s: &Signals) -> Result
     let measured = measured_friction(fit, s);
     let pts = thin(
         s.v.iter().copied().zip(measured.iter().copied()).collect(),
-        4000,
+        2500,
     );
     let (vlo, vhi) =
         s.v.iter()
@@ -261,7 +261,7 @@ pub fn markdown(r: &Report) -> String {
     let c = &o.columns;
     let _ = writeln!(
         m,
-        "- {} samples at {:.4} Hz; time `{}`, {} , force `{}` times {}{}",
+        "- {} samples at {:.4} Hz; time `{}`, {}, force `{}` times {}{}",
         s.raw_samples,
         s.fs,
         c.time,
@@ -309,6 +309,10 @@ pub fn markdown(r: &Report) -> String {
         s.len(),
         s.h
     );
+    let _ = writeln!(
+        m,
+        "- parallel filtering: every regressor and every prediction is computed at the raw rate from the conditioned velocity and acceleration and passes through the same zero-phase filter and decimation as the force before the comparison"
+    );
     if let Some(fit) = r.fit {
         let _ = writeln!(m, "\n## Estimates\n");
         for st in &fit.stages {
@@ -338,12 +342,13 @@ pub fn markdown(r: &Report) -> String {
         m,
         "| data | samples | RMS error | largest error | relative error (%) |\n|---|---:|---:|---:|---:|"
     );
-    for (name, e) in [
-        (o.input.display().to_string(), r.estimation),
+    for (role, name, e) in [
+        ("estimation", o.input.display().to_string(), r.estimation),
         (
+            "cross-validation",
             o.validate
                 .as_ref()
-                .map(|p| format!("{} (cross-validation)", p.display()))
+                .map(|p| p.display().to_string())
                 .unwrap_or_default(),
             r.validation,
         ),
@@ -351,7 +356,7 @@ pub fn markdown(r: &Report) -> String {
         if let Some(e) = e {
             let _ = writeln!(
                 m,
-                "| `{name}` | {} | {} | {} | {:.3} |",
+                "| {role}: `{name}` | {} | {} | {} | {:.3} |",
                 e.samples,
                 sci(e.rms),
                 sci(e.max),

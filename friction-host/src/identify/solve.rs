@@ -95,7 +95,7 @@ fn inverse_normal(j: &DMatrix<f64>, names: &[String]) -> Result<DMatrix<f64>, Fi
     let s = &svd.singular_values;
     let (smax, smin) = (s.max(), s.min());
     let vt = svd.v_t.as_ref().expect("v_t computed");
-    if !(smin > 1e-10 * smax) {
+    if smin.is_nan() || smin <= 1e-10 * smax {
         let k = s.imin();
         let p = (0..vt.ncols())
             .max_by(|&a, &b| vt[(k, a)].abs().total_cmp(&vt[(k, b)].abs()))
