@@ -243,7 +243,10 @@ mod tests {
             .zip(&y)
             .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max);
-        assert!(err < 1e-9, "{err}");
+        // the sections start in the steady state of a constant, so a ramp
+        // leaves a start-up transient that decays inside the padding: what
+        // is left is about 1e-3 of one sample's step (2e-3)
+        assert!(err < 1e-5, "{err}");
         // 300 Hz is removed
         let z: Vec<f64> = (0..2000)
             .map(|k| (2.0 * std::f64::consts::PI * 300.0 * k as f64 / fs).sin())

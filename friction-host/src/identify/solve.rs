@@ -356,7 +356,9 @@ mod tests {
             100,
             &bar,
         )
-        .unwrap_err();
+        .unwrap()
+        .singular
+        .unwrap();
         assert!(
             matches!(e, FitFailure::NotIdentifiable { ref parameter, .. } if parameter == "k"),
             "{e}"
