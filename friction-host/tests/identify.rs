@@ -58,12 +58,12 @@ const NOISE: f64 = 0.02;
 const FS: f64 = 1000.0;
 const DURATION: f64 = 20.0;
 
-/// Writes `t,x,f` of the motion with friction `friction(v, h)` (called at
+/// Writes `t,x,v,f` of the motion with friction `friction(v, h)` (called at
 /// 10 kHz sub-steps, velocity at each sub-step's end), sampled at 1 kHz,
 /// with Gaussian force noise.
 fn synthetic(dir: &Path, mut friction: impl FnMut(f64, f64) -> f64) -> PathBuf {
     let mut noise = Noise(7);
-    let mut text = String::from("t,x,f\n");
+    let mut text = String::from("t,x,v,f\n");
     const SUB: usize = 10;
     let h = 1.0 / (FS * SUB as f64);
     let mut fr = friction(motion(0.0).1, 0.0);
@@ -75,9 +75,9 @@ fn synthetic(dir: &Path, mut friction: impl FnMut(f64, f64) -> f64) -> PathBuf {
                 fr = friction(motion(t - 1.0 / FS + j as f64 * h).1, h);
             }
         }
-        let (x, _, a) = motion(t);
+        let (x, v, a) = motion(t);
         let f = MASS * a + fr + OFFSET + NOISE * noise.gauss();
-        text.push_str(&format!("{t},{x},{f}\n"));
+        text.push_str(&format!("{t},{x},{v},{f}\n"));
     }
     let path = dir.join("synthetic.csv");
     std::fs::write(&path, text).unwrap();
@@ -163,6 +163,18 @@ fn synthetic_coulomb_viscous_is_recovered_within_1_percent() {
     assert_eq!(file.model.name(), "coulomb-viscous");
     assert_eq!(file.plant.mass, fit.mass);
     assert_eq!(file.plant.offset, fit.offset);
+    // the same from a measured velocity column
+    let mut o = options(&input, "coulomb-viscous", dir.path());
+    o.columns.velocity = Some("v".into());
+    let fit = identify::identify(&o).unwrap().fit.unwrap();
+    close("fc (velocity)", fit.get("fc").unwrap(), fc, 0.01);
+    close(
+        "sigma2 (velocity)",
+        fit.get("sigma2").unwrap(),
+        sigma2,
+        0.01,
+    );
+    close("mass (velocity)", fit.get("mass").unwrap(), MASS, 0.01);
 }
 
 #[test]
