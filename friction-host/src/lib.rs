@@ -2,6 +2,7 @@
 //! validation report and the `friction` command-line tool.
 
 pub mod experiments;
+pub mod identify;
 pub mod io;
 pub mod models;
 pub mod params;

@@ -3,6 +3,7 @@
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use friction_host::experiments::{self, Options};
+use friction_host::identify;
 use friction_host::io;
 use friction_host::models::ScalarKind;
 use friction_host::params::ParamFile;
@@ -64,6 +65,16 @@ enum Command {
         #[arg(long)]
         output: PathBuf,
     },
+    /// Identify a model's parameters from a measured trajectory: writes
+    /// DIR/params.toml, DIR/report.md, DIR/fit.csv and plots.
+    ///
+    /// The force is modelled as `mass * a + N * friction(v) + offset`
+    /// (`mass`, `offset` with --inertia; `N` with --normal-force). Velocity and
+    /// acceleration come from the position by a zero-phase Butterworth
+    /// low-pass and central differences; every signal is then decimated.
+    /// Exit codes: 0 accepted, 1 fit rejected (a bound, no convergence, a
+    /// zero gradient), 2 bad input.
+    Identify(IdentifyArgs),
     /// Validate every model against the reference solver and judge the experiments.
     ///
     /// Exit code 0 when every check passes, 1 when one fails, 2 on bad input.
@@ -72,6 +83,61 @@ enum Command {
         #[arg(long, default_value = "validation")]
         output: PathBuf,
     },
+}
+
+#[derive(clap::Args)]
+struct IdentifyArgs {
+    /// Measured trajectory (CSV; tab- or semicolon-separated text works too).
+    #[arg(long)]
+    input: PathBuf,
+    /// One of: coulomb, coulomb-viscous, stribeck, lugre.
+    #[arg(long)]
+    model: String,
+    /// Output folder.
+    #[arg(long)]
+    output: PathBuf,
+    /// Time column (s).
+    #[arg(long, default_value = "t")]
+    time: String,
+    /// Position column (ignored with --velocity).
+    #[arg(long, default_value = "x")]
+    position: String,
+    /// Measured velocity column (instead of differentiating the position).
+    #[arg(long)]
+    velocity: Option<String>,
+    /// Force column.
+    #[arg(long, default_value = "f")]
+    force: String,
+    /// Factor from the force column to force (e.g. motor constant; negative flips the sign).
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    force_gain: f64,
+    /// Normal-force column: the friction parameters become coefficients.
+    #[arg(long)]
+    normal_force: Option<String>,
+    /// Also estimate the moving mass and a force offset (a driven axis).
+    #[arg(long)]
+    inertia: bool,
+    /// Cut-off of the zero-phase Butterworth low-pass (Hz) [default: sample rate / 10].
+    #[arg(long)]
+    cutoff: Option<f64>,
+    /// Order of the Butterworth low-pass.
+    #[arg(long, default_value_t = 4)]
+    filter_order: usize,
+    /// Decimation factor [default: largest keeping Nyquist >= 2.5 cut-off].
+    #[arg(long)]
+    decimate: Option<usize>,
+    /// Stribeck exponent (fixed during the fit).
+    #[arg(long, default_value_t = 2.0)]
+    stribeck_exponent: f64,
+    /// Steady-state law of the `lugre` fit's first stage.
+    #[arg(long, value_enum, default_value = "stribeck")]
+    lugre_static: identify::fit::StaticPart,
+    /// Second trajectory (same columns) for cross-validation.
+    #[arg(long)]
+    validate: Option<PathBuf>,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
 }
 
 fn positive(name: &str, x: Option<f64>) -> Result<()> {
@@ -184,6 +250,33 @@ fn run(cli: Cli) -> Result<bool> {
             println!("  plot:  {}", out.plot.display());
             // exit code 1 when the verdict is FAIL, so scripts see it
             Ok(out.pass != Some(false))
+        }
+        Command::Identify(a) => {
+            positive("cutoff", a.cutoff)?;
+            let o = identify::Options {
+                input: a.input,
+                model: a.model,
+                output: a.output,
+                columns: identify::Columns {
+                    time: a.time,
+                    position: a.position,
+                    velocity: a.velocity,
+                    force: a.force,
+                    force_gain: a.force_gain,
+                    normal_force: a.normal_force,
+                },
+                inertia: a.inertia,
+                conditioning: identify::Conditioning {
+                    cutoff: a.cutoff,
+                    order: a.filter_order,
+                    decimate: a.decimate,
+                },
+                stribeck_exponent: a.stribeck_exponent,
+                lugre_static: a.lugre_static,
+                validate: a.validate,
+                progress: !a.quiet,
+            };
+            identify::run(&o)
         }
         Command::Validate { output } => friction_host::validate::run(&output),
     }

@@ -1,5 +1,6 @@
 //! Parameter files (TOML): `model = "..."`, the model's keys, and an
-//! optional `[rig]` table for the experiments. Unknown keys are errors that
+//! optional `[rig]` table for the experiments and `[plant]` table written by
+//! `friction identify`. Unknown keys are errors that
 //! name the key, with line and column.
 
 use anyhow::{bail, Context, Result};
@@ -61,6 +62,21 @@ impl Rig {
     }
 }
 
+/// The `[plant]` table that `friction identify` writes: the driven axis
+/// the friction was identified on. Every key is optional.
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Plant {
+    /// Moving mass (kg), or inertia for rotary axes.
+    pub mass: Option<f64>,
+    /// Constant force offset of the drive (N).
+    pub offset: Option<f64>,
+    /// Whether the model's force parameters are friction coefficients:
+    /// the friction is the normal force times the model's output.
+    #[serde(default)]
+    pub per_normal_force: bool,
+}
+
 /// A parsed parameter file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParamFile {
@@ -68,6 +84,8 @@ pub struct ParamFile {
     pub model: ModelSpec,
     /// The rig, if the file has a `[rig]` table.
     pub rig: Rig,
+    /// The identified plant, if the file has a `[plant]` table.
+    pub plant: Plant,
 }
 
 #[derive(Deserialize)]
@@ -75,6 +93,8 @@ struct Probe {
     model: Option<String>,
     #[serde(default)]
     rig: Rig,
+    #[serde(default)]
+    plant: Plant,
 }
 
 impl ParamFile {
@@ -91,6 +111,7 @@ impl ParamFile {
         let file = ParamFile {
             model: ModelSpec::parse(&name, text, origin)?,
             rig: probe.rig,
+            plant: probe.plant,
         };
         file.model
             .validate()
@@ -138,6 +159,23 @@ pull_velocity = 0.1
         assert_eq!(p.curve.exponent, 2.0);
         assert_eq!(p.sigma0, 1e5);
         assert_eq!(f.rig.stiffness, Some(2.0));
+    }
+
+    #[test]
+    fn plant_table_is_read() {
+        let f = ParamFile::parse(
+            "model = \"coulomb-viscous\"\nfc = 20.4\nsigma2 = 203.5\n[plant]\nmass = 95.1\noffset = -3.16\n",
+            "t",
+        )
+        .unwrap();
+        assert_eq!(f.plant.mass, Some(95.1));
+        assert_eq!(f.plant.offset, Some(-3.16));
+        assert!(!f.plant.per_normal_force);
+        let e = format!(
+            "{:#}",
+            ParamFile::parse(&format!("{LUGRE}\n[plant]\nmas = 1\n"), "t").unwrap_err()
+        );
+        assert!(e.contains("mas"), "{e}");
     }
 
     #[test]

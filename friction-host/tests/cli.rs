@@ -24,6 +24,7 @@ fn help_on_every_command() {
         &["simulate", "--help"],
         &["experiment", "--help"],
         &["validate", "--help"],
+        &["identify", "--help"],
     ] {
         let out = friction(cmd);
         assert!(out.status.success(), "{cmd:?}");

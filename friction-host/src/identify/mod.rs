@@ -1,0 +1,543 @@
+//! `friction identify`: friction parameters from a measured trajectory.
+//!
+//! The measured force of a driven axis is modelled by inverse dynamics,
+//!
+//! ```text
+//! force = mass * a + N * friction(v) + offset
+//! ```
+//!
+//! where `mass` and `offset` are estimated only with `--inertia` (otherwise
+//! the force is the friction itself), and `N` is the normal force when
+//! `--normal-force` names a column (the friction parameters are then
+//! coefficients: friction per unit normal force) and 1 otherwise.
+//!
+//! Signal conditioning follows the inverse-dynamics identification
+//! literature (IDIM-LS, Gautier and Janot): the position is low-pass
+//! filtered forward and backward by a Butterworth filter (zero phase, see
+//! [`filter`]), velocity and acceleration come from central differences of
+//! the filtered position, the force (and normal force) go through the same
+//! zero-phase filter, and every signal is then decimated.
+//!
+//! Models: `coulomb` and `coulomb-viscous` (linear least squares), `stribeck` (nonlinear
+//! least squares from the best point of a grid over `vs`) and `lugre`
+//! (the Stribeck part from the sliding samples, then `sigma0` and `sigma1`
+//! by minimising the simulation error of the core's LuGre step).
+
+pub mod data;
+pub mod filter;
+pub mod fit;
+pub mod report;
+pub mod solve;
+
+use anyhow::{bail, Result};
+use filter::{central_differences, downsample, Butterworth};
+use std::path::{Path, PathBuf};
+
+/// The models `identify` fits.
+pub const MODELS: &[&str] = &["coulomb", "coulomb-viscous", "stribeck", "lugre"];
+
+/// Column names and scalings of a measured trajectory.
+#[derive(Clone, Debug)]
+pub struct Columns {
+    /// Time (s).
+    pub time: String,
+    /// Position; ignored when `velocity` is given.
+    pub position: String,
+    /// Measured velocity, if any.
+    pub velocity: Option<String>,
+    /// Force (or the signal proportional to it, see `force_gain`).
+    pub force: String,
+    /// Factor from the force column to force (e.g. motor constant, -1 to flip the sign).
+    pub force_gain: f64,
+    /// Normal force, for friction proportional to the normal load.
+    pub normal_force: Option<String>,
+}
+
+impl Default for Columns {
+    fn default() -> Self {
+        Self {
+            time: "t".into(),
+            position: "x".into(),
+            velocity: None,
+            force: "f".into(),
+            force_gain: 1.0,
+            normal_force: None,
+        }
+    }
+}
+
+/// Signal conditioning.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Conditioning {
+    /// Cut-off of the zero-phase Butterworth low-pass (Hz); `None`: a tenth
+    /// of the sample rate.
+    pub cutoff: Option<f64>,
+    /// Order of the Butterworth filter.
+    pub order: usize,
+    /// Keep every `decimate`-th sample; `None`: the largest factor that
+    /// keeps the new Nyquist frequency at or above 2.5 times the cut-off.
+    pub decimate: Option<usize>,
+}
+
+impl Default for Conditioning {
+    fn default() -> Self {
+        Self {
+            cutoff: None,
+            order: 4,
+            decimate: None,
+        }
+    }
+}
+
+/// Everything `identify` needs.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// The measured trajectory.
+    pub input: PathBuf,
+    /// One of [`MODELS`].
+    pub model: String,
+    /// Output folder.
+    pub output: PathBuf,
+    /// Columns.
+    pub columns: Columns,
+    /// Estimate `mass` and `offset` (a driven axis).
+    pub inertia: bool,
+    /// Signal conditioning.
+    pub conditioning: Conditioning,
+    /// Stribeck exponent `delta` (fixed, not fitted).
+    pub stribeck_exponent: f64,
+    /// The steady-state law of `lugre`'s first stage.
+    pub lugre_static: fit::StaticPart,
+    /// A second trajectory for cross-validation.
+    pub validate: Option<PathBuf>,
+    /// Show a progress bar for iterative fits.
+    pub progress: bool,
+}
+
+/// Fewest raw samples accepted.
+pub const MIN_SAMPLES: usize = 50;
+
+/// The conditioned signals at the raw sample rate, before the second
+/// filtering and decimation (the end samples dropped).
+#[derive(Clone, Debug, Default)]
+pub struct FullRate {
+    /// Time (s).
+    pub t: Vec<f64>,
+    /// Velocity.
+    pub v: Vec<f64>,
+    /// Acceleration.
+    pub a: Vec<f64>,
+    /// Normal force (filtered), if used.
+    pub normal: Option<Vec<f64>>,
+}
+
+impl FullRate {
+    /// The normal force at sample `k` (1 without a normal-force column).
+    pub fn n(&self, k: usize) -> f64 {
+        self.normal.as_ref().map_or(1.0, |n| n[k])
+    }
+}
+
+/// The conditioned signals the regression sees.
+///
+/// Parallel filtering: the measured force is low-pass filtered (zero phase)
+/// and decimated; every regressor column and every model prediction, which
+/// are computed at the raw rate from the conditioned velocity and
+/// acceleration, go through the same filter and decimation
+/// ([`Signals::observe`]) before they are compared with it. A model linear
+/// in its parameters then fits the filtered data exactly as it fits the
+/// raw data, while the Coulomb jump at each reversal (which the filter
+/// smears) biases nothing.
+#[derive(Clone, Debug, Default)]
+pub struct Signals {
+    /// The raw-rate signals.
+    pub full: FullRate,
+    /// The zero-phase filter.
+    pub filter: Option<Butterworth>,
+    /// Time (s).
+    pub t: Vec<f64>,
+    /// Velocity.
+    pub v: Vec<f64>,
+    /// Acceleration.
+    pub a: Vec<f64>,
+    /// Force (times the gain).
+    pub f: Vec<f64>,
+    /// Normal force, if used.
+    pub normal: Option<Vec<f64>>,
+    /// Sample period after decimation (s).
+    pub h: f64,
+    /// Raw sample rate (Hz).
+    pub fs: f64,
+    /// Cut-off used (Hz).
+    pub cutoff: f64,
+    /// Decimation factor used.
+    pub decimate: usize,
+    /// Raw samples (after resampling, if any).
+    pub raw_samples: usize,
+    /// The smallest and largest time step when the file was not evenly
+    /// sampled and was resampled at its median step.
+    pub resampled: Option<(f64, f64)>,
+}
+
+/// Linear interpolation of every column onto `t0 + k h`.
+fn resample(data: &[Vec<f64>], h: f64) -> Vec<Vec<f64>> {
+    let t = &data[0];
+    let n = ((t[t.len() - 1] - t[0]) / h).floor() as usize + 1;
+    let mut out = vec![Vec::with_capacity(n); data.len()];
+    let mut j = 0;
+    for k in 0..n {
+        let tk = t[0] + k as f64 * h;
+        while j + 2 < t.len() && t[j + 1] < tk {
+            j += 1;
+        }
+        let w = ((tk - t[j]) / (t[j + 1] - t[j])).clamp(0.0, 1.0);
+        out[0].push(tk);
+        for (o, c) in out.iter_mut().zip(data).skip(1) {
+            o.push(c[j] + w * (c[j + 1] - c[j]));
+        }
+    }
+    out
+}
+
+impl Signals {
+    /// The normal force at sample `k` (1 without a normal-force column).
+    pub fn n(&self, k: usize) -> f64 {
+        self.normal.as_ref().map_or(1.0, |n| n[k])
+    }
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+    /// Whether there are no samples.
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+    /// A raw-rate signal as the regression sees the force: zero-phase
+    /// filtered, then decimated.
+    pub fn observe(&self, x: &[f64]) -> Vec<f64> {
+        match &self.filter {
+            Some(lp) => downsample(&lp.filtfilt(x), 0, self.decimate),
+            None => downsample(x, 0, self.decimate),
+        }
+    }
+}
+
+/// Reads and conditions a trajectory. Errors are bad input (exit code 2).
+pub fn prepare(path: &Path, cols: &Columns, cond: &Conditioning) -> Result<Signals> {
+    let origin = path.display().to_string();
+    let mut names: Vec<&str> = vec![&cols.time, &cols.force];
+    names.push(cols.velocity.as_deref().unwrap_or(&cols.position));
+    if let Some(n) = &cols.normal_force {
+        names.push(n);
+    }
+    let data = data::read_columns(path, &names)?.data;
+    let n = data[0].len();
+    if n < MIN_SAMPLES {
+        bail!("{origin}: {n} samples; identification needs at least {MIN_SAMPLES}");
+    }
+    data::check_time(&data[0], &origin, &cols.time)?;
+    // uneven sampling (gaps, a stretch at another rate): linear
+    // interpolation onto the median period
+    let mut steps: Vec<f64> = data[0].windows(2).map(|w| w[1] - w[0]).collect();
+    steps.sort_by(f64::total_cmp);
+    let median = steps[steps.len() / 2];
+    let (dmin, dmax) = (steps[0], steps[steps.len() - 1]);
+    let resampled = dmax > 1.5 * median || dmin < 0.5 * median;
+    let data = if resampled {
+        resample(&data, median)
+    } else {
+        data
+    };
+    let t = &data[0];
+    let n = t.len();
+    let h = (t[n - 1] - t[0]) / (n - 1) as f64;
+    if !(cols.force_gain.is_finite() && cols.force_gain != 0.0) {
+        bail!("--force-gain must be a finite non-zero number");
+    }
+    let fs = 1.0 / h;
+    let cutoff = cond.cutoff.unwrap_or(0.1 * fs);
+    let lp = Butterworth::lowpass(cond.order, cutoff, fs)
+        .map_err(|e| anyhow::anyhow!("--cutoff: {e} (sample rate {fs:.4} Hz)"))?;
+    let (v, a) = match cols.velocity {
+        Some(_) => {
+            let v = lp.filtfilt(&data[2]);
+            let (a, _) = central_differences(&v, h);
+            (v, a)
+        }
+        None => central_differences(&lp.filtfilt(&data[2]), h),
+    };
+    let normal = cols.normal_force.as_ref().map(|_| lp.filtfilt(&data[3]));
+    let decimate = cond
+        .decimate
+        .unwrap_or_else(|| ((0.5 * fs / (2.5 * cutoff)).floor() as usize).max(1));
+    if decimate == 0 {
+        bail!("--decimate must be at least 1");
+    }
+    // drop the ends, where the filtered position depends on the padding
+    // (three periods of the cut-off, and at least the one-sided differences)
+    let edge = lp.settle().max(1);
+    if n <= 2 * edge + MIN_SAMPLES {
+        bail!(
+            "{origin}: {n} samples; with the filter's settling time ({edge} samples at each end, dropped) identification needs at least {}",
+            2 * edge + MIN_SAMPLES + 1
+        );
+    }
+    let inner = edge..n - edge;
+    let full = FullRate {
+        t: t[inner.clone()].to_vec(),
+        v: v[inner.clone()].to_vec(),
+        a: a[inner.clone()].to_vec(),
+        normal: normal.as_ref().map(|x| x[inner.clone()].to_vec()),
+    };
+    let f: Vec<f64> = data[1][inner].iter().map(|x| x * cols.force_gain).collect();
+    let inner = |x: &[f64]| downsample(x, 0, decimate);
+    let f = downsample(&lp.filtfilt(&f), 0, decimate);
+    let s = Signals {
+        t: inner(&full.t),
+        v: inner(&full.v),
+        a: inner(&full.a),
+        f,
+        normal: full.normal.as_deref().map(inner),
+        full,
+        filter: Some(lp),
+        h: h * decimate as f64,
+        fs,
+        cutoff,
+        decimate,
+        raw_samples: n,
+        resampled: resampled.then_some((dmin, dmax)),
+    };
+    if s.len() < MIN_SAMPLES {
+        bail!(
+            "{origin}: {} samples after decimation by {decimate}; identification needs at least {MIN_SAMPLES}",
+            s.len()
+        );
+    }
+    if s.v.iter().all(|v| v.abs() < f64::MIN_POSITIVE) {
+        bail!("{origin}: the axis never moves: friction cannot be identified");
+    }
+    Ok(s)
+}
+
+/// The outcome of [`identify`].
+#[derive(Debug)]
+pub struct Outcome {
+    /// The fit (also when rejected, if there is an estimate).
+    pub fit: Option<fit::Fit>,
+    /// Why the fit is rejected (a judged failure).
+    pub rejected: Option<String>,
+    /// Error on the estimation data.
+    pub estimation: Option<report::ErrorStats>,
+    /// Error on the validation data.
+    pub validation: Option<report::ErrorStats>,
+    /// The conditioned estimation signals.
+    pub signals: Signals,
+}
+
+/// Checks the model name: the planned dynamic models get their own message.
+pub fn check_model(name: &str) -> Result<()> {
+    if MODELS.contains(&name) {
+        return Ok(());
+    }
+    let supported = MODELS.join(", ");
+    match name {
+        "gms" | "xiong" => bail!(
+            "model `{name}` does not exist in the library yet and cannot be identified; identify supports: {supported}"
+        ),
+        _ => bail!("unknown model `{name}`; identify supports: {supported}"),
+    }
+}
+
+fn progress_bar(show: bool, model: &str) -> indicatif::ProgressBar {
+    use std::io::IsTerminal;
+    if !show || !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new_spinner();
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{spinner} {msg}: {pos} model evaluations [{elapsed}]",
+        )
+        .expect("valid template"),
+    );
+    bar.set_message(format!("fitting `{model}`"));
+    bar.enable_steady_tick(std::time::Duration::from_millis(120));
+    bar
+}
+
+/// Fits the model and writes `params.toml` (when the fit is accepted),
+/// `report.md`, `fit.csv` and the plots into the output folder. Bad input
+/// is an error; a rejected fit is reported in [`Outcome::rejected`].
+pub fn identify(o: &Options) -> Result<Outcome> {
+    check_model(&o.model)?;
+    if !(o.stribeck_exponent.is_finite() && o.stribeck_exponent > 0.0) {
+        bail!("--stribeck-exponent must be a positive number");
+    }
+    let s = prepare(&o.input, &o.columns, &o.conditioning)?;
+    let val = match &o.validate {
+        Some(p) => {
+            let cond = Conditioning {
+                cutoff: Some(s.cutoff),
+                decimate: Some(s.decimate),
+                ..o.conditioning
+            };
+            let v = prepare(p, &o.columns, &cond)?;
+            if (v.fs - s.fs).abs() > 1e-3 * s.fs {
+                bail!(
+                    "{}: sampled at {:.4} Hz, the estimation data at {:.4} Hz: resample one of them",
+                    p.display(),
+                    v.fs,
+                    s.fs
+                );
+            }
+            Some(v)
+        }
+        None => None,
+    };
+    std::fs::create_dir_all(&o.output)
+        .map_err(|e| anyhow::anyhow!("cannot create {}: {e}", o.output.display()))?;
+    let fo = fit::FitOptions {
+        inertia: o.inertia,
+        stribeck_exponent: o.stribeck_exponent,
+        lugre_static: o.lugre_static,
+    };
+    let bar = progress_bar(o.progress, &o.model);
+    let result = match o.model.as_str() {
+        "coulomb" => fit::coulomb(&s, &fo),
+        "coulomb-viscous" => fit::coulomb_viscous(&s, &fo),
+        "stribeck" => fit::stribeck(&s, &fo, &bar),
+        _ => fit::lugre(&s, &fo, &bar),
+    };
+    bar.finish_and_clear();
+    let (fit, rejected) = match result {
+        Ok(f) => (Some(f), None),
+        Err(r) => (r.fit.map(|b| *b), Some(r.reason)),
+    };
+    let mut out = Outcome {
+        fit,
+        rejected,
+        estimation: None,
+        validation: None,
+        signals: Signals::default(),
+    };
+    let mut plots = Vec::new();
+    if let Some(fit) = &out.fit {
+        if let Some(pred) = fit.predict(&s) {
+            out.estimation = Some(report::ErrorStats::new(&s.f, &pred));
+            report::force_plot(
+                &o.output.join("force.svg"),
+                &format!("{}: measured and predicted force", o.model),
+                &s,
+                &pred,
+            )?;
+            plots.push((
+                "force.svg".to_string(),
+                "Measured against predicted force over time (estimation data)".to_string(),
+            ));
+            let fr = report::measured_friction(fit, &s);
+            crate::io::write_columns(
+                &o.output.join("fit.csv"),
+                &["t", "v", "a", "f", "f_pred", "friction"],
+                &[&s.t, &s.v, &s.a, &s.f, &pred, &fr],
+            )?;
+        }
+        report::friction_plot(
+            &o.output.join("friction.svg"),
+            &format!("{}: friction against velocity", o.model),
+            fit,
+            &s,
+        )?;
+        plots.push((
+            "friction.svg".to_string(),
+            "Friction against velocity with the fitted curve".to_string(),
+        ));
+        if let Some(v) = &val {
+            if let Some(pred) = fit.predict(v) {
+                out.validation = Some(report::ErrorStats::new(&v.f, &pred));
+                report::force_plot(
+                    &o.output.join("validation.svg"),
+                    &format!("{}: cross-validation", o.model),
+                    v,
+                    &pred,
+                )?;
+                plots.push((
+                    "validation.svg".to_string(),
+                    "Measured against predicted force over time (validation data)".to_string(),
+                ));
+            }
+        }
+    }
+    let params_path = o.output.join("params.toml");
+    if out.rejected.is_none() {
+        if let Some(fit) = &out.fit {
+            let text = report::params_toml(fit, o);
+            crate::params::ParamFile::parse(&text, "identified parameters")?;
+            std::fs::write(&params_path, text)
+                .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", params_path.display()))?;
+        }
+    } else if params_path.exists() {
+        // a stale file from an earlier run must not pass for this one's result
+        std::fs::remove_file(&params_path)?;
+    }
+    let md = report::markdown(&report::Report {
+        options: o,
+        signals: &s,
+        fit: out.fit.as_ref(),
+        rejected: out.rejected.as_deref(),
+        estimation: out.estimation,
+        validation: out.validation,
+        plots,
+    });
+    std::fs::write(o.output.join("report.md"), md)?;
+    out.signals = s;
+    Ok(out)
+}
+
+/// The command: runs [`identify`] and prints a summary. `Ok(false)` when the
+/// fit is rejected (exit code 1).
+pub fn run(o: &Options) -> Result<bool> {
+    let out = identify(o)?;
+    let s = &out.signals;
+    println!(
+        "{} from {}: {} samples (cut-off {:.4} Hz, decimation {})",
+        o.model,
+        o.input.display(),
+        s.len(),
+        s.cutoff,
+        s.decimate
+    );
+    if let Some(fit) = &out.fit {
+        for p in &fit.params {
+            println!(
+                "  {:<8} = {:>14.6e}  (std {:.3e}, {:.3} %)",
+                p.name,
+                p.value,
+                p.std,
+                p.relative_std()
+            );
+        }
+    }
+    if let Some(e) = out.estimation {
+        println!(
+            "  estimation: relative error {:.3} %, RMS {:.4e}",
+            e.relative, e.rms
+        );
+    }
+    if let Some(e) = out.validation {
+        println!(
+            "  validation: relative error {:.3} %, RMS {:.4e}",
+            e.relative, e.rms
+        );
+    }
+    println!("  report: {}", o.output.join("report.md").display());
+    match out.rejected {
+        Some(why) => {
+            eprintln!("error: fit rejected: {why}");
+            Ok(false)
+        }
+        None => {
+            println!("  params: {}", o.output.join("params.toml").display());
+            Ok(true)
+        }
+    }
+}
