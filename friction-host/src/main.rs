@@ -13,7 +13,7 @@ use std::process::ExitCode;
 #[command(
     name = "friction",
     version,
-    about = "Dynamic friction models: simulate, experiment, validate"
+    about = "Dynamic friction models: simulate, experiment, servo, validate"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -55,6 +55,19 @@ enum Command {
         /// Duration (s) of time-based experiments.
         #[arg(long)]
         duration: Option<f64>,
+        /// Output folder.
+        #[arg(long)]
+        output: PathBuf,
+    },
+    /// Position servo benchmark: each friction compensation against a simulated plant.
+    ///
+    /// Prints `servo NAME RMS_MRAD MAX_MRAD` per compensation and a table;
+    /// writes DIR/trace.csv and SVG plots of the tracking errors. The set-up
+    /// is read from the file's `[servo]` table (defaults: Olsson et al. 1998).
+    Servo {
+        /// Parameter file [default: the built-in params/olsson1998-servo.toml].
+        #[arg(long)]
+        params: Option<PathBuf>,
         /// Output folder.
         #[arg(long)]
         output: PathBuf,
@@ -131,6 +144,7 @@ fn run(cli: Cli) -> Result<bool> {
             println!("  plot:  {}", out.plot.display());
             Ok(true)
         }
+        Command::Servo { params, output } => friction_host::servo::run(params.as_deref(), &output),
         Command::Validate { output } => friction_host::validate::run(&output),
     }
 }

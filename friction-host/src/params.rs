@@ -1,7 +1,9 @@
 //! Parameter files (TOML): `model = "..."`, the model's keys, and an
-//! optional `[rig]` table for the experiments. Unknown keys are errors that
+//! optional `[rig]` table for the experiments and `[servo]` table for
+//! `friction servo`. Unknown keys are errors that
 //! name the key, with line and column.
 
+use crate::servo::ServoTable;
 use anyhow::{bail, Context, Result};
 use friction_core::{
     BristleParams, CoulombParams, CoulombViscousParams, DahlParams, ElastoPlasticParams,
@@ -147,6 +149,8 @@ pub struct ParamFile {
     pub model: ModelSpec,
     /// The rig, if the file has a `[rig]` table.
     pub rig: Rig,
+    /// The `[servo]` table of `friction servo` (every key optional).
+    pub servo: ServoTable,
 }
 
 #[derive(Deserialize)]
@@ -162,6 +166,8 @@ struct CoulombFile {
     fc: f64,
     #[serde(default)]
     rig: Rig,
+    #[serde(default)]
+    servo: ServoTable,
 }
 
 #[derive(Deserialize)]
@@ -173,6 +179,8 @@ struct CoulombViscousFile {
     sigma2: f64,
     #[serde(default)]
     rig: Rig,
+    #[serde(default)]
+    servo: ServoTable,
 }
 
 fn default_exponent() -> f64 {
@@ -193,6 +201,8 @@ struct StribeckFile {
     sigma2: f64,
     #[serde(default)]
     rig: Rig,
+    #[serde(default)]
+    servo: ServoTable,
 }
 
 #[derive(Deserialize)]
@@ -214,6 +224,8 @@ struct LuGreFile {
     z_ba: Option<f64>,
     #[serde(default)]
     rig: Rig,
+    #[serde(default)]
+    servo: ServoTable,
 }
 
 impl LuGreFile {
@@ -246,6 +258,8 @@ struct DahlFile {
     sigma2: f64,
     #[serde(default)]
     rig: Rig,
+    #[serde(default)]
+    servo: ServoTable,
 }
 
 fn one() -> f64 {
@@ -269,6 +283,8 @@ struct ResetIntegratorFile {
     stribeck_exponent: Option<f64>,
     #[serde(default)]
     rig: Rig,
+    #[serde(default)]
+    servo: ServoTable,
 }
 
 fn default_bristles() -> usize {
@@ -292,6 +308,8 @@ struct BristleFile {
     seed: u64,
     #[serde(default)]
     rig: Rig,
+    #[serde(default)]
+    servo: ServoTable,
 }
 
 /// The model names a file may give.
@@ -324,6 +342,7 @@ impl ParamFile {
                 ParamFile {
                     model: ModelSpec::Coulomb(CoulombParams { fc: f.fc }),
                     rig: f.rig,
+                    servo: f.servo,
                 }
             }
             "coulomb-viscous" => {
@@ -334,6 +353,7 @@ impl ParamFile {
                         sigma2: f.sigma2,
                     }),
                     rig: f.rig,
+                    servo: f.servo,
                 }
             }
             "stribeck" => {
@@ -350,6 +370,7 @@ impl ParamFile {
                         sigma2: f.sigma2,
                     }),
                     rig: f.rig,
+                    servo: f.servo,
                 }
             }
             "lugre" => {
@@ -360,6 +381,7 @@ impl ParamFile {
                 ParamFile {
                     model: ModelSpec::LuGre(f.params()),
                     rig: f.rig,
+                    servo: f.servo,
                 }
             }
             "dahl" => {
@@ -372,6 +394,7 @@ impl ParamFile {
                         sigma2: f.sigma2,
                     }),
                     rig: f.rig,
+                    servo: f.servo,
                 }
             }
             "elasto-plastic" => {
@@ -385,6 +408,7 @@ impl ParamFile {
                         z_ba,
                     }),
                     rig: f.rig,
+                    servo: f.servo,
                 }
             }
             "reset-integrator" => {
@@ -408,6 +432,7 @@ impl ParamFile {
                         curve,
                     }),
                     rig: f.rig,
+                    servo: f.servo,
                 }
             }
             "bristle" => {
@@ -429,6 +454,7 @@ impl ParamFile {
                         bristles: f.bristles,
                     },
                     rig: f.rig,
+                    servo: f.servo,
                 }
             }
             other => bail!(
