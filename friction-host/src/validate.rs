@@ -618,6 +618,7 @@ fn write_report(
         }
         writeln!(md, "\n![{}]({})", o.name, rel.display())?;
     }
+    md.push_str(&crate::servo::report_section()?);
     std::fs::write(dir.join("report.md"), md)?;
     Ok(())
 }
