@@ -753,7 +753,7 @@ mod tests {
                 }
                 prop_assert!(s.integral().is_finite());
                 prop_assert!(s.friction().z.is_finite());
-                prop_assert!(s.last_position().map_or(true, f32::is_finite));
+                prop_assert!(s.last_position().is_none_or(f32::is_finite));
             }
         }
     }

@@ -200,11 +200,13 @@ impl ServoTable {
             ("observer_gain", c.observer_gain, false),
             ("limit", c.limit, true),
         ] {
-            if positive && !(value.is_finite() && value > 0.0) {
-                return Err(invalid(key, "a finite number > 0", value));
-            }
-            if !positive && !(value.is_finite() && value >= 0.0) {
-                return Err(invalid(key, "a finite number >= 0", value));
+            let (ok, rule) = if positive {
+                (value > 0.0, "a finite number > 0")
+            } else {
+                (value >= 0.0, "a finite number >= 0")
+            };
+            if !(ok && value.is_finite()) {
+                return Err(invalid(key, rule, value));
             }
         }
         if c.duration * c.rate < 10.0 {
