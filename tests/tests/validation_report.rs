@@ -8,6 +8,7 @@ fn validate_passes_and_writes_the_report() {
     assert!(pass, "validation failed:\n{report}");
     assert!(report.contains("Overall: **pass**"));
     assert!(report.contains("LuGre creeps, elasto-plastic does not"));
+    assert!(report.contains("## Servo benchmark") && report.contains("| observer-nodamping |"));
     for name in friction_host::experiments::NAMES {
         assert!(
             report.contains(&format!("| {name} |")),
