@@ -13,6 +13,7 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod compensator;
 pub mod model;
 pub mod models;
 pub mod observer;
@@ -20,6 +21,10 @@ pub mod random;
 pub mod scalar;
 pub mod stribeck;
 
+pub use compensator::{
+    Compensation, Compensator, CompensatorParams, CompensatorState, FeedForward, NoCompensation,
+    Setpoint, Tick,
+};
 pub use model::{FrictionModel, ParamError, VELOCITY_LIMIT};
 pub use models::bristle::{Bristle, BristleParams, BristleState};
 pub use models::dahl::{Dahl, DahlParams, DahlState};

@@ -1,13 +1,15 @@
 //! A compensated servo loop on a Cortex-M4F (QEMU mps2-an386).
 //!
-//! The same PD position loop tracks one trajectory four times against a
-//! simulated plant (inertia + LuGre friction whose parameters differ from
-//! the controller's model): without compensation, with a static Coulomb +
-//! viscous feed-forward, and with the LuGre observer with and without its
-//! `sigma1 dz^/dt` term. It logs the RMS tracking errors through defmt,
-//! counts the instructions of the core's steps with SysTick (QEMU
-//! `-icount shift=0`), and exits non-zero if the observer does not reduce the
-//! tracking error.
+//! The core's compensator (here a PD position loop with acceleration
+//! feed-forward) tracks one trajectory four times against a simulated plant
+//! (inertia + LuGre friction whose parameters differ from the controller's
+//! model): without compensation, with a static Coulomb + viscous
+//! feed-forward on the measured velocity, and with the LuGre observer with
+//! and without its `sigma1 dz^/dt` term. `servo.rs` is only the embedded-hal
+//! glue around it. It logs the RMS tracking errors through defmt, counts
+//! the instructions of the core's steps and of one full compensated servo
+//! tick with SysTick (QEMU `-icount shift=0`), and exits non-zero if the
+//! observer does not reduce the tracking error.
 
 #![no_std]
 #![no_main]
@@ -22,11 +24,13 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use defmt_semihosting as _;
 use friction_core::{
-    BristleParams, CoulombViscousParams, DahlParams, ElastoPlasticParams, FrictionModel,
-    LuGreParams, LuGreState, Observer, ResetIntegratorParams, StribeckParams,
+    BristleParams, Compensation, Compensator, CompensatorParams, CompensatorState,
+    CoulombViscousParams, DahlParams, ElastoPlasticParams, FeedForward, FrictionModel, LuGre,
+    LuGreParams, LuGreState, NoCompensation, Observer, ResetIntegratorParams, Setpoint,
+    StribeckParams,
 };
 use hw::{Plant, SimDrive, SimEncoder};
-use servo::{Compensation, Servo};
+use servo::Servo;
 
 /// Olsson et al. 1998, Table 2: the controller's model of the friction.
 const NOMINAL: LuGreParams = LuGreParams {
@@ -64,13 +68,30 @@ const COUNTS_PER_RAD: f32 = 1_048_576.0 / (2.0 * core::f32::consts::PI); // 20-b
 const AMPLITUDE: f32 = 0.2; // rad
 const FREQUENCY: f32 = 0.5; // Hz
 const OBSERVER_GAIN: f64 = 200.0; // 1/s
+const TORQUE_MAX: f32 = 5.0; // N m, the drive's full scale and the command limit
+
+/// PD (bandwidth 2 pi 10 Hz, damping 1) with acceleration feed-forward, at
+/// 1 kHz, commanding a torque.
+fn controller() -> CompensatorParams {
+    let w = 2.0 * core::f64::consts::PI * 10.0;
+    let j = INERTIA as f64;
+    CompensatorParams {
+        h: H as f64,
+        kp: j * w * w,
+        ki: 0.0,
+        kd: 2.0 * j * w,
+        inertia: j,
+        torque_constant: 1.0,
+        limit: TORQUE_MAX as f64,
+    }
+}
 
 struct Errors {
     rms: f32,
     max: f32,
 }
 
-fn run(compensation: Compensation) -> Errors {
+fn run<C: Compensation<f32>>(compensator: Compensator<f32, C>) -> Errors {
     let Ok(friction) = ACTUAL.build::<f32>() else {
         fail("plant parameters")
     };
@@ -85,32 +106,25 @@ fn run(compensation: Compensation) -> Errors {
     let drive = SimDrive {
         plant: &plant,
         max_duty: 20_000,
-        torque_max: 5.0,
+        torque_max: TORQUE_MAX,
     };
     let encoder = SimEncoder {
         plant: &plant,
         counts_per_rad: COUNTS_PER_RAD,
     };
-    // bandwidth 2 pi 10 Hz, damping 1
-    let w = 2.0 * core::f32::consts::PI * 10.0;
-    let gains = (INERTIA * w * w, 2.0 * INERTIA * w);
-    let mut servo = Servo::new(
-        drive,
-        encoder,
-        COUNTS_PER_RAD,
-        5.0,
-        INERTIA,
-        gains,
-        H,
-        compensation,
-    );
+    let mut servo = Servo::new(drive, encoder, COUNTS_PER_RAD, TORQUE_MAX, compensator);
     let (mut sum_sq, mut max) = (0.0f32, 0.0f32);
     let wt = 2.0 * core::f32::consts::PI * FREQUENCY;
     for k in 0..TICKS {
         let t = k as f32 * H;
         let (s, c) = (libm::sinf(wt * t), libm::cosf(wt * t));
         let (x_ref, v_ref, a_ref) = (AMPLITUDE * s, AMPLITUDE * wt * c, -AMPLITUDE * wt * wt * s);
-        let x = match servo.tick(x_ref, v_ref, a_ref) {
+        let r = Setpoint {
+            x: x_ref,
+            v: v_ref,
+            a: a_ref,
+        };
+        let x = match servo.tick(r) {
             Ok(x) => x,
             Err(e) => {
                 defmt::error!("servo error: {}", e);
@@ -143,8 +157,9 @@ fn ticks(n: u32, mut f: impl FnMut()) -> u32 {
 /// same empty loop. Velocities sweep a sine through zero, as in the host
 /// benchmark.
 fn count_instructions(
-    model: &friction_core::LuGre<f32>,
-    observer: &Observer<friction_core::LuGre<f32>, f32>,
+    model: &LuGre<f32>,
+    observer: &Observer<LuGre<f32>, f32>,
+    servo: &Compensator<f32, Observer<LuGre<f32>, f32>>,
 ) {
     const N: u32 = 1024;
     let with_loop = ticks(N, || {
@@ -185,6 +200,23 @@ fn count_instructions(
         i = (i + 1) & 63;
         black_box(observer.step(&mut z, black_box(vs[i]), black_box(1e-5), black_box(1e-3)));
     });
+    // one full servo tick (observer + PID): positions 1 mrad around a sine
+    // whose differences sweep the velocity through zero, reference 10 µrad off
+    let mut xs = [0.0f32; 64];
+    for (k, x) in xs.iter_mut().enumerate() {
+        *x = 1e-3 * libm::sinf(k as f32 * 0.1963);
+    }
+    let mut st = CompensatorState::default();
+    let tick = ticks(N, || {
+        i = (i + 1) & 63;
+        let x = xs[i];
+        let r = Setpoint {
+            x: x + 1e-5,
+            v: vs[i],
+            a: 0.0,
+        };
+        black_box(servo.tick(&mut st, black_box(x), black_box(r)));
+    });
     let curve = NOMINAL.curve;
     let (Ok(dahl), Ok(ep), Ok(reset), Ok(bristle)) = (
         DahlParams {
@@ -220,6 +252,7 @@ fn count_instructions(
     for (name, t) in [
         ("LuGre", measure(model, &vs)),
         ("LuGre observer", obs),
+        ("servo tick (observer + PID)", tick),
         ("Dahl", measure(&dahl, &vs)),
         ("elasto-plastic", measure(&ep, &vs)),
         ("reset integrator", measure(&reset, &vs)),
@@ -264,16 +297,25 @@ fn main() -> ! {
     let Ok(observer) = Observer::new(model, OBSERVER_GAIN) else {
         fail("observer gain")
     };
+    let p = controller();
+    let (Ok(c_none), Ok(c_coul), Ok(c_obs), Ok(c_plain)) = (
+        p.build::<f32, _>(NoCompensation),
+        p.build(FeedForward(coulomb)),
+        p.build(observer),
+        p.build(observer.with_damping(false)),
+    ) else {
+        fail("controller gains")
+    };
 
-    count_instructions(&model, &observer);
+    count_instructions(&model, &observer, &c_obs);
 
-    let none = run(Compensation::None);
-    let coul = run(Compensation::Coulomb(coulomb));
-    let obs_damped = run(Compensation::Observer(observer));
-    let obs_plain = run(Compensation::Observer(observer.with_damping(false)));
+    let none = run(c_none);
+    let coul = run(c_coul);
+    let obs_damped = run(c_obs);
+    let obs_plain = run(c_plain);
     for (name, e) in [
         ("no compensation", &none),
-        ("Coulomb + viscous feed-forward", &coul),
+        ("Coulomb + viscous feed-forward (measured v)", &coul),
         ("LuGre observer", &obs_damped),
         ("LuGre observer without sigma1 dz/dt", &obs_plain),
     ] {

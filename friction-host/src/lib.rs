@@ -8,6 +8,7 @@ pub mod models;
 pub mod params;
 pub mod plot;
 pub mod reference;
+pub mod servo;
 pub mod signals;
 pub mod sim;
 pub mod validate;

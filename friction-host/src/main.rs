@@ -14,7 +14,7 @@ use std::process::ExitCode;
 #[command(
     name = "friction",
     version,
-    about = "Dynamic friction models: simulate, experiment, validate"
+    about = "Dynamic friction models: simulate, experiment, servo, validate"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -75,6 +75,19 @@ enum Command {
     /// Exit codes: 0 accepted, 1 fit rejected (a bound, no convergence, a
     /// zero gradient), 2 bad input.
     Identify(IdentifyArgs),
+    /// Position servo benchmark: each friction compensation against a simulated plant.
+    ///
+    /// Prints `servo NAME RMS_MRAD MAX_MRAD` per compensation and a table;
+    /// writes DIR/trace.csv and SVG plots of the tracking errors. The set-up
+    /// is read from the file's `[servo]` table (defaults: Olsson et al. 1998).
+    Servo {
+        /// Parameter file [default: the built-in params/olsson1998-servo.toml].
+        #[arg(long)]
+        params: Option<PathBuf>,
+        /// Output folder.
+        #[arg(long)]
+        output: PathBuf,
+    },
     /// Validate every model against the reference solver and judge the experiments.
     ///
     /// Exit code 0 when every check passes, 1 when one fails, 2 on bad input.
@@ -278,6 +291,7 @@ fn run(cli: Cli) -> Result<bool> {
             };
             identify::run(&o)
         }
+        Command::Servo { params, output } => friction_host::servo::run(params.as_deref(), &output),
         Command::Validate { output } => friction_host::validate::run(&output),
     }
 }

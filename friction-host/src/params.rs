@@ -1,8 +1,10 @@
 //! Parameter files (TOML): `model = "..."`, the model's keys, and an
-//! optional `[rig]` table for the experiments and `[plant]` table written by
-//! `friction identify`. Unknown keys are errors that
+//! optional `[rig]` table for the experiments, a `[servo]` table for
+//! `friction servo` and a `[plant]` table written by `friction identify`.
+//! Unknown keys are errors that
 //! name the key, with line and column.
 
+use crate::servo::ServoTable;
 use anyhow::{bail, Context, Result};
 use serde::Deserialize;
 use std::path::Path;
@@ -86,6 +88,8 @@ pub struct ParamFile {
     pub rig: Rig,
     /// The identified plant, if the file has a `[plant]` table.
     pub plant: Plant,
+    /// The `[servo]` table of `friction servo` (every key optional).
+    pub servo: ServoTable,
 }
 
 #[derive(Deserialize)]
@@ -95,6 +99,8 @@ struct Probe {
     rig: Rig,
     #[serde(default)]
     plant: Plant,
+    #[serde(default)]
+    servo: ServoTable,
 }
 
 impl ParamFile {
@@ -112,6 +118,7 @@ impl ParamFile {
             model: ModelSpec::parse(&name, text, origin)?,
             rig: probe.rig,
             plant: probe.plant,
+            servo: probe.servo,
         };
         file.model
             .validate()

@@ -796,6 +796,7 @@ fn write_report(
         }
         writeln!(md, "\n![{}]({})", o.name, rel.display())?;
     }
+    md.push_str(&crate::servo::report_section()?);
     crate::io::write_bytes(&dir.join("report.md"), md.as_bytes())?;
     Ok(())
 }

@@ -25,6 +25,7 @@ fn help_on_every_command() {
         &["experiment", "--help"],
         &["validate", "--help"],
         &["identify", "--help"],
+        &["servo", "--help"],
     ] {
         let out = friction(cmd);
         assert!(out.status.success(), "{cmd:?}");
@@ -500,4 +501,126 @@ fn a_failed_verdict_exits_1_and_defaults_are_named() {
         stdout.contains("[rig] `mass` not given: default 1 kg"),
         "{stdout}"
     );
+}
+
+/// `servo NAME RMS MAX` lines of a run's stdout.
+fn servo_lines(stdout: &str) -> Vec<(String, f64, f64)> {
+    stdout
+        .lines()
+        .filter_map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            match f[..] {
+                ["servo", name, rms, max] => {
+                    Some((name.to_string(), rms.parse().ok()?, max.parse().ok()?))
+                }
+                _ => None,
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn servo_default_run_prints_seven_lines_and_writes_trace_and_plots() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = friction(&["servo", "--output", dir.path().to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let lines = servo_lines(&stdout);
+    let names: Vec<&str> = lines.iter().map(|l| l.0.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "nofriction",
+            "none",
+            "static",
+            "observer",
+            "observer+50",
+            "observer-50",
+            "observer-nodamping"
+        ],
+        "{stdout}"
+    );
+    for (name, rms, max) in &lines {
+        assert!(
+            rms.is_finite() && *rms > 0.0 && max >= rms,
+            "{name}: {stdout}"
+        );
+    }
+    let trace = std::fs::read_to_string(dir.path().join("trace.csv")).unwrap();
+    assert!(trace.starts_with("t,x_ref,e_nofriction,e_none,"));
+    assert_eq!(trace.lines().count(), 20_001); // 20 s at 1 kHz and the header
+    for plot in ["errors.svg", "observer.svg"] {
+        let svg = std::fs::read_to_string(dir.path().join(plot)).unwrap();
+        assert!(svg.starts_with("<svg"), "{plot}");
+    }
+}
+
+fn servo_params(dir: &Path, servo: &str) -> String {
+    let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("../params/olsson1998-servo.toml");
+    let text = std::fs::read_to_string(base).unwrap();
+    let p = dir.join("servo.toml");
+    std::fs::write(&p, format!("{text}\n[servo]\n{servo}\n")).unwrap();
+    p.display().to_string()
+}
+
+#[test]
+fn servo_observer_beats_no_compensation() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = servo_params(dir.path(), "duration = 5");
+    let out = friction(&[
+        "servo",
+        "--params",
+        &p,
+        "--output",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let get = |n: &str| {
+        servo_lines(&stdout)
+            .into_iter()
+            .find(|l| l.0 == n)
+            .unwrap_or_else(|| panic!("no {n} in {stdout}"))
+    };
+    let none = get("none");
+    for name in ["static", "observer", "observer+50", "observer-50"] {
+        let row = get(name);
+        assert!(row.1 < none.1, "{name} rms not below none: {stdout}");
+    }
+    // the floor: the plant without friction tracks best
+    assert!(get("nofriction").1 <= get("observer").1, "{stdout}");
+}
+
+#[test]
+fn servo_bad_key_or_value_exits_2_naming_it() {
+    let dir = tempfile::tempdir().unwrap();
+    for (servo, needle) in [
+        ("kpp = 60", "kpp"),
+        ("kp = -60", "`kp`"),
+        ("plant_rate = 1500", "`plant_rate`"),
+        ("duration = 1e6", "`duration` x `plant_rate`"),
+    ] {
+        let p = servo_params(dir.path(), servo);
+        let out = friction(&[
+            "servo",
+            "--params",
+            &p,
+            "--output",
+            dir.path().to_str().unwrap(),
+        ]);
+        assert_eq!(out.status.code(), Some(2), "{servo}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains(needle) && err.contains("servo.toml"),
+            "{servo}: {err}"
+        );
+    }
 }

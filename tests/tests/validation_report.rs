@@ -42,6 +42,7 @@ fn validate_passes_and_writes_the_report() {
         "unreadable number in the report"
     );
     assert!(report.contains("LuGre creeps, elasto-plastic does not"));
+    assert!(report.contains("## Servo benchmark") && report.contains("| observer-nodamping |"));
     for name in friction_host::experiments::NAMES {
         assert!(
             report.contains(&format!("| {name} |")),

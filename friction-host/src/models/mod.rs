@@ -172,6 +172,14 @@ pub trait HostModel {
     fn accuracy_bound(&self, _h: f64) -> Option<f64> {
         None
     }
+    /// The sliding friction at high speed less its viscous part (`fc` for
+    /// Stribeck-shaped models, `sigma0 z0 g/Fs` for the reset integrator,
+    /// the sliding mean for the bristle model): the level of a Coulomb
+    /// feed-forward built from the model.
+    fn coulomb_level(&self) -> f64 {
+        let v = friction_core::VELOCITY_LIMIT;
+        self.steady_force(v) - self.sigma2() * v
+    }
     /// The drift experiment's default peak force.
     fn drift_force(&self) -> f64 {
         0.5 * self.max_static_force()

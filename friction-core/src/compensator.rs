@@ -1,0 +1,769 @@
+//! A hardware-free position servo tick: PID with acceleration feed-forward
+//! plus the friction compensation the user chooses.
+//!
+//! Each tick takes the measured position `x` and the setpoint
+//! `(x_ref, v_ref, a_ref)` and computes
+//!
+//! ```text
+//! e   = x - x_ref                                  measured minus desired
+//! v   = (x - x_prev) / h                           backward difference; 0 on the first tick
+//! F^  = compensation(v, e)                         0, a static map F(v), or an observer
+//! I  += -ki h e                                    integral action, clamped to ±limit (anti-windup)
+//! u   = (J a_ref + F^) / kc - kp e - kd (v - v_ref) + I
+//! command = sat(limit, u)
+//! ```
+//!
+//! The PID gains and `limit` are in command units (amperes for a current
+//! drive, N m for a torque command), the model terms `J a_ref` and `F^` in
+//! force units, turned into command units by the torque constant `kc`
+//! (force per command unit; 1 when the command is a torque).
+//!
+//! The compensation is a type parameter implementing [`Compensation`]:
+//! [`NoCompensation`], [`FeedForward`] around any stateless model (e.g.
+//! [`CoulombViscous`](crate::CoulombViscous) on the measured velocity), or an
+//! [`Observer`] around any [`Observable`] model, stepped with `v` and `e`.
+//!
+//! Guarantees, for any inputs:
+//! - the command is finite and within `±limit`; each term is clamped to
+//!   `±4 limit` before the sum, so no finite input can overflow it (a term
+//!   that would overflow counts as `±4 limit`); `|v|` and `|e|` are clamped
+//!   to [`VELOCITY_LIMIT`] before use;
+//! - a NaN or infinite measured position or setpoint gives the **safe
+//!   output** `command = 0`, `friction = 0`, `accepted = false`, and leaves
+//!   the integral action, the friction state and the last valid position
+//!   untouched: only the count of ticks since that position advances, so the
+//!   next valid tick's velocity is the mean over the gap;
+//! - **anti-windup**, both ways: the integral action is clamped to
+//!   `±limit`, and it is not integrated on a tick where integrating would
+//!   push an already saturated command further into saturation
+//!   (conditional integration);
+//! - no panics, no allocation.
+//!
+//! Immutable configuration ([`Compensator`]) is split from the mutable state
+//! ([`CompensatorState`]): one compensator drives any number of axes.
+
+use crate::model::{convert, non_negative, positive, FrictionModel, ParamError, VELOCITY_LIMIT};
+use crate::observer::{Observable, Observer};
+use crate::Scalar;
+use core::fmt::Debug;
+
+/// What the compensator adds for friction: an estimate `F^` (force units)
+/// from the measured velocity `v` and position error `e = x - x_ref`.
+pub trait Compensation<S: Scalar> {
+    /// The compensation's own state (`()` for static maps).
+    type State: Copy + Default + Debug;
+
+    /// Advances the state by `h` and returns the friction estimate. Inputs
+    /// are finite, `|v|` and `|e|` at most [`VELOCITY_LIMIT`], `h > 0`. It
+    /// should return a finite value (the compensator replaces a non-finite
+    /// one by 0).
+    fn estimate(&self, state: &mut Self::State, v: S, e: S, h: S) -> S;
+}
+
+/// No friction compensation: `F^ = 0`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct NoCompensation;
+
+impl<S: Scalar> Compensation<S> for NoCompensation {
+    type State = ();
+    #[inline]
+    fn estimate(&self, _state: &mut (), _v: S, _e: S, _h: S) -> S {
+        S::ZERO
+    }
+}
+
+/// A stateless friction map as feed-forward on the measured velocity:
+/// `F^ = F(v)`, e.g. `FeedForward(CoulombViscous)` for `Fc sign(v) + sigma2 v`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct FeedForward<F>(pub F);
+
+impl<S: Scalar, F: FrictionModel<S, State = ()>> Compensation<S> for FeedForward<F> {
+    type State = ();
+    #[inline]
+    fn estimate(&self, state: &mut (), v: S, _e: S, h: S) -> S {
+        self.0.step(state, v, h)
+    }
+}
+
+/// The observer (Canudas de Wit et al. 1995) on the measured velocity and
+/// the position error `e = x - x_ref`.
+impl<S: Scalar, M: Observable<S>> Compensation<S> for Observer<M, S> {
+    type State = M::State;
+    #[inline]
+    fn estimate(&self, state: &mut M::State, v: S, e: S, h: S) -> S {
+        self.step(state, v, e, h)
+    }
+}
+
+/// Design-time parameters of the servo tick, in `f64`.
+///
+/// Checked by [`CompensatorParams::validate`]; each error names the
+/// parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct CompensatorParams {
+    /// Sample period `h > 0` (s).
+    pub h: f64,
+    /// Proportional gain `kp >= 0` (command units per unit of position).
+    pub kp: f64,
+    /// Integral gain `ki >= 0` (command units per unit of position and second).
+    pub ki: f64,
+    /// Derivative gain `kd >= 0` (command units per unit of velocity).
+    pub kd: f64,
+    /// Inertia (or mass) `J >= 0` of the acceleration feed-forward `J a_ref`.
+    pub inertia: f64,
+    /// Torque constant `kc > 0`: force per command unit (1 for a torque command).
+    pub torque_constant: f64,
+    /// Output limit `limit > 0` (command units): the command stays within `±limit`.
+    pub limit: f64,
+}
+
+impl CompensatorParams {
+    /// Checks `h > 0`, gains and `inertia` `>= 0`, `torque_constant > 0`,
+    /// `limit > 0`, all finite.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        positive("h", self.h)?;
+        non_negative("kp", self.kp)?;
+        non_negative("ki", self.ki)?;
+        non_negative("kd", self.kd)?;
+        non_negative("inertia", self.inertia)?;
+        positive("torque_constant", self.torque_constant)?;
+        positive("limit", self.limit)?;
+        Ok(())
+    }
+
+    /// Validates and builds the run-time tick around `compensation`.
+    /// Besides [`validate`](Self::validate), rejects values the scalar
+    /// cannot hold (`1/h`, `ki h`, `J/kc`, `1/kc`, and `32 limit`, the
+    /// headroom that keeps the sum of the clamped terms finite).
+    ///
+    /// ```
+    /// use friction_core::{CompensatorParams, NoCompensation, ParamError};
+    /// let mut p = CompensatorParams {
+    ///     h: 1e-3, kp: 60.0, ki: 200.0, kd: 1.2,
+    ///     inertia: 0.0023, torque_constant: 1.0, limit: 5.0,
+    /// };
+    /// p.kd = -1.0;
+    /// assert_eq!(p.build::<f32, _>(NoCompensation).err(), Some(ParamError::Negative("kd")));
+    /// ```
+    pub fn build<S: Scalar, C: Compensation<S>>(
+        &self,
+        compensation: C,
+    ) -> Result<Compensator<S, C>, ParamError> {
+        self.validate()?;
+        let limit = convert("limit", self.limit)?;
+        convert::<S>("limit", 32.0 * self.limit)?;
+        Ok(Compensator {
+            compensation,
+            h: convert("h", self.h)?,
+            inv_h: convert("h", 1.0 / self.h)?,
+            kp: convert("kp", self.kp)?,
+            ki_h: convert("ki", self.ki * self.h)?,
+            kd: convert("kd", self.kd)?,
+            feed_forward: convert("inertia", self.inertia / self.torque_constant)?,
+            inv_kc: convert("torque_constant", 1.0 / self.torque_constant)?,
+            limit,
+            term_limit: convert("limit", 4.0 * self.limit)?,
+            signal_limit: S::from_f64(VELOCITY_LIMIT),
+            params: *self,
+        })
+    }
+}
+
+/// The desired motion at a tick.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Setpoint<S> {
+    /// Position `x_ref`.
+    pub x: S,
+    /// Velocity `v_ref` (the derivative term acts on `v - v_ref`).
+    pub v: S,
+    /// Acceleration `a_ref` (feed-forward `J a_ref / kc`).
+    pub a: S,
+}
+
+/// What one tick produced.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Tick<S> {
+    /// The command, finite and within `±limit` (command units).
+    pub command: S,
+    /// The friction estimate or feed-forward `F^` (force units), included
+    /// in the command as `F^ / kc` (before the limit).
+    pub friction: S,
+    /// `false` when an input was NaN or infinite: the safe output (all zero).
+    pub accepted: bool,
+}
+
+/// The mutable state of one servo axis; `Default` is before the first tick.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct CompensatorState<S, T> {
+    integral: S,
+    last_x: S,
+    since_last: u32,
+    friction: T,
+}
+
+impl<S: Scalar, T> CompensatorState<S, T> {
+    /// The integral action `I` (command units), within `±limit`.
+    pub fn integral(&self) -> S {
+        self.integral
+    }
+
+    /// The last accepted measured position, if any.
+    pub fn last_position(&self) -> Option<S> {
+        (self.since_last > 0).then_some(self.last_x)
+    }
+
+    /// The compensation's state (e.g. the observer's `z^`).
+    pub fn friction(&self) -> &T {
+        &self.friction
+    }
+}
+
+/// The built servo tick: immutable, shared by any number of
+/// [`CompensatorState`]s.
+///
+/// ```
+/// use friction_core::{
+///     CompensatorParams, CompensatorState, LuGreParams, Observer, Setpoint,
+/// };
+/// let model = LuGreParams::CANUDAS_1995.build::<f32>()?;
+/// let servo = CompensatorParams {
+///     h: 1e-3, kp: 2e4, ki: 1e5, kd: 200.0,
+///     inertia: 1.0, torque_constant: 1.0, limit: 20.0,
+/// }
+/// .build(Observer::new(model, 100.0)?)?;
+/// let mut state = CompensatorState::default();
+/// // measured 1 µm behind a reference moving at 1 mm/s
+/// let r = Setpoint { x: 1e-6, v: 1e-3, a: 0.0 };
+/// let tick = servo.tick(&mut state, 0.0, r);
+/// assert!(tick.accepted && tick.command > 0.0 && tick.command <= 20.0);
+/// // a NaN measurement: safe output, state untouched
+/// let before = state;
+/// let tick = servo.tick(&mut state, f32::NAN, r);
+/// assert_eq!((tick.command, tick.accepted), (0.0, false));
+/// assert_eq!(state.integral(), before.integral());
+/// # Ok::<(), friction_core::ParamError>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Compensator<S, C> {
+    compensation: C,
+    h: S,
+    inv_h: S,
+    kp: S,
+    ki_h: S,
+    kd: S,
+    feed_forward: S,
+    inv_kc: S,
+    limit: S,
+    term_limit: S,
+    signal_limit: S,
+    params: CompensatorParams,
+}
+
+/// `k x` clamped to `±b`; 0 when `k = 0` (so `0 * inf` cannot give NaN).
+#[inline]
+fn term<S: Scalar>(k: S, x: S, b: S) -> S {
+    if k == S::ZERO {
+        S::ZERO
+    } else {
+        (k * x).sat(b)
+    }
+}
+
+impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
+    /// The compensation.
+    pub fn compensation(&self) -> &C {
+        &self.compensation
+    }
+
+    /// The parameters it was built from.
+    pub fn params(&self) -> &CompensatorParams {
+        &self.params
+    }
+
+    /// The output limit.
+    pub fn limit(&self) -> S {
+        self.limit
+    }
+
+    /// One tick with measured position `x` towards the setpoint `r`; see the
+    /// [module documentation](self) for the control law and the guarantees.
+    #[inline]
+    pub fn tick(&self, state: &mut CompensatorState<S, C::State>, x: S, r: Setpoint<S>) -> Tick<S> {
+        if !(x.is_finite() && r.x.is_finite() && r.v.is_finite() && r.a.is_finite()) {
+            if state.since_last > 0 {
+                state.since_last = state.since_last.saturating_add(1);
+            }
+            return Tick {
+                command: S::ZERO,
+                friction: S::ZERO,
+                accepted: false,
+            };
+        }
+        let v = match state.since_last {
+            0 => S::ZERO,
+            1 => (x - state.last_x) * self.inv_h,
+            n => (x - state.last_x) * self.inv_h / S::from_f64(f64::from(n)),
+        }
+        .sat(self.signal_limit);
+        let e = (x - r.x).sat(self.signal_limit);
+        let f = self
+            .compensation
+            .estimate(&mut state.friction, v, e, self.h);
+        let f = if f.is_finite() { f } else { S::ZERO };
+
+        let b = self.term_limit;
+        let base = term(self.feed_forward, r.a, b) + term(self.inv_kc, f, b)
+            - term(self.kp, e, b)
+            - term(self.kd, v - r.v, b);
+        let candidate = (state.integral - term(self.ki_h, e, self.limit)).sat(self.limit);
+        let trial = base + candidate;
+        let winds_up = (trial > self.limit && candidate > state.integral)
+            || (trial < -self.limit && candidate < state.integral);
+        if !winds_up {
+            state.integral = candidate;
+        }
+        state.last_x = x;
+        state.since_last = 1;
+        Tick {
+            command: (base + state.integral).sat(self.limit),
+            friction: f,
+            accepted: true,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{CoulombViscous, CoulombViscousParams, LuGre, LuGreParams, LuGreState};
+    use proptest::prelude::*;
+
+    fn params() -> CompensatorParams {
+        CompensatorParams {
+            h: 1e-3,
+            kp: 60.0,
+            ki: 200.0,
+            kd: 1.2,
+            inertia: 0.0023,
+            torque_constant: 1.02,
+            limit: 5.0,
+        }
+    }
+
+    fn olsson() -> LuGreParams {
+        LuGreParams {
+            curve: crate::StribeckParams {
+                fc: 0.28,
+                fs: 0.33,
+                vs: 0.01,
+                exponent: 2.0,
+            },
+            sigma0: 260.0,
+            sigma1: 0.6,
+            sigma2: 0.0176,
+            vd: None,
+        }
+    }
+
+    #[test]
+    fn invalid_parameters_are_named() {
+        let p = params();
+        let check = |q: CompensatorParams, e: ParamError| {
+            assert_eq!(q.build::<f64, _>(NoCompensation).err(), Some(e), "{q:?}");
+        };
+        check(
+            CompensatorParams { h: 0.0, ..p },
+            ParamError::NotPositive("h"),
+        );
+        check(
+            CompensatorParams { h: f64::NAN, ..p },
+            ParamError::NotFinite("h"),
+        );
+        check(
+            CompensatorParams { kp: -1.0, ..p },
+            ParamError::Negative("kp"),
+        );
+        check(
+            CompensatorParams {
+                ki: f64::INFINITY,
+                ..p
+            },
+            ParamError::NotFinite("ki"),
+        );
+        check(
+            CompensatorParams { kd: -0.1, ..p },
+            ParamError::Negative("kd"),
+        );
+        check(
+            CompensatorParams { inertia: -1.0, ..p },
+            ParamError::Negative("inertia"),
+        );
+        check(
+            CompensatorParams {
+                torque_constant: 0.0,
+                ..p
+            },
+            ParamError::NotPositive("torque_constant"),
+        );
+        check(
+            CompensatorParams { limit: 0.0, ..p },
+            ParamError::NotPositive("limit"),
+        );
+        check(
+            CompensatorParams {
+                limit: f64::INFINITY,
+                ..p
+            },
+            ParamError::NotFinite("limit"),
+        );
+        assert_eq!(
+            CompensatorParams { limit: 1e38, ..p }
+                .build::<f32, _>(NoCompensation)
+                .err(),
+            Some(ParamError::NotRepresentable("limit"))
+        );
+        assert_eq!(
+            CompensatorParams { h: 1e-300, ..p }
+                .build::<f32, _>(NoCompensation)
+                .err(),
+            Some(ParamError::NotRepresentable("h"))
+        );
+        // zero gains and inertia are valid
+        let zero = CompensatorParams {
+            kp: 0.0,
+            ki: 0.0,
+            kd: 0.0,
+            inertia: 0.0,
+            ..p
+        };
+        assert!(zero.build::<f32, _>(NoCompensation).is_ok());
+    }
+
+    #[test]
+    fn control_law_terms() {
+        let p = CompensatorParams {
+            ki: 0.0,
+            ..params()
+        };
+        let c = p.build::<f64, _>(NoCompensation).unwrap();
+        let mut s = CompensatorState::default();
+        // first tick: v = 0, so the derivative term is kd v_ref
+        let r = Setpoint {
+            x: 0.01,
+            v: 0.1,
+            a: 2.0,
+        };
+        let t = c.tick(&mut s, 0.0, r);
+        let expected = 0.0023 * 2.0 / 1.02 + 60.0 * 0.01 + 1.2 * 0.1;
+        assert!((t.command - expected).abs() < 1e-12, "{t:?}");
+        assert_eq!(t.friction, 0.0);
+        // second tick: backward difference
+        let t = c.tick(
+            &mut s,
+            1e-4,
+            Setpoint {
+                x: 1e-4,
+                v: 0.0,
+                a: 0.0,
+            },
+        );
+        assert!((t.command - (-1.2 * 0.1)).abs() < 1e-12, "{t:?}");
+        assert_eq!(s.last_position(), Some(1e-4));
+    }
+
+    #[test]
+    fn static_feed_forward_on_measured_velocity() {
+        let map: CoulombViscous<f64> = CoulombViscousParams {
+            fc: 0.28,
+            sigma2: 0.0176,
+        }
+        .build()
+        .unwrap();
+        let p = CompensatorParams {
+            kp: 0.0,
+            ki: 0.0,
+            kd: 0.0,
+            inertia: 0.0,
+            ..params()
+        };
+        let c = p.build(FeedForward(map)).unwrap();
+        let mut s = CompensatorState::default();
+        let r = Setpoint::default();
+        assert_eq!(c.tick(&mut s, 0.0, r).friction, 0.0); // first tick: v = 0
+        let t = c.tick(&mut s, -2e-3, r); // v = -2 rad/s
+        assert!((t.friction - map.force(-2.0)).abs() < 1e-12);
+        assert!((t.command - map.force(-2.0) / 1.02).abs() < 1e-12);
+    }
+
+    #[test]
+    fn non_finite_inputs_give_the_safe_output_and_keep_the_state() {
+        let m = olsson().build::<f32>().unwrap();
+        let c = params().build(Observer::new(m, 20.0).unwrap()).unwrap();
+        let mut s = CompensatorState::default();
+        for k in 0..200 {
+            let x = 0.01 * (k as f32 * 0.05).sin();
+            c.tick(
+                &mut s,
+                x,
+                Setpoint {
+                    x: 0.0,
+                    v: 0.0,
+                    a: 0.0,
+                },
+            );
+        }
+        let before = s;
+        let good = Setpoint {
+            x: 0.1,
+            v: 0.2,
+            a: 0.3,
+        };
+        for (x, r) in [
+            (f32::NAN, good),
+            (f32::INFINITY, good),
+            (
+                0.0,
+                Setpoint {
+                    x: f32::NAN,
+                    ..good
+                },
+            ),
+            (
+                0.0,
+                Setpoint {
+                    x: f32::NEG_INFINITY,
+                    ..good
+                },
+            ),
+            (
+                0.0,
+                Setpoint {
+                    v: f32::NAN,
+                    ..good
+                },
+            ),
+            (
+                0.0,
+                Setpoint {
+                    a: f32::INFINITY,
+                    ..good
+                },
+            ),
+        ] {
+            let t = c.tick(&mut s, x, r);
+            assert_eq!(
+                t,
+                Tick {
+                    command: 0.0,
+                    friction: 0.0,
+                    accepted: false
+                }
+            );
+            assert_eq!(s.integral(), before.integral());
+            assert_eq!(s.friction(), before.friction());
+            assert_eq!(s.last_position(), before.last_position());
+        }
+        // the first valid tick after the gap differences over the whole gap
+        let p = CompensatorParams {
+            kp: 0.0,
+            ki: 0.0,
+            inertia: 0.0,
+            ..params()
+        };
+        let c = p.build::<f64, _>(NoCompensation).unwrap();
+        let mut s = CompensatorState::default();
+        c.tick(&mut s, 0.0, Setpoint::default());
+        c.tick(&mut s, f64::NAN, Setpoint::default());
+        c.tick(&mut s, f64::NAN, Setpoint::default());
+        let t = c.tick(&mut s, 3e-3, Setpoint::default()); // 3 periods: v = 1
+        assert!((t.command + 1.2).abs() < 1e-12, "{t:?}");
+        // before any valid position, invalid ticks keep the first-tick rule
+        let mut s = CompensatorState::default();
+        c.tick(&mut s, f64::NAN, Setpoint::default());
+        assert_eq!(s.last_position(), None);
+        assert_eq!(c.tick(&mut s, 5.0, Setpoint::default()).command, 0.0);
+    }
+
+    #[test]
+    fn integral_is_clamped_and_does_not_wind_up() {
+        // integral alone: grows to the limit and stops there
+        let p = CompensatorParams {
+            kp: 0.0,
+            kd: 0.0,
+            inertia: 0.0,
+            ..params()
+        };
+        let c = p.build::<f64, _>(NoCompensation).unwrap();
+        let mut s = CompensatorState::default();
+        let behind = Setpoint {
+            x: 1.0,
+            v: 0.0,
+            a: 0.0,
+        };
+        for _ in 0..100_000 {
+            assert!(c.tick(&mut s, 0.0, behind).command <= 5.0);
+        }
+        assert_eq!(s.integral(), 5.0);
+        // the error reverses: the command leaves saturation on the first tick
+        let t = c.tick(
+            &mut s,
+            0.0,
+            Setpoint {
+                x: -1.0,
+                v: 0.0,
+                a: 0.0,
+            },
+        );
+        assert!(t.command < 5.0, "{t:?}");
+
+        // saturated by the proportional term: no integration at all
+        let c = params().build::<f64, _>(NoCompensation).unwrap();
+        let mut s = CompensatorState::default();
+        for _ in 0..10_000 {
+            assert_eq!(c.tick(&mut s, 0.0, behind).command, 5.0);
+        }
+        assert_eq!(s.integral(), 0.0);
+        // small reversed error: the command follows at once (it would stay at
+        // +5 for a long time had the integral wound up to 10 s x 200 x 1)
+        let t = c.tick(
+            &mut s,
+            0.0,
+            Setpoint {
+                x: -0.01,
+                v: 0.0,
+                a: 0.0,
+            },
+        );
+        assert!(t.command < 0.0, "{t:?}");
+    }
+
+    /// Simulates `J x'' = kc u - c x'` under the compensator from `x0 = 1`
+    /// towards 0 (10 substeps per tick); returns `|x|` at the end.
+    fn settle(p: CompensatorParams, damping: f64, seconds: f64) -> f64 {
+        let ctl = p.build::<f64, _>(NoCompensation).unwrap();
+        let mut s = CompensatorState::default();
+        let (mut x, mut v) = (1.0f64, 0.0f64);
+        let hs = p.h / 10.0;
+        for _ in 0..(seconds / p.h) as usize {
+            let u = ctl.tick(&mut s, x, Setpoint::default()).command;
+            for _ in 0..10 {
+                v += hs * (p.torque_constant * u - damping * v) / p.inertia;
+                x += hs * v;
+            }
+        }
+        x.abs() + v.abs()
+    }
+
+    #[test]
+    fn a_pure_p_controller_converges_on_a_double_integrator() {
+        // J = 1, kc = 1, kp = 4: without damping a P loop only oscillates
+        // (poles at ±2j), so the plant has some (c = 1, damping ratio 1/4).
+        let p = CompensatorParams {
+            h: 1e-3,
+            kp: 4.0,
+            ki: 0.0,
+            kd: 0.0,
+            inertia: 1.0,
+            torque_constant: 1.0,
+            limit: 100.0,
+        };
+        assert!(settle(p, 1.0, 40.0) < 1e-6);
+        // PD on the undamped double integrator, and PID with the limit active
+        assert!(settle(CompensatorParams { kd: 2.0, ..p }, 0.0, 40.0) < 1e-6);
+        let pid = CompensatorParams {
+            kd: 3.0,
+            ki: 1.0,
+            limit: 1.0,
+            ..p
+        };
+        assert!(settle(pid, 0.0, 60.0) < 1e-6);
+        // and the undamped pure P loop does not settle: the test can fail
+        assert!(settle(p, 0.0, 40.0) > 0.1);
+    }
+
+    fn observer_f32() -> Compensator<f32, Observer<LuGre<f32>, f32>> {
+        let m = olsson().build::<f32>().unwrap();
+        params().build(Observer::new(m, 20.0).unwrap()).unwrap()
+    }
+
+    fn finite_f32() -> impl Strategy<Value = f32> {
+        prop_oneof![
+            prop::num::f32::NORMAL,
+            prop::num::f32::SUBNORMAL,
+            prop::num::f32::ZERO,
+            Just(f32::MAX),
+            Just(f32::MIN),
+            -1.0f32..1.0,
+        ]
+    }
+
+    fn gain() -> impl Strategy<Value = f64> {
+        prop_oneof![Just(0.0), 0.0..1e3, 1e3..1e30]
+    }
+
+    proptest! {
+        #[test]
+        fn output_is_finite_and_bounded_for_hostile_finite_inputs(
+            inputs in prop::collection::vec(
+                (finite_f32(), finite_f32(), finite_f32(), finite_f32()), 1..40),
+            kp in gain(), ki in gain(), kd in gain(), inertia in gain(),
+            limit in prop_oneof![1e-30f64..1.0, 1.0..1e30],
+        ) {
+            let p = CompensatorParams { kp, ki, kd, inertia, limit, ..params() };
+            let model = olsson().build::<f32>().unwrap();
+            let obs = p.build(Observer::new(model, 20.0).unwrap()).unwrap();
+            let map = CoulombViscousParams { fc: 0.28, sigma2: 0.0176 }.build::<f32>().unwrap();
+            let ff = p.build(FeedForward(map)).unwrap();
+            let lim = limit as f32;
+            let (mut so, mut sf) = (CompensatorState::default(), CompensatorState::default());
+            for (x, rx, rv, ra) in inputs {
+                let r = Setpoint { x: rx, v: rv, a: ra };
+                for t in [obs.tick(&mut so, x, r), ff.tick(&mut sf, x, r)] {
+                    prop_assert!(t.accepted);
+                    prop_assert!(t.command.is_finite() && t.command.abs() <= lim, "{t:?}");
+                    prop_assert!(t.friction.is_finite(), "{t:?}");
+                }
+                prop_assert!(so.integral().is_finite() && so.integral().abs() <= lim);
+                prop_assert!(so.friction().z.is_finite());
+            }
+        }
+
+        #[test]
+        fn any_input_including_nan_never_poisons(
+            inputs in prop::collection::vec(
+                (any::<f32>(), any::<f32>(), any::<f32>(), any::<f32>()), 1..40),
+        ) {
+            let c = observer_f32();
+            let mut s = CompensatorState::default();
+            for (x, rx, rv, ra) in inputs {
+                let before = s;
+                let t = c.tick(&mut s, x, Setpoint { x: rx, v: rv, a: ra });
+                prop_assert!(t.command.is_finite() && t.command.abs() <= 5.0);
+                if !t.accepted {
+                    prop_assert_eq!(t.command, 0.0);
+                    prop_assert_eq!(s.integral(), before.integral());
+                    prop_assert_eq!(s.friction(), before.friction());
+                }
+                prop_assert!(s.integral().is_finite());
+                prop_assert!(s.friction().z.is_finite());
+                prop_assert!(s.last_position().is_none_or(f32::is_finite));
+            }
+        }
+    }
+
+    #[test]
+    fn observer_state_is_the_models() {
+        let c = observer_f32();
+        let mut s: CompensatorState<f32, LuGreState<f32>> = CompensatorState::default();
+        c.tick(&mut s, 0.0, Setpoint::default());
+        let t = c.tick(&mut s, 1e-4, Setpoint::default()); // moving at 0.1 rad/s
+        assert!(t.friction > 0.0 && s.friction().z > 0.0);
+    }
+}
