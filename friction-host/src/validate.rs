@@ -6,7 +6,7 @@ use crate::experiments::{self, Options, Outcome};
 use crate::models::ScalarKind;
 use crate::params::{ModelSpec, ParamFile};
 use crate::plot::{line_plot, zip, Axis, Series};
-use crate::signals::validation_signals;
+use crate::signals::{validation_signals, Signal};
 use crate::sim::{drive_core, drive_reference, max_diff, rms_diff};
 use anyhow::Result;
 use friction_core::{CoulombParams, CoulombViscousParams, StribeckMapParams};
@@ -136,9 +136,20 @@ pub fn accuracy(
     bounded: bool,
     plot_dir: Option<&Path>,
 ) -> Result<Vec<AccuracyRow>> {
+    accuracy_on(&validation_signals(), label, spec, bounded, plot_dir)
+}
+
+/// [`accuracy`] on the given signals.
+pub fn accuracy_on(
+    signals: &[Signal],
+    label: &str,
+    spec: &ModelSpec,
+    bounded: bool,
+    plot_dir: Option<&Path>,
+) -> Result<Vec<AccuracyRow>> {
     let fs = spec.max_static_force();
     let mut rows = Vec::new();
-    for (i, s) in validation_signals().iter().enumerate() {
+    for (i, s) in signals.iter().enumerate() {
         for h in [1e-3, 1e-4] {
             let t = s.times(h);
             let v: Vec<f64> = t.iter().map(|&ti| s.v(ti)).collect();
@@ -200,6 +211,19 @@ pub fn accuracy(
         }
     }
     Ok(rows)
+}
+
+/// canudas1995-ep with `z_ba = frac Fc / sigma0` (the shipped set has 0.5).
+pub fn elasto_plastic_with_z_ba(frac: f64) -> Result<ModelSpec> {
+    let ModelSpec::ElastoPlastic(p) = param_set("canudas1995-ep")?.model else {
+        anyhow::bail!("canudas1995-ep is not an elasto-plastic set")
+    };
+    Ok(ModelSpec::ElastoPlastic(
+        friction_core::ElastoPlasticParams {
+            z_ba: frac * p.lugre.curve.fc / p.lugre.sigma0,
+            ..p
+        },
+    ))
 }
 
 /// The full validation. Returns whether everything passed.
@@ -303,19 +327,7 @@ pub fn run(dir: &Path) -> Result<bool> {
     }
     for (label, spec, bounded, plots) in &models {
         for r in accuracy(label, spec, *bounded, plots.then_some(dir))? {
-            println!(
-                "{:<40} {:<28} {:>5.0}Hz {:>9.4}% {:>9.3}% {:>11.4}% {:>9.4}% ({:>3.0}%) {:>9.2e} {:>5}",
-                r.model,
-                r.signal,
-                1.0 / r.h,
-                100.0 * r.rms,
-                100.0 * r.max,
-                100.0 * r.rms_mean_v,
-                100.0 * r.rms_smooth,
-                100.0 * r.kept,
-                r.f32_rms,
-                r.verdict()
-            );
+            print_row(&r);
             rows.push(r);
         }
     }
@@ -388,6 +400,23 @@ pub fn run(dir: &Path) -> Result<bool> {
         dir.join("report.md").display()
     );
     Ok(all_pass)
+}
+
+/// One accuracy row on the console.
+fn print_row(r: &AccuracyRow) {
+    println!(
+        "{:<40} {:<28} {:>5.0}Hz {:>9.4}% {:>9.3}% {:>11.4}% {:>9.4}% ({:>3.0}%) {:>9.2e} {:>5}",
+        r.model,
+        r.signal,
+        1.0 / r.h,
+        100.0 * r.rms,
+        100.0 * r.max,
+        100.0 * r.rms_mean_v,
+        100.0 * r.rms_smooth,
+        100.0 * r.kept,
+        r.f32_rms,
+        r.verdict()
+    );
 }
 
 /// `accuracy-<label>-<model>-<signal>.svg`, with the label made file-name safe.

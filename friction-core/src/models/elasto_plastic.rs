@@ -151,38 +151,8 @@ impl<S: Scalar> ElastoPlastic<S> {
         // transition zone, z_ba <= w < z_max, so width > 0
         let width = z_max - self.z_ba;
         let eps = width / z_max;
-        let mut u = ((z_max - w) / width).min(S::ONE);
-        let mut left = xi / width;
-        let (mut r, mut b) = zone_rate(u, eps);
-        let (c, tail) = (S::from_f64(RK_REACH), S::from_f64(TAIL));
-        let half = S::from_f64(0.5);
-        let sixth = S::from_f64(1.0 / 6.0);
-        for _ in 0..MAX_SUBSTEPS {
-            if u <= tail {
-                break;
-            }
-            // h r <= c, and h (r + Q u) <= c bounds the step where alpha curves
-            let h = (c / (r + S::from_f64(Q) * u)).min(left);
-            let k1 = u * r;
-            let u2 = u - half * h * k1;
-            let k2 = u2 * zone_rate(u2, eps).0;
-            let u3 = u - half * h * k2;
-            let k3 = u3 * zone_rate(u3, eps).0;
-            let u4 = u - h * k3;
-            let k4 = u4 * zone_rate(u4, eps).0;
-            u = (u - sixth * h * (k1 + S::from_f64(2.0) * (k2 + k3) + k4)).max(S::ZERO);
-            left = left - h;
-            if left <= S::ZERO {
-                return z_max - u * width;
-            }
-            (r, b) = zone_rate(u, eps);
-        }
-        // tail: du/dxi' = -(eps + b u) u with b frozen at the tail's entry,
-        // solved exactly (a Riccati equation):
-        // u+ = u e^(-eps xi') / (1 + b u (1 - e^(-eps xi')) / eps)
-        let decay = (-(eps * left)).exp();
-        let grown = -(-(eps * left)).exp_m1() / eps;
-        u = u * decay / (S::ONE + b * u * grown);
+        let u = ((z_max - w) / width).min(S::ONE);
+        let (u, _) = zone_step(u, xi / width, eps);
         z_max - u * width
     }
 
@@ -216,6 +186,42 @@ const MAX_SUBSTEPS: usize = 24;
 const TAIL: f64 = 0.01;
 /// `(pi / 2)^2`.
 const Q: f64 = core::f64::consts::PI * core::f64::consts::PI / 4.0;
+
+/// Advances the normalised distance to `z_max`, `u` (see [`zone_rate`]), over
+/// `left` zone widths of sliding: RK4 sub-steps down to `u <= TAIL`, then the
+/// exact tail. Returns `u` and the number of sub-steps taken.
+fn zone_step<S: Scalar>(mut u: S, mut left: S, eps: S) -> (S, usize) {
+    let (mut r, mut b) = zone_rate(u, eps);
+    let (c, tail) = (S::from_f64(RK_REACH), S::from_f64(TAIL));
+    let half = S::from_f64(0.5);
+    let sixth = S::from_f64(1.0 / 6.0);
+    let mut taken = 0;
+    while taken < MAX_SUBSTEPS && u > tail {
+        // h r <= c keeps the sub-step within the local relaxation length, and
+        // the Q u term shortens it where alpha's sine curves most
+        let h = (c / (r + S::from_f64(Q) * u)).min(left);
+        let k1 = u * r;
+        let u2 = u - half * h * k1;
+        let k2 = u2 * zone_rate(u2, eps).0;
+        let u3 = u - half * h * k2;
+        let k3 = u3 * zone_rate(u3, eps).0;
+        let u4 = u - h * k3;
+        let k4 = u4 * zone_rate(u4, eps).0;
+        u = (u - sixth * h * (k1 + S::from_f64(2.0) * (k2 + k3) + k4)).max(S::ZERO);
+        left = left - h;
+        taken += 1;
+        if left <= S::ZERO {
+            return (u, taken);
+        }
+        (r, b) = zone_rate(u, eps);
+    }
+    // tail: du/dxi' = -(eps + b u) u with b frozen at the tail's entry is a
+    // Riccati equation, solved exactly:
+    // u+ = u e^(-eps xi') / (1 + b u (1 - e^(-eps xi')) / eps)
+    let decay = (-(eps * left)).exp();
+    let grown = -(-(eps * left)).exp_m1() / eps;
+    (u * decay / (S::ONE + b * u * grown), taken)
+}
 
 /// The transition zone in normalised form: `u = (z_max - w) / (z_max - z_ba)`
 /// in `[0, 1]`, `eps = (z_max - z_ba) / z_max` in `(0, 1]`. There
@@ -439,6 +445,28 @@ mod tests {
                 let err = (s.z - w).abs() / width;
                 assert!(err < 3e-5, "z_ba {frac}, {dist} widths: {err:.2e}");
             }
+        }
+    }
+
+    #[test]
+    fn the_tail_is_reached_within_the_sub_step_budget() {
+        // the worst start (u = 1, just past z_ba) and a distance long enough to
+        // reach the tail, for zones from 1e-6 to all of z_max: 22 sub-steps at
+        // most, so the cap of 24 is never what ends the loop
+        let mut most = 0;
+        for k in 0..=60 {
+            let eps = 10f64.powf(-6.0 + 0.1 * f64::from(k));
+            let (u, taken) = zone_step(1.0f64, 1e9, eps);
+            let (u32_, taken32) = zone_step(1.0f32, 1e9, eps as f32);
+            assert!(u == 0.0 && u32_ == 0.0, "eps {eps}: {u} {u32_}");
+            most = most.max(taken).max(taken32);
+        }
+        std::println!("most sub-steps: {most}");
+        assert!(most <= 22, "{most} sub-steps");
+        // and a path that stops inside the zone leaves it no later
+        for left in [1e-3, 0.3, 1.0, 3.0, 10.0, 30.0] {
+            let (_, taken) = zone_step(1.0f64, left, 0.01);
+            assert!(taken <= 22, "{left}: {taken}");
         }
     }
 
