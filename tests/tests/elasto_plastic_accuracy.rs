@@ -88,3 +88,29 @@ fn reversals_against_the_reference_for_every_z_ba_and_lugre() {
         }
     }
 }
+
+#[test]
+fn issue_bounds_3_percent_at_1_khz_and_1_percent_at_10_khz_for_every_z_ba() {
+    // The issue's bounds with the sampled velocity held. Not met for z_ba >=
+    // 0.9 Fc/sigma0 on the fast signals (nor on the two-tone at 1 kHz for 0.1
+    // and 0.5): the step is exact for the held velocity (test above), and the
+    // hold puts the displacement ~h v / 2 ahead, more than the zone's width.
+    let mut failures = Vec::new();
+    for frac in Z_BA {
+        let spec = elasto_plastic_with_z_ba(frac).unwrap();
+        let label = format!("z_ba = {frac} Fc/sigma0");
+        for r in accuracy_on(&reversal_signals(), &label, &spec, true, None).unwrap() {
+            let bound = if r.h >= 1e-3 { 0.03 } else { 0.01 };
+            if r.rms > bound {
+                failures.push(format!(
+                    "{label}, {} at {} Hz: {:.2} % > {} %",
+                    r.signal,
+                    1.0 / r.h,
+                    100.0 * r.rms,
+                    100.0 * bound
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
