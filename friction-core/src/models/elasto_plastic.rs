@@ -543,6 +543,24 @@ mod tests {
         }
 
         #[test]
+        fn extreme_finite_inputs_stay_finite(
+            frac in 1e-6f64..0.999_999,
+            z0 in -1.0f64..1.0,
+            v in proptest::num::f64::NORMAL,
+            h in proptest::num::f64::POSITIVE,
+        ) {
+            // any finite v (clamped to 1e6) and h, whose product overflows
+            let p = ElastoPlasticParams { z_ba: frac * 1e-5, ..P };
+            let (m32, m64) = (p.build::<f32>().unwrap(), p.build::<f64>().unwrap());
+            let mut s64 = LuGreState { z: z0 * 1.5e-5 };
+            let f64_ = m64.step(&mut s64, v, h);
+            prop_assert!(f64_.is_finite() && s64.z.abs() <= 1.5e-5 * (1.0 + 1e-12));
+            let mut s32 = LuGreState { z: (z0 * 1.5e-5) as f32 };
+            let f32_ = m32.step(&mut s32, v as f32, (h as f32).min(f32::MAX));
+            prop_assert!(f32_.is_finite() && s32.z.abs() <= 1.5e-5 * (1.0 + 1e-6));
+        }
+
+        #[test]
         fn no_drift_below_z_ba(amplitudes in proptest::collection::vec(0.0f64..4.9e-6, 1..20)) {
             // displacement cycles 0 -> a -> 0 whose deflection stays below z_ba:
             // z returns exactly to 0, so a force cycle leaves no displacement behind
