@@ -26,23 +26,28 @@
 //!   polynomial to `phi^12` (error below 4.3e-10 on the bounded phase), so no
 //!   `sin` is called. Classical RK4 sub-steps of length
 //!   `0.5 / (r + (pi/2)^2 u)` (so `h r <= 0.5`) run until the distance is used
-//!   or `u <= 0.01`, at most 24 of them (22 suffice from `u = 1`: each shrinks
-//!   `u` by at least `1/1.25`). The rest is the tail, where
+//!   or `u <= 0.01`, at most 24 of them (from `u = 1` 22 suffice for any
+//!   `eps`, which a test checks: where `alpha`'s sine dominates, each
+//!   sub-step shrinks `u` by about `1/1.25`). The rest is the tail, where
 //!   `r = eps + b u` with `b` frozen at its entry value is a Riccati equation
 //!   with the exact solution `u e^(-eps xi') / (1 + b u (1 - e^(-eps xi')) / eps)`;
 //!   `b` varies by less than `1e-4 + eps u` relative there.
 //!
-//! One long step matches many tiny ones to about `2e-5 (z_max - z_ba)` in `w`
-//! for any distance. The distance past `z_ba` is capped at `1000 z_max`
+//! One long step matches many tiny ones, and the sheet's equation with `sin`
+//! integrated finely, to `3e-5 (z_max - z_ba)` in `w` for any distance; on
+//! the validation signals the step is the exact solution for the held
+//! velocity to `5e-6 Fs` RMS in force. The distance past `z_ba` is capped at `1000 z_max`
 //! (beyond it `e^(-1000)` rounds to 0), so every step is finite for any
 //! finite `v` and `h`, also in `f32`; `|z| <= Fs/sigma0` is kept by a final
 //! clamp, and the steady state (`u = 0`, `w = z_max`) is exactly the Stribeck map.
 //!
 //! Worst-case cost per step: 24 RK4 sub-steps of 4 evaluations of `r(u)` (a
 //! degree-6 polynomial in `phi^2`, no `sin`) plus the first, 97 in all, one
-//! more for the damping term, two divisions per sub-step, and one `exp` and
+//! more for the damping term, one division per sub-step, and one `exp` and
 //! one `exp_m1` in the tail. The elastic part and the region above `z_max`
 //! cost no evaluation; steady sliding (`u <= 0.01`) one, plus the tail.
+//! Measured: 2,885 instructions on a Cortex-M4F for the worst case (f32),
+//! against 84,238 for the former implicit-Euler step with `sinf`.
 
 use crate::model::{checked_inputs, convert, positive, FrictionModel, ParamError};
 use crate::models::lugre::{LuGre, LuGreParams, LuGreState};
