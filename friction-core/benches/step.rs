@@ -4,8 +4,8 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use friction_core::{
-    BristleParams, DahlParams, ElastoPlasticParams, FrictionModel, LuGreParams, Observer,
-    ResetIntegratorParams, Scalar, StribeckMapParams,
+    BristleParams, DahlParams, ElastoPlasticParams, FrictionModel, LuGreParams, LuGreState,
+    Observer, ResetIntegratorParams, Scalar, StribeckMapParams,
 };
 
 fn velocities<S: Scalar>() -> Vec<S> {
@@ -91,6 +91,22 @@ fn bench_scalar<S: Scalar + 'static>(c: &mut Criterion, name: &str) {
         .build::<S>()
         .unwrap(),
     );
+    // worst case: every step starts at z_ba and slides far enough (20 µm, the
+    // zone is 0.1 µm wide) to run all its RK4 sub-steps (22) and the tail
+    let narrow = ElastoPlasticParams {
+        lugre: p,
+        z_ba: 0.99e-5,
+    }
+    .build::<S>()
+    .unwrap();
+    group.bench_function("elasto-plastic-worst", |b| {
+        let mut s = LuGreState::default();
+        let (z0, v) = (S::from_f64(0.99e-5), S::from_f64(0.02));
+        b.iter(|| {
+            s.z = black_box(z0);
+            black_box(narrow.step(&mut s, black_box(v), h))
+        })
+    });
     let reset = ResetIntegratorParams {
         sigma0: 1e5,
         sigma1: 316.0,

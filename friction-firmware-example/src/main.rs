@@ -248,6 +248,24 @@ fn count_instructions(
     ) else {
         fail("model parameters")
     };
+    // the elasto-plastic worst case: every step starts at z_ba (0.99 Fc/sigma0)
+    // and slides 100 widths of its transition zone, so it runs every RK4
+    // sub-step and the tail
+    let z_ba = 0.99 * curve.fc / NOMINAL.sigma0;
+    let Ok(narrow) = (ElastoPlasticParams {
+        lugre: NOMINAL,
+        z_ba,
+    })
+    .build::<f32>() else {
+        fail("model parameters")
+    };
+    let mut zw = LuGreState::default();
+    let ep_worst = ticks(N, || {
+        i = (i + 1) & 63;
+        black_box(vs.get(i));
+        zw.z = black_box(z_ba as f32);
+        black_box(narrow.step(&mut zw, black_box(1.0), black_box(1e-3)));
+    });
     defmt::info!("SysTick ticks per instruction: {=f32}", per_insn);
     for (name, t) in [
         ("LuGre", measure(model, &vs)),
@@ -255,6 +273,7 @@ fn count_instructions(
         ("servo tick (observer + PID)", tick),
         ("Dahl", measure(&dahl, &vs)),
         ("elasto-plastic", measure(&ep, &vs)),
+        ("elasto-plastic worst case", ep_worst),
         ("reset integrator", measure(&reset, &vs)),
         ("bristle N=8", measure(&bristle, &vs)),
     ] {

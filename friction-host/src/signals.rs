@@ -47,6 +47,21 @@ impl Signal {
         }
     }
 
+    /// `v = a1 sin(2 pi f1 t) + a2 sin(2 pi f2 t)`: fast reversals of varying
+    /// depth, some at high speed, some barely crossing zero.
+    pub fn two_tone(a1: f64, f1: f64, a2: f64, f2: f64, duration: f64) -> Self {
+        let (w1, w2) = (2.0 * PI * f1, 2.0 * PI * f2);
+        Self {
+            name: format!("two-tone {a1}@{f1} + {a2}@{f2} Hz"),
+            description: "fast reversals of varying depth".into(),
+            duration,
+            v: Box::new(move |t| a1 * (w1 * t).sin() + a2 * (w2 * t).sin()),
+            x: Box::new(move |t| {
+                a1 * (1.0 - (w1 * t).cos()) / w1 + a2 * (1.0 - (w2 * t).cos()) / w2
+            }),
+        }
+    }
+
     /// Sample times `0, h, 2h, ...` up to the duration.
     pub fn times(&self, h: f64) -> Vec<f64> {
         let n = (self.duration / h).round() as usize;
@@ -79,13 +94,25 @@ pub fn validation_signals() -> Vec<Signal> {
     ]
 }
 
+/// Signals crossing zero velocity, slow and fast: the two validation sines
+/// and a two-tone signal reaching 0.07 m/s (0.05 m/s at 2 Hz + 0.02 m/s at
+/// 13 Hz, 1 s), where a model's transition from sticking to sliding is passed
+/// in a fraction of a 1 kHz sample.
+pub fn reversal_signals() -> Vec<Signal> {
+    vec![
+        Signal::sine(5e-3, 0.5, 2.0),
+        Signal::sine(2e-2, 5.0, 5.0),
+        Signal::two_tone(5e-2, 2.0, 2e-2, 13.0, 1.0),
+    ]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn displacement_is_the_integral() {
-        for s in validation_signals() {
+        for s in validation_signals().into_iter().chain(reversal_signals()) {
             let t = s.times(1e-4);
             let mut x = 0.0;
             for k in 1..t.len() {

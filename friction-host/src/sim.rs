@@ -4,7 +4,7 @@
 
 use crate::models::{Continuous, Stepper};
 use crate::params::ModelSpec;
-use crate::reference::{integrate, Tolerances};
+use crate::reference::{integrate, integrate_stopping, Tolerances};
 use crate::signals::Signal;
 use anyhow::Result;
 
@@ -51,9 +51,12 @@ pub fn drive_reference(spec: &ModelSpec, signal: &Signal, t: &[f64]) -> Result<R
             rtol: REFERENCE_RTOL,
             atol: model.atol(),
         };
-        integrate(&vec![0.0; n], t, &tol, |ti, z, dz| {
-            model.rhs(z, signal.v(ti), dz)
-        })?
+        let rhs = |ti: f64, z: &[f64], dz: &mut [f64]| model.rhs(z, signal.v(ti), dz);
+        if model.stop_at_samples() {
+            integrate_stopping(&vec![0.0; n], t, &tol, rhs)?
+        } else {
+            integrate(&vec![0.0; n], t, &tol, rhs)?
+        }
     };
     let force = z
         .iter()

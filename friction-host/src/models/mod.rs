@@ -108,6 +108,12 @@ pub trait Continuous {
     fn atol(&self) -> Vec<f64>;
     /// The steady-state force at constant velocity `v`.
     fn steady_force(&self, v: f64) -> f64;
+    /// Whether the reference solver should stop at every sample time (see
+    /// [`crate::reference::integrate_stopping`]); not for right-hand sides
+    /// that switch at a limit, where forced stops make it fail.
+    fn stop_at_samples(&self) -> bool {
+        true
+    }
     /// Whether the model switched (a discontinuity of its force) between two
     /// samples, given the states and velocities at both.
     fn switched(&self, _z0: &[f64], _v0: f64, _z1: &[f64], _v1: f64) -> bool {

@@ -63,6 +63,9 @@ impl ResetIntegratorOde {
 }
 
 impl Continuous for ResetIntegratorOde {
+    fn stop_at_samples(&self) -> bool {
+        false
+    }
     fn n(&self) -> usize {
         1
     }
