@@ -433,7 +433,7 @@ mod tests {
             CompensatorParams { h: 1e-300, ..p }
                 .build::<f32, _>(NoCompensation)
                 .err(),
-            Some(ParamError::NotRepresentable("h"))
+            Some(ParamError::Underflow("h"))
         );
         // zero gains and inertia are valid
         let zero = CompensatorParams {
