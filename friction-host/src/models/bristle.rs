@@ -195,3 +195,33 @@ pub fn bristle_reference(
     }
     run
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_count_from_1_to_64_dispatches() {
+        for n in 1..=MAX_BRISTLES {
+            let text =
+                format!("model = \"bristle\"\nsigma0 = 1e3\ndelta_s = 1e-5\nbristles = {n}\n");
+            let spec = parse(&text, "t").unwrap();
+            for scalar in [ScalarKind::F32, ScalarKind::F64] {
+                let mut m = spec.stepper(scalar).unwrap();
+                assert_eq!(m.state_names().len(), n);
+                let f = m.step(1e-3, 1e-3); // 1 µm: every bristle strained by 1 µm
+                assert!(
+                    (f - n as f64 * 1e3 * 1e-6).abs() < 1e-6 * n as f64,
+                    "{n}: {f}"
+                );
+            }
+        }
+        let e = parse(
+            "model = \"bristle\"\nsigma0 = 1e3\ndelta_s = 1e-5\nbristles = 65\n",
+            "t",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("1 to 64"), "{e}");
+    }
+}
