@@ -597,6 +597,11 @@ impl ServoBenchmark {
 /// `friction servo`: runs, prints the lines and the table, writes the trace
 /// and plots. `params` = `None` uses the built-in `olsson1998-servo` set.
 pub fn run(params: Option<&Path>, output: &Path) -> Result<bool> {
+    if let Some(p) = params {
+        for name in ["trace.csv", "errors.svg", "observer.svg"] {
+            crate::io::refuse_overwrite("--output", &output.join(name), &[p])?;
+        }
+    }
     let (file, origin) = match params {
         Some(p) => (ParamFile::load(p)?, p.display().to_string()),
         None => (

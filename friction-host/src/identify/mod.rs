@@ -373,6 +373,21 @@ pub fn identify(o: &Options) -> Result<Outcome> {
     if !(o.stribeck_exponent.is_finite() && o.stribeck_exponent > 0.0) {
         bail!("--stribeck-exponent must be a positive number");
     }
+    // no output of this run may overwrite an input
+    let mut inputs: Vec<&Path> = vec![&o.input];
+    if let Some(v) = &o.validate {
+        inputs.push(v);
+    }
+    for name in [
+        "params.toml",
+        "report.md",
+        "fit.csv",
+        "force.svg",
+        "friction.svg",
+        "validation.svg",
+    ] {
+        crate::io::refuse_overwrite("--output", &o.output.join(name), &inputs)?;
+    }
     let s = prepare(&o.input, &o.columns, &o.conditioning)?;
     let val = match &o.validate {
         Some(p) => {
@@ -472,8 +487,7 @@ pub fn identify(o: &Options) -> Result<Outcome> {
         if let Some(fit) = &out.fit {
             let text = report::params_toml(fit, o);
             crate::params::ParamFile::parse(&text, "identified parameters")?;
-            std::fs::write(&params_path, text)
-                .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", params_path.display()))?;
+            crate::io::write_bytes(&params_path, text.as_bytes())?;
         }
     } else if params_path.exists() {
         // a stale file from an earlier run must not pass for this one's result
@@ -488,7 +502,7 @@ pub fn identify(o: &Options) -> Result<Outcome> {
         validation: out.validation,
         plots,
     });
-    std::fs::write(o.output.join("report.md"), md)?;
+    crate::io::write_bytes(&o.output.join("report.md"), md.as_bytes())?;
     out.signals = s;
     Ok(out)
 }

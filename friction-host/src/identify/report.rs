@@ -170,7 +170,8 @@ pub fn friction_plot(path: &Path, title: &str, fit: &Fit, s: &Signals) -> Result
     let pad = 0.05 * (yhi - ylo).max(1e-12);
     let xpad = 0.02 * (vhi - vlo).max(1e-12);
     let err = |e: &dyn std::fmt::Display| anyhow!("plot {}: {e}", path.display());
-    let root = SVGBackend::new(path, (900, 560)).into_drawing_area();
+    let mut svg = String::new();
+    let root = SVGBackend::with_string(&mut svg, (900, 560)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
     let mut chart = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 22))
@@ -213,7 +214,9 @@ pub fn friction_plot(path: &Path, title: &str, fit: &Fit, s: &Signals) -> Result
         .draw()
         .map_err(|e| err(&e))?;
     root.present().map_err(|e| err(&e))?;
-    Ok(())
+    drop(chart);
+    drop(root);
+    crate::io::write_bytes(path, svg.as_bytes())
 }
 
 /// Everything the report shows.
