@@ -559,6 +559,29 @@ mod tests {
         assert!((f - expect).abs() < 1e-12);
     }
 
+    #[test]
+    fn a_correction_against_v_holds_an_element_at_its_bound() {
+        use crate::Observer;
+        let m = P.build::<f64>().unwrap();
+        let o = Observer::new(m, 1e3).unwrap();
+        let mut s = GmsState::default();
+        // at rest, measured position far ahead: every element is driven to
+        // -alpha_i Fs and held there, sticking; the estimate is -Fs
+        let mut f = 0.0;
+        for _ in 0..100 {
+            f = o.step(&mut s, 0.0, 1.0, 1e-3);
+        }
+        assert_eq!(s.mode, [SlipMode::Stick; 4]);
+        for (x, b) in s.force.iter().zip(m.force_bounds()) {
+            assert_eq!(*x, -b);
+        }
+        assert!((f + 1.5).abs() < 1e-12, "{f}");
+        // moving forwards with the correction pushing back: held, no slip
+        let f = o.step(&mut s, 1e-4, 1.0, 1e-3);
+        assert_eq!(s.mode, [SlipMode::Stick; 4]);
+        assert!(f.abs() <= m.force_bound(1e-4));
+    }
+
     fn arb_params() -> impl Strategy<Value = GmsParams<3>> {
         (
             0.1f64..10.0,

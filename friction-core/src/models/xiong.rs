@@ -399,6 +399,23 @@ mod tests {
         assert_eq!(m.step(&mut s, 0.0, 0.0), m.hold_force(&s));
     }
 
+    #[test]
+    fn the_correction_strains_the_elements() {
+        use crate::Observer;
+        let m = P.build::<f64>().unwrap();
+        let o = Observer::new(m, 1e3).unwrap().with_damping(false);
+        let mut s = XiongState::default();
+        let mut f = 0.0;
+        for _ in 0..100 {
+            f = o.step(&mut s, 0.0, 1.0, 1e-3);
+        }
+        // every element saturated at -lambda_i Fs: the estimate is -Fs
+        assert!((f + 1.5).abs() < 1e-9, "{f}");
+        for (z, (k, l)) in s.z.iter().zip(m.elements()) {
+            assert!((k * z + l * 1.5).abs() < 1e-9);
+        }
+    }
+
     fn arb_params() -> impl Strategy<Value = XiongParams<3>> {
         (
             0.1f64..10.0,

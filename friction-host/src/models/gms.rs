@@ -339,5 +339,11 @@ mod tests {
         let none = "model = \"gms\"\nfc = 1\nfs = 1.5\nvs = 1e-3\nc = 100\nelements = []\n";
         let e = format!("{:#}", parse(none, "t").unwrap_err());
         assert!(e.contains("1 to 16"), "{e}");
+        let many = format!(
+            "model = \"gms\"\nfc = 1\nfs = 1.5\nvs = 1e-3\nc = 100\n{}",
+            "[[elements]]\nk = 1e5\nalpha = 0.0588\n".repeat(17)
+        );
+        let e = format!("{:#}", parse(&many, "t").unwrap_err());
+        assert!(e.contains("17") && e.contains("1 to 16"), "{e}");
     }
 }
