@@ -29,8 +29,10 @@ pub use model::{FrictionModel, ParamError, VELOCITY_LIMIT};
 pub use models::bristle::{Bristle, BristleParams, BristleState};
 pub use models::dahl::{Dahl, DahlParams, DahlState};
 pub use models::elasto_plastic::{ElastoPlastic, ElastoPlasticParams};
+pub use models::gms::{Gms, GmsElement, GmsParams, GmsState, SlipMode};
 pub use models::lugre::{LuGre, LuGreParams, LuGreState};
 pub use models::reset_integrator::{ResetIntegrator, ResetIntegratorParams, ResetIntegratorState};
+pub use models::xiong::{Xiong, XiongElement, XiongParams, XiongState};
 pub use observer::{Observable, Observer};
 pub use scalar::Scalar;
 pub use stribeck::{

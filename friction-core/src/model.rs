@@ -35,6 +35,9 @@ pub enum ParamError {
     ForceOverflow(&'static str),
     /// The parameter (an exponent) must be `>= 1`.
     BelowOne(&'static str),
+    /// The weights named by the parameter (one per element) must sum to 1
+    /// within 1e-9.
+    WeightsNotOne(&'static str),
     /// The parameter must lie strictly below a limit set by other parameters.
     NotBelow {
         /// The offending parameter.
@@ -68,6 +71,10 @@ impl fmt::Display for ParamError {
                 "a force term with parameter `{name}` overflows the chosen scalar type at the velocity limit"
             ),
             Self::BelowOne(name) => write!(f, "parameter `{name}` must be >= 1"),
+            Self::WeightsNotOne(name) => write!(
+                f,
+                "the element weights `{name}` must sum to 1 (within 1e-9)"
+            ),
             Self::NotBelow { name, limit } => {
                 write!(f, "parameter `{name}` must be below `{limit}`")
             }

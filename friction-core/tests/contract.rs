@@ -65,6 +65,64 @@ const BRISTLE: BristleParams = BristleParams {
     seed: 5,
 };
 
+fn gms_params() -> GmsParams<4> {
+    let e = |k: f64, alpha| GmsElement {
+        k,
+        alpha,
+        sigma1: k * 1e-4,
+    };
+    GmsParams {
+        curve: lugre_params().curve,
+        sigma2: 0.4,
+        c: 100.0,
+        elements: [e(2.5e4, 0.4), e(5e4, 0.3), e(1e5, 0.2), e(2e5, 0.1)],
+    }
+}
+
+fn xiong_params() -> XiongParams<4> {
+    let e = |k: f64, lambda| XiongElement {
+        k,
+        sigma: k * 1e-4,
+        lambda,
+    };
+    XiongParams {
+        curve: lugre_params().curve,
+        tau: 1e-2,
+        sigma2: 0.4,
+        elements: [e(2.5e4, 0.4), e(5e4, 0.3), e(1e5, 0.2), e(2e5, 0.1)],
+    }
+}
+
+/// A GMS state from fractions of each element's bound and mode choices.
+fn gms_state<S: Scalar>(fractions: &[f64; 8], modes: [u32; 8]) -> GmsState<S, 4> {
+    let p = gms_params();
+    let mut s = GmsState::<S, 4>::default();
+    for i in 0..4 {
+        s.force[i] = S::from_f64(fractions[i] * p.elements[i].alpha * p.curve.fs);
+        s.mode[i] = match modes[i] % 3 {
+            0 => SlipMode::Stick,
+            1 => SlipMode::Forward,
+            _ => SlipMode::Backward,
+        };
+    }
+    s
+}
+
+/// A Xiong state from fractions of each element's bound and of the lag range.
+fn xiong_state<S: Scalar>(fractions: &[f64; 8]) -> XiongState<S, 4> {
+    let p = xiong_params();
+    let lag = fractions[7].abs() * (p.curve.fs - p.curve.fc);
+    let gamma = p.curve.fs - lag;
+    let mut s = XiongState::<S, 4> {
+        lag: S::from_f64(lag),
+        ..Default::default()
+    };
+    for ((z, e), x) in s.z.iter_mut().zip(&p.elements).zip(fractions) {
+        *z = S::from_f64(x * e.lambda * gamma / e.k);
+    }
+    s
+}
+
 /// `h = 0` leaves the state bitwise unchanged, for the model and its observer.
 fn zero_step_keeps<S: Scalar, M: Observable<S> + Copy>(model: &M, state: M::State, v: f64, e: f64) {
     let mut s = state;
@@ -129,6 +187,10 @@ fn zero_step_all<S: Scalar>(z: f64, v: f64, e: f64, strains: &[f64; 8], bonds: [
     }
     state.bonds = bonds;
     zero_step_keeps(&bristle, state, v, e);
+    let gms = gms_params().build::<S>().unwrap();
+    zero_step_keeps(&gms, gms_state::<S>(strains, bonds), v, e);
+    let xiong = xiong_params().build::<S>().unwrap();
+    zero_step_keeps(&xiong, xiong_state::<S>(strains), v, e);
 }
 
 #[test]
@@ -243,6 +305,25 @@ fn all_observers<S: Scalar>(k: f64, inputs: &[(f64, f64, f64)]) {
         inputs,
         |s: &BristleState<S, 8>| s.strain.iter().all(|x| x.is_finite() && x.abs() <= ds),
     );
+    let gms = gms_params().build::<S>().unwrap();
+    let bounds = gms.force_bounds();
+    observer_stays_bounded(gms, k, inputs, |s: &GmsState<S, 4>| {
+        s.force
+            .iter()
+            .zip(&bounds)
+            .all(|(f, b)| f.is_finite() && f.abs() <= *b)
+    });
+    let xiong = xiong_params().build::<S>().unwrap();
+    let fc = S::from_f64(lugre.curve.fc);
+    let eps = S::from_f64(1e-6);
+    observer_stays_bounded(xiong, k, inputs, |s: &XiongState<S, 4>| {
+        let gamma = xiong.gamma(s);
+        gamma >= fc * (S::ONE - eps)
+            && s.z
+                .iter()
+                .zip(xiong.elements())
+                .all(|(z, (k, l))| z.is_finite() && (k * *z).abs() <= l * gamma * (S::ONE + eps))
+    });
 }
 
 proptest! {
@@ -323,6 +404,8 @@ fn observer_without_error_is_the_model() {
     same(dahl_params(1.7).build::<f64>().unwrap());
     same(reset_params().build::<f64>().unwrap());
     same(BRISTLE.build::<f64, 8>().unwrap());
+    same(gms_params().build::<f64>().unwrap());
+    same(xiong_params().build::<f64>().unwrap());
 }
 
 #[test]
@@ -343,6 +426,8 @@ fn correction_acts_on_every_model() {
     pulls(dahl_params(1.0).build::<f64>().unwrap());
     pulls(reset_params().build::<f64>().unwrap());
     pulls(BRISTLE.build::<f64, 8>().unwrap());
+    pulls(gms_params().build::<f64>().unwrap());
+    pulls(xiong_params().build::<f64>().unwrap());
 }
 
 #[test]
@@ -458,5 +543,15 @@ proptest! {
         run(DahlParams { sigma: sigma0, fc, delta, sigma2 }.build::<f32>(), &inputs);
         run(ResetIntegratorParams { sigma0, sigma1, z0: fc / sigma0, stiction: ratio - 1.0, curve: None }.build::<f32>(), &inputs);
         run(BristleParams { sigma0, delta_s: fc / sigma0, seed: 2 }.build::<f32, 4>(), &inputs);
+        let ge = |k: f64, alpha| GmsElement { k, alpha, sigma1 };
+        run(GmsParams {
+            curve: lugre.curve, sigma2, c: sigma0 * vs,
+            elements: [ge(sigma0, 0.5), ge(sigma0 * ratio, 0.25), ge(sigma0 / ratio, 0.25)],
+        }.build::<f32>(), &inputs);
+        let xe = |k: f64, lambda| XiongElement { k, sigma: sigma1, lambda };
+        run(XiongParams {
+            curve: lugre.curve, tau: vs, sigma2,
+            elements: [xe(sigma0, 0.5), xe(sigma0 * ratio, 0.25), xe(sigma0 / ratio, 0.25)],
+        }.build::<f32>(), &inputs);
     }
 }

@@ -3,5 +3,7 @@
 pub mod bristle;
 pub mod dahl;
 pub mod elasto_plastic;
+pub mod gms;
 pub mod lugre;
 pub mod reset_integrator;
+pub mod xiong;

@@ -18,12 +18,16 @@ use friction_core::{FrictionModel, ParamError, Scalar};
 mod bristle;
 mod dahl;
 mod elasto_plastic;
+mod gms;
 mod lugre;
 mod reset_integrator;
 mod static_maps;
+mod xiong;
 
 pub use bristle::{bristle_reference, BristleSpec, MAX_BRISTLES};
+pub use gms::{gms_reference, GmsSpec, GMS_REFERENCE_STEP, MAX_ELEMENTS};
 pub use lugre::lugre_force;
+pub use xiong::XiongSpec;
 
 /// The number type a core model is built with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -245,6 +249,10 @@ registry! {
     ResetIntegrator(friction_core::ResetIntegratorParams) = "reset-integrator" => reset_integrator::parse,
     /// `bristle`: `sigma0`, `delta_s`, `bristles` (1 to 64), `seed`.
     Bristle(BristleSpec) = "bristle" => bristle::parse,
+    /// `gms`: Stribeck keys, `sigma2`, `c`, `[[elements]]` with `k`, `alpha`, `sigma1` (1 to 16).
+    Gms(GmsSpec) = "gms" => gms::parse,
+    /// `xiong`: Stribeck keys, `tau`, `sigma2`, `[[elements]]` with `k`, `sigma`, `lambda` (1 to 16).
+    Xiong(XiongSpec) = "xiong" => xiong::parse,
 }
 
 impl ModelSpec {
