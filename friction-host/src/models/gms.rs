@@ -206,8 +206,8 @@ impl HostModel for GmsSpec {
     /// (Maxwell-slip elements close their loops: measured by the drift
     /// experiment); rate independence: no (the slip law and the curve
     /// depend on time and velocity).
-    fn expectations(&self) -> [Expect; 7] {
-        [Y, Y, Y, Y, Y, N, N]
+    fn expectations(&self) -> [Expect; 8] {
+        [Y, Y, Y, Y, Y, N, N, Y]
     }
     /// 3 % at 1 kHz, 1 % at 10 kHz.
     fn accuracy_bound(&self, h: f64) -> Option<f64> {

@@ -194,8 +194,8 @@ impl HostModel for XiongSpec {
     }
     /// stribeck, presliding, lag, break-away, stick-slip: yes; drift: no
     /// (measured by the drift experiment); rate independence: no.
-    fn expectations(&self) -> [Expect; 7] {
-        [Y, Y, Y, Y, Y, N, N]
+    fn expectations(&self) -> [Expect; 8] {
+        [Y, Y, Y, Y, Y, N, N, Y]
     }
     /// 3 % at 1 kHz, 1 % at 10 kHz.
     fn accuracy_bound(&self, h: f64) -> Option<f64> {
