@@ -12,7 +12,8 @@ use std::path::{Path, PathBuf};
 /// Writes `path` atomically: `fill` writes into a temporary file next to it,
 /// which is flushed, synced and renamed onto `path` only if `fill` succeeds.
 /// On any error the temporary file is removed and `path` is left as it was.
-/// A device or a pipe (`/dev/null`, `/dev/stdout`) is written directly.
+/// A device or a pipe (`/dev/null`, `/dev/stdout` on a terminal or pipe) is
+/// written directly; a symbolic link is written through, next to its target.
 pub fn write_atomic<T>(
     path: &Path,
     fill: impl FnOnce(&mut BufWriter<File>) -> Result<T>,
@@ -30,6 +31,17 @@ pub fn write_atomic<T>(
             .with_context(|| format!("cannot write {}", path.display()))?;
         return Ok(value);
     }
+    // through a symbolic link: write (and rename) next to its target, so the
+    // link stays a link and e.g. /dev/stdout is never replaced
+    let resolved;
+    let path = if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+        resolved = path
+            .canonicalize()
+            .with_context(|| format!("cannot resolve the link {}", path.display()))?;
+        resolved.as_path()
+    } else {
+        path
+    };
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
@@ -274,6 +286,22 @@ mod tests {
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
         write_bytes(&path, b"new").unwrap();
         assert_eq!(std::fs::read_to_string(&path).unwrap(), "new");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn writes_go_through_links() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("target.csv");
+        std::fs::write(&target, "old").unwrap();
+        let link = dir.path().join("link.csv");
+        std::os::unix::fs::symlink(&target, &link).unwrap();
+        write_bytes(&link, b"new").unwrap();
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "new");
     }
 
     #[test]

@@ -186,7 +186,13 @@ fn simulate(params: &Path, input: &Path, output: &Path, scalar: ScalarKind) -> R
         let (mut prev_t, mut clamped, mut count) = (None, 0u64, 0u64);
         for row in rows {
             let (line, t, v) = row?;
-            let h = prev_t.map_or(0.0, |p| t - p);
+            let h: f64 = prev_t.map_or(0.0, |p| t - p);
+            if !h.is_finite() {
+                anyhow::bail!(
+                    "{}:{line}: the time step from the previous row overflows ({h})",
+                    input.display()
+                );
+            }
             prev_t = Some(t);
             let v_used = v.clamp(-limit, limit);
             if v_used != v {
@@ -246,7 +252,9 @@ fn run(cli: Cli) -> Result<bool> {
             positive("dt", dt)?;
             positive("duration", duration)?;
             let file = ParamFile::load(&params)?;
-            io::refuse_overwrite("--output", &output.join("trace.csv"), &[&params])?;
+            for out in ["trace.csv".to_string(), format!("{name}.svg")] {
+                io::refuse_overwrite("--output", &output.join(out), &[&params])?;
+            }
             let out = experiments::run(&name, &file, Options { dt, duration }, &output)
                 .with_context(|| format!("experiment `{name}`"))?;
             println!(

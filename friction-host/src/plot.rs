@@ -172,6 +172,7 @@ fn draw_chart<DB: DrawingBackend>(
                 } else {
                     pts.collect()
                 };
+                let pts = thin(pts);
                 chart
                     .draw_series(LineSeries::new(pts, color.stroke_width(2)))
                     .map_err(|e| err(&e))?
@@ -208,6 +209,40 @@ fn tick_label(v: f64, scale: f64) -> String {
     } else {
         format!("{v:.2e}")
     }
+}
+
+/// The most points a curve is drawn with: longer curves keep the first,
+/// smallest and largest point of each bucket (the envelope a reader sees),
+/// so a long run's plot stays small.
+const MAX_POINTS: usize = 6000;
+
+fn thin(points: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    if points.len() <= MAX_POINTS {
+        return points;
+    }
+    let bucket = points.len().div_ceil(MAX_POINTS / 3);
+    let mut out = Vec::with_capacity(MAX_POINTS + 3);
+    for chunk in points.chunks(bucket) {
+        let (mut lo, mut hi) = (0, 0);
+        for (i, p) in chunk.iter().enumerate() {
+            if p.1 < chunk[lo].1 {
+                lo = i;
+            }
+            if p.1 > chunk[hi].1 {
+                hi = i;
+            }
+        }
+        let mut keep = [0, lo.min(hi), lo.max(hi)];
+        keep.sort_unstable();
+        let mut last = usize::MAX;
+        for k in keep {
+            if k != last {
+                out.push(chunk[k]);
+                last = k;
+            }
+        }
+    }
+    out
 }
 
 /// Pairs two columns into plot points.

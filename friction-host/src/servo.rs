@@ -117,6 +117,10 @@ impl Default for ServoConfig {
 /// The most plant steps (`duration x plant_rate`) one run may take.
 pub const MAX_PLANT_STEPS: f64 = 2e7;
 
+/// The most controller ticks (`duration x rate`) one run may take: the
+/// trace keeps two columns per compensation per tick.
+pub const MAX_TICKS: f64 = 2e6;
+
 /// Why a `[servo]` table was rejected: each variant names the file and the key.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ServoError {
@@ -151,6 +155,24 @@ pub enum ServoError {
         steps: f64,
         /// [`MAX_PLANT_STEPS`].
         cap: f64,
+    },
+    /// The run would take more controller ticks than [`MAX_TICKS`].
+    #[error("{file}: [servo] `duration` x `rate` = {ticks:.3e} ticks exceeds the cap of {cap:.0e}: shorten `duration` or lower `rate`")]
+    TooManyTicks {
+        /// The parameter file.
+        file: String,
+        /// `duration x rate`.
+        ticks: f64,
+        /// [`MAX_TICKS`].
+        cap: f64,
+    },
+    /// The closed loop diverged: a tracking error is not finite.
+    #[error("{file}: the closed loop diverged with compensation `{name}` (tracking error not finite): check [servo] `inertia`, `amplitude` and the gains")]
+    Diverged {
+        /// The parameter file.
+        file: String,
+        /// The compensation.
+        name: String,
     },
     /// The controller rejected its parameters (named by the core).
     #[error("{file}: [servo] controller: {error}")]
@@ -230,6 +252,14 @@ impl ServoTable {
                 file: file.to_string(),
                 steps,
                 cap: MAX_PLANT_STEPS,
+            });
+        }
+        let ticks = c.duration * c.rate;
+        if ticks > MAX_TICKS {
+            return Err(ServoError::TooManyTicks {
+                file: file.to_string(),
+                ticks,
+                cap: MAX_TICKS,
             });
         }
         c.controller()
@@ -429,6 +459,16 @@ pub fn benchmark(file: &ParamFile, origin: &str) -> Result<ServoBenchmark> {
                 other.name()
             ))
         }
+    }
+    if let Some(r) = runs
+        .iter()
+        .find(|r| !(r.rms.is_finite() && r.max.is_finite()))
+    {
+        return Err(ServoError::Diverged {
+            file: origin.to_string(),
+            name: r.name.to_string(),
+        }
+        .into());
     }
     let n = ticks(&cfg);
     let t: Vec<f64> = (0..n).map(|k| k as f64 / cfg.rate).collect();

@@ -220,7 +220,9 @@ pub fn elasto_plastic_with_z_ba(frac: f64) -> Result<ModelSpec> {
 
 /// The full validation. Returns whether everything passed.
 pub fn run(dir: &Path) -> Result<bool> {
-    std::fs::create_dir_all(dir)?;
+    use anyhow::Context;
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("--output {}: cannot create the folder", dir.display()))?;
     let canudas = param_set("canudas1995")?;
     let ModelSpec::LuGre(lugre) = canudas.model else {
         anyhow::bail!("canudas1995 is not a LuGre set")

@@ -624,3 +624,80 @@ fn servo_bad_key_or_value_exits_2_naming_it() {
         );
     }
 }
+
+#[test]
+fn review_findings_exit_2_with_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    // identify: a huge time gap would be resampled into billions of rows
+    let input = dir.path().join("gap.csv");
+    let mut text = String::from("t,x,f\n");
+    for k in 0..2000 {
+        let t = k as f64 * 1e-3;
+        text.push_str(&format!(
+            "{t},{},{}\n",
+            0.01 * (t * 3.0).sin(),
+            (t * 3.0).cos()
+        ));
+    }
+    text.push_str("1e300,0,0\n");
+    std::fs::write(&input, text).unwrap();
+    let out = friction(&[
+        "identify",
+        "--input",
+        input.to_str().unwrap(),
+        "--model",
+        "coulomb-viscous",
+        "--output",
+        dir.path().join("id").to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("gap.csv:2002") && stderr(&out).contains("split the file"),
+        "{}",
+        stderr(&out)
+    );
+    // experiment: a run of a sample or two is refused, not judged
+    let out = friction(&[
+        "experiment",
+        "drift",
+        "--params",
+        &params(),
+        "--dt",
+        "1e300",
+        "--output",
+        dir.path().join("d").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("only"), "{}", stderr(&out));
+    // validate into a file
+    let file = dir.path().join("afile");
+    std::fs::write(&file, "x").unwrap();
+    let out = friction(&["validate", "--output", file.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("afile"), "{}", stderr(&out));
+    // servo: a diverging loop
+    let p = dir.path().join("servo.toml");
+    let base = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../params/olsson1998-servo.toml"),
+    )
+    .unwrap();
+    std::fs::write(
+        &p,
+        format!("{base}\n[servo]\ninertia = 1e-300\nduration = 0.5\n"),
+    )
+    .unwrap();
+    let out = friction(&[
+        "servo",
+        "--params",
+        p.to_str().unwrap(),
+        "--output",
+        dir.path().join("s").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("diverged") || stderr(&out).contains("inertia"),
+        "{}",
+        stderr(&out)
+    );
+}

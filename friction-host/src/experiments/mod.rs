@@ -38,15 +38,24 @@ pub const NAMES: &[&str] = &[
 ];
 
 /// The most samples one experiment run may take (checked before anything
-/// is allocated): 20 million, about 1 GB of trace columns.
-pub const MAX_SAMPLES: f64 = 2e7;
+/// is allocated): 5 million, at most about 0.5 GB of trace columns in memory
+/// (core and reference) and 1.5 GB of `trace.csv`.
+pub const MAX_SAMPLES: f64 = 5e6;
+
+/// The fewest samples a run needs to mean anything.
+pub const MIN_SAMPLES: f64 = 100.0;
 
 /// Checks a run of `duration` seconds at period `h` against [`MAX_SAMPLES`].
 pub(crate) fn check_samples(name: &str, duration: f64, h: f64) -> Result<()> {
     let n = duration / h;
     if !(n.is_finite() && n <= MAX_SAMPLES) {
         bail!(
-            "experiment `{name}` would take {n:.3e} samples ({duration} s at --dt {h} s), more than the limit {MAX_SAMPLES:.0e}: shorten --duration (or the rig's `cycles`/`frequency`) or lengthen --dt"
+            "experiment `{name}` would take {n:.3e} samples ({duration:e} s at --dt {h:e} s), more than the limit {MAX_SAMPLES:.0e}: shorten --duration (or the rig's `cycles`/`frequency`) or lengthen --dt"
+        );
+    }
+    if n < MIN_SAMPLES {
+        bail!(
+            "experiment `{name}` would take only {n:.3e} samples ({duration:e} s at --dt {h:e} s), fewer than {MIN_SAMPLES}: shorten --dt or lengthen --duration"
         );
     }
     Ok(())
@@ -141,7 +150,9 @@ impl Outcome {
 
 /// Runs experiment `name` for the model of `file`, writing into `dir`.
 pub fn run(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
-    std::fs::create_dir_all(dir)?;
+    use anyhow::Context;
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("--output {}: cannot create the folder", dir.display()))?;
     if name != "stribeck" && !file.model.has_state() {
         bail!(
             "experiment `{name}` does not apply to the static map `{}`: it needs a model with internal state",

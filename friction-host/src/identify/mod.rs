@@ -243,6 +243,23 @@ pub fn prepare(path: &Path, cols: &Columns, cond: &Conditioning) -> Result<Signa
     let median = steps[steps.len() / 2];
     let (dmin, dmax) = (steps[0], steps[steps.len() - 1]);
     let resampled = dmax > 1.5 * median || dmin < 0.5 * median;
+    if resampled {
+        // the resampled length must stay near the file's: a gap of many
+        // median steps would be filled with interpolated data (and memory)
+        let span = (data[0][n - 1] - data[0][0]) / median;
+        if !(span.is_finite() && span <= 2.0 * n as f64) {
+            let gap = data[0]
+                .windows(2)
+                .position(|w| w[1] - w[0] == dmax)
+                .unwrap_or(0);
+            bail!(
+                "{origin}:{}: column `{}`: a time step of {dmax:e} s ({:.0} median steps of {median:e} s); resampling onto the median step would take {span:.3e} samples for {n} rows: split the file at the gap",
+                gap + 3,
+                cols.time,
+                dmax / median
+            );
+        }
+    }
     let data = if resampled {
         resample(&data, median)
     } else {
