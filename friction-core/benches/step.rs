@@ -4,9 +4,69 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use friction_core::{
-    BristleParams, DahlParams, ElastoPlasticParams, FrictionModel, LuGreParams, LuGreState,
-    Observer, ResetIntegratorParams, Scalar, StribeckMapParams,
+    BristleParams, DahlParams, ElastoPlasticParams, FrictionModel, GmsElement, GmsParams, GmsState,
+    LuGreParams, LuGreState, Observer, ResetIntegratorParams, Scalar, SlipMode, StribeckMapParams,
+    StribeckParams, XiongElement, XiongParams,
 };
+
+/// The Stribeck curve of canudas1995 (and of gms-typical, xiong-typical).
+const CURVE: StribeckParams = StribeckParams {
+    fc: 1.0,
+    fs: 1.5,
+    vs: 1e-3,
+    exponent: 2.0,
+};
+
+/// Element `i` of `n` as in gms-typical / xiong-typical: stiffnesses spread
+/// geometrically from 2.5e4 to 2e5 N/m, weights falling linearly with
+/// stiffness (normalised to sum 1), damping 1e-4 s x k.
+fn element(i: usize, n: usize) -> (f64, f64) {
+    let frac = if n > 1 {
+        i as f64 / (n - 1) as f64
+    } else {
+        0.0
+    };
+    let k = 2.5e4 * 8f64.powf(frac);
+    let total = (n * (n + 1) / 2) as f64;
+    let weight = (n - i) as f64 / total;
+    (k, weight)
+}
+
+fn gms_params<const N: usize>() -> GmsParams<N> {
+    let mut elements = [GmsElement::default(); N];
+    for (i, e) in elements.iter_mut().enumerate() {
+        let (k, alpha) = element(i, N);
+        *e = GmsElement {
+            k,
+            alpha,
+            sigma1: 1e-4 * k,
+        };
+    }
+    GmsParams {
+        curve: CURVE,
+        sigma2: 0.4,
+        c: 100.0,
+        elements,
+    }
+}
+
+fn xiong_params<const N: usize>() -> XiongParams<N> {
+    let mut elements = [XiongElement::default(); N];
+    for (i, e) in elements.iter_mut().enumerate() {
+        let (k, lambda) = element(i, N);
+        *e = XiongElement {
+            k,
+            sigma: 1e-4 * k,
+            lambda,
+        };
+    }
+    XiongParams {
+        curve: CURVE,
+        tau: 1e-2,
+        sigma2: 0.4,
+        elements,
+    }
+}
 
 fn velocities<S: Scalar>() -> Vec<S> {
     (0..1024)
@@ -122,6 +182,58 @@ fn bench_scalar<S: Scalar + 'static>(c: &mut Criterion, name: &str) {
     };
     bench_model(&mut group, "bristle-8", &bristle.build::<S, 8>().unwrap());
     bench_model(&mut group, "bristle-64", &bristle.build::<S, 64>().unwrap());
+    bench_model(
+        &mut group,
+        "gms-1",
+        &gms_params::<1>().build::<S>().unwrap(),
+    );
+    let gms4 = gms_params::<4>().build::<S>().unwrap();
+    bench_model(&mut group, "gms-4", &gms4);
+    bench_model(
+        &mut group,
+        "gms-16",
+        &gms_params::<16>().build::<S>().unwrap(),
+    );
+    // worst case: v alternates between +-0.1 m/s, so every element reverses
+    // every step, sticks, reaches its bound inside the step (k |v| h = 25 to
+    // 200 N against at most 2 alpha_i Fs = 1.2 N of room) and slips for the
+    // rest of it (the exact instant and the exponential relaxation)
+    let mut check = GmsState::default();
+    for k in 0..4 {
+        let v = if k % 2 == 0 { 0.1 } else { -0.1 };
+        let before = check.force;
+        gms4.step(&mut check, S::from_f64(v), h);
+        let mode = if v > 0.0 {
+            SlipMode::Forward
+        } else {
+            SlipMode::Backward
+        };
+        assert_eq!(check.mode, [mode; 4], "every element slips after step {k}");
+        assert!(check.force.iter().zip(&before).all(|(a, b)| a != b));
+    }
+    group.bench_function("gms-4-worst", |b| {
+        let mut s = GmsState::default();
+        let mut v = S::from_f64(0.1);
+        b.iter(|| {
+            v = -v;
+            black_box(gms4.step(&mut s, black_box(v), h))
+        })
+    });
+    bench_model(
+        &mut group,
+        "xiong-1",
+        &xiong_params::<1>().build::<S>().unwrap(),
+    );
+    bench_model(
+        &mut group,
+        "xiong-4",
+        &xiong_params::<4>().build::<S>().unwrap(),
+    );
+    bench_model(
+        &mut group,
+        "xiong-16",
+        &xiong_params::<16>().build::<S>().unwrap(),
+    );
     group.finish();
 }
 

@@ -25,9 +25,9 @@ use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use defmt_semihosting as _;
 use friction_core::{
     BristleParams, Compensation, Compensator, CompensatorParams, CompensatorState,
-    CoulombViscousParams, DahlParams, ElastoPlasticParams, FeedForward, FrictionModel, LuGre,
-    LuGreParams, LuGreState, NoCompensation, Observer, ResetIntegratorParams, Setpoint,
-    StribeckParams,
+    CoulombViscousParams, DahlParams, ElastoPlasticParams, FeedForward, FrictionModel, GmsElement,
+    GmsParams, GmsState, LuGre, LuGreParams, LuGreState, NoCompensation, Observer,
+    ResetIntegratorParams, Setpoint, SlipMode, StribeckParams, XiongElement, XiongParams,
 };
 use hw::{Plant, SimDrive, SimEncoder};
 use servo::Servo;
@@ -259,6 +259,74 @@ fn count_instructions(
     .build::<f32>() else {
         fail("model parameters")
     };
+    // GMS and Xiong with 4 elements on the nominal curve: stiffnesses 20 to
+    // 130 N m/rad summing to sigma0 = 260, weights 0.4/0.3/0.2/0.1, damping
+    // (Xiong: viscosity) sharing sigma1 = 0.6 in proportion to stiffness
+    // (sigma1_i / k_i = 2.3 ms), GMS slip time constants alpha_i Fc / C of
+    // 1.4 to 5.6 ms (C = 20 N m/s), Xiong lag tau = 10 ms
+    let ks = [20.0, 40.0, 70.0, 130.0];
+    let weights = [0.4, 0.3, 0.2, 0.1];
+    let damping = |k: f64| NOMINAL.sigma1 * k / NOMINAL.sigma0;
+    let mut gms_elements = [GmsElement::default(); 4];
+    let mut xiong_elements = [XiongElement::default(); 4];
+    for (((g, x), &k), &w) in gms_elements
+        .iter_mut()
+        .zip(xiong_elements.iter_mut())
+        .zip(&ks)
+        .zip(&weights)
+    {
+        *g = GmsElement {
+            k,
+            alpha: w,
+            sigma1: damping(k),
+        };
+        *x = XiongElement {
+            k,
+            sigma: damping(k),
+            lambda: w,
+        };
+    }
+    let (Ok(gms), Ok(xiong)) = (
+        GmsParams {
+            curve,
+            sigma2: NOMINAL.sigma2,
+            c: 20.0,
+            elements: gms_elements,
+        }
+        .build::<f32>(),
+        XiongParams {
+            curve,
+            tau: 0.01,
+            sigma2: NOMINAL.sigma2,
+            elements: xiong_elements,
+        }
+        .build::<f32>(),
+    ) else {
+        fail("model parameters")
+    };
+    // the GMS worst case: v alternates between +-50 rad/s, so every element
+    // reverses every step, sticks, reaches its bound inside the step (k |v| h
+    // = 1 to 6.5 N m against at most 2 alpha_i Fs = 0.26 N m of room) and
+    // slips for the rest of it (exact instant and exponential relaxation)
+    let mut sg = GmsState::<f32, 4>::default();
+    for k in 0..4 {
+        let (v, mode) = if k % 2 == 0 {
+            (50.0, SlipMode::Forward)
+        } else {
+            (-50.0, SlipMode::Backward)
+        };
+        gms.step(&mut sg, v, 1e-3);
+        if sg.mode != [mode; 4] {
+            fail("GMS worst case: not every element slips");
+        }
+    }
+    let mut vw = 50.0f32;
+    let gms_worst = ticks(N, || {
+        i = (i + 1) & 63;
+        black_box(vs.get(i));
+        vw = -vw;
+        black_box(gms.step(&mut sg, black_box(vw), black_box(1e-3)));
+    });
     let mut zw = LuGreState::default();
     let ep_worst = ticks(N, || {
         i = (i + 1) & 63;
@@ -276,6 +344,9 @@ fn count_instructions(
         ("elasto-plastic worst case", ep_worst),
         ("reset integrator", measure(&reset, &vs)),
         ("bristle N=8", measure(&bristle, &vs)),
+        ("GMS N=4", measure(&gms, &vs)),
+        ("GMS N=4 worst case", gms_worst),
+        ("Xiong N=4", measure(&xiong, &vs)),
     ] {
         defmt::info!(
             "instructions per step (f32, QEMU icount): {=str} {=f32}",

@@ -13,8 +13,8 @@
 //! `observer+50` / `observer-50` (the observer's `fc` and `fs` scaled by 1.5
 //! and 0.5, and `z_ba` with them for elasto-plastic: the robustness check of
 //! Olsson et al. 1998) and `observer-nodamping` (without `sigma1 dz^/dt`).
-//! The observer rows need an observable model (`lugre`, `elasto-plastic`);
-//! for the others they are skipped with a note.
+//! The observer rows need an observable model (`lugre`, `elasto-plastic`,
+//! `gms`, `xiong`); for the others they are skipped with a note.
 //!
 //! Defaults reproduce Olsson et al. 1998 (Table 2 LuGre, `J = 0.0023`,
 //! `kc = 1.02`, reference `0.5 sin(2 pi 0.2 t)` rad for 20 s, PID at 1 kHz
@@ -23,12 +23,14 @@
 //! tracking errors are taken over the last 90 % of the run.
 
 use crate::io::write_columns;
+use crate::models::{GmsSpec, XiongSpec};
 use crate::params::{ModelSpec, ParamFile};
 use crate::plot::{line_plot, Axis, Series};
 use anyhow::{Context, Result};
 use friction_core::{
     Compensation, CompensatorParams, CompensatorState, CoulombViscousParams, ElastoPlasticParams,
-    FeedForward, LuGreParams, NoCompensation, Observable, Observer, ParamError, Setpoint,
+    FeedForward, GmsParams, LuGreParams, NoCompensation, Observable, Observer, ParamError,
+    Setpoint, XiongParams,
 };
 use serde::Deserialize;
 use std::fmt::Write as _;
@@ -429,6 +431,62 @@ fn observer_runs<M: Observable<f64>>(
     ])
 }
 
+/// The four observer rows of a GMS model with `K` elements (`fc`, `fs` scaled).
+fn gms_observer_runs<const K: usize>(
+    cfg: &ServoConfig,
+    spec: &ModelSpec,
+    g: &GmsSpec,
+) -> Result<Vec<ServoRun>> {
+    let p: GmsParams<K> = g.params().context("GMS element count")?;
+    observer_runs(cfg, spec, |s| {
+        let mut q = p;
+        q.curve.fc *= s;
+        q.curve.fs *= s;
+        q.build()
+    })
+}
+
+/// The four observer rows of a Xiong model with `K` elements (`fc`, `fs` scaled).
+fn xiong_observer_runs<const K: usize>(
+    cfg: &ServoConfig,
+    spec: &ModelSpec,
+    x: &XiongSpec,
+) -> Result<Vec<ServoRun>> {
+    let p: XiongParams<K> = x.params().context("Xiong element count")?;
+    observer_runs(cfg, spec, |s| {
+        let mut q = p;
+        q.curve.fc *= s;
+        q.curve.fs *= s;
+        q.build()
+    })
+}
+
+/// Calls `$f::<K>(args)` with the element count `K` (1 to 16, as the host
+/// dispatches GMS and Xiong).
+macro_rules! with_elements {
+    ($n:expr, $f:ident($($arg:expr),*)) => {
+        match $n {
+            1 => $f::<1>($($arg),*),
+            2 => $f::<2>($($arg),*),
+            3 => $f::<3>($($arg),*),
+            4 => $f::<4>($($arg),*),
+            5 => $f::<5>($($arg),*),
+            6 => $f::<6>($($arg),*),
+            7 => $f::<7>($($arg),*),
+            8 => $f::<8>($($arg),*),
+            9 => $f::<9>($($arg),*),
+            10 => $f::<10>($($arg),*),
+            11 => $f::<11>($($arg),*),
+            12 => $f::<12>($($arg),*),
+            13 => $f::<13>($($arg),*),
+            14 => $f::<14>($($arg),*),
+            15 => $f::<15>($($arg),*),
+            16 => $f::<16>($($arg),*),
+            n => anyhow::bail!("{n} elements: the host runs 1 to 16"),
+        }
+    };
+}
+
 /// Runs every compensation for the parameter file (`origin` names it in errors).
 pub fn benchmark(file: &ParamFile, origin: &str) -> Result<ServoBenchmark> {
     let cfg = file.servo.resolve(origin)?;
@@ -453,9 +511,17 @@ pub fn benchmark(file: &ParamFile, origin: &str) -> Result<ServoBenchmark> {
             }
             .build()
         })?),
+        ModelSpec::Gms(g) => runs.extend(with_elements!(
+            g.elements.len(),
+            gms_observer_runs(&cfg, spec, g)
+        )?),
+        ModelSpec::Xiong(x) => runs.extend(with_elements!(
+            x.elements.len(),
+            xiong_observer_runs(&cfg, spec, x)
+        )?),
         other => {
             note = Some(format!(
-                "observer rows skipped: `{}` has no observer form (observable models: lugre, elasto-plastic)",
+                "observer rows skipped: `{}` has no observer form (observable models: lugre, elasto-plastic, gms, xiong)",
                 other.name()
             ))
         }

@@ -560,11 +560,69 @@ fn servo_default_run_prints_seven_lines_and_writes_trace_and_plots() {
 }
 
 fn servo_params(dir: &Path, servo: &str) -> String {
-    let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("../params/olsson1998-servo.toml");
+    servo_params_from(dir, "olsson1998-servo.toml", servo)
+}
+
+/// A temporary copy of `params/NAME` with a `[servo]` table appended.
+fn servo_params_from(dir: &Path, name: &str, servo: &str) -> String {
+    let base = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../params")
+        .join(name);
     let text = std::fs::read_to_string(base).unwrap();
     let p = dir.join("servo.toml");
     std::fs::write(&p, format!("{text}\n[servo]\n{servo}\n")).unwrap();
     p.display().to_string()
+}
+
+#[test]
+fn servo_gms_and_xiong_plants_get_observer_rows_that_beat_none() {
+    for name in ["gms-typical.toml", "gms-servo.toml", "xiong-typical.toml"] {
+        let dir = tempfile::tempdir().unwrap();
+        let p = servo_params_from(dir.path(), name, "duration = 5");
+        let out = friction(&[
+            "servo",
+            "--params",
+            &p,
+            "--output",
+            dir.path().to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(!stdout.contains("skipped"), "{name}: {stdout}");
+        let lines = servo_lines(&stdout);
+        let names: Vec<&str> = lines.iter().map(|l| l.0.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "nofriction",
+                "none",
+                "static",
+                "observer",
+                "observer+50",
+                "observer-50",
+                "observer-nodamping"
+            ],
+            "{name}: {stdout}"
+        );
+        let rms = |n: &str| lines.iter().find(|l| l.0 == n).unwrap().1;
+        for (row, r, max) in &lines {
+            assert!(
+                r.is_finite() && *r > 0.0 && max >= r,
+                "{name} {row}: {stdout}"
+            );
+        }
+        // the nominal observer removes most of the friction error, and even
+        // the mistuned ones and the one without damping beat no compensation
+        assert!(rms("observer") < 0.1 * rms("none"), "{name}: {stdout}");
+        for row in ["observer+50", "observer-50", "observer-nodamping"] {
+            assert!(rms(row) < rms("none"), "{name} {row}: {stdout}");
+        }
+        assert!(rms("nofriction") <= rms("observer"), "{name}: {stdout}");
+    }
 }
 
 #[test]
