@@ -129,6 +129,24 @@ pub fn write_columns(path: &Path, headers: &[&str], columns: &[&[f64]]) -> Resul
     })
 }
 
+/// Parses one CSV cell as a finite number; the error names the origin, the
+/// line and the (0-based `index`) column with its header `name`.
+pub fn parse_cell(s: &str, origin: &str, line: u64, index: usize, name: &str) -> Result<f64> {
+    let x: f64 = s.parse().map_err(|_| {
+        anyhow::anyhow!(
+            "{origin}:{line}: column {} (`{name}`): `{s}` is not a number",
+            index + 1
+        )
+    })?;
+    if !x.is_finite() {
+        bail!(
+            "{origin}:{line}: column {} (`{name}`): `{s}` is not finite",
+            index + 1
+        );
+    }
+    Ok(x)
+}
+
 /// A stream of `(line, t, v)` rows from CSV text with a header naming `t`
 /// and `v`: time strictly increasing, every value finite. Errors name the
 /// origin, the line and the column.
@@ -177,22 +195,8 @@ impl<R: Read> TvRows<R> {
     fn parse(&mut self, rec: &csv::StringRecord) -> Result<(u64, f64, f64)> {
         let origin = &self.origin;
         let line = rec.position().map_or(0, |p| p.line());
-        let field = |i: usize, name: &str| -> Result<f64> {
-            let s = rec.get(i).unwrap_or("");
-            let x: f64 = s.parse().map_err(|_| {
-                anyhow::anyhow!(
-                    "{origin}:{line}: column {} (`{name}`): `{s}` is not a number",
-                    i + 1
-                )
-            })?;
-            if !x.is_finite() {
-                bail!(
-                    "{origin}:{line}: column {} (`{name}`): `{s}` is not finite",
-                    i + 1
-                );
-            }
-            Ok(x)
-        };
+        let field =
+            |i: usize, name: &str| parse_cell(rec.get(i).unwrap_or(""), origin, line, i, name);
         let (tk, vk) = (field(self.it, "t")?, field(self.iv, "v")?);
         if let Some(prev) = self.last_t {
             if tk <= prev {

@@ -68,19 +68,7 @@ pub fn parse_columns(text: &str, origin: &str, names: &[&str]) -> Result<Columns
                     i + 1
                 );
             };
-            let x: f64 = s.parse().map_err(|_| {
-                anyhow::anyhow!(
-                    "{origin}:{line}: column {} (`{name}`): `{s}` is not a number",
-                    i + 1
-                )
-            })?;
-            if !x.is_finite() {
-                bail!(
-                    "{origin}:{line}: column {} (`{name}`): `{s}` is not finite",
-                    i + 1
-                );
-            }
-            col.push(x);
+            col.push(crate::io::parse_cell(s, origin, line, i, name)?);
         }
     }
     Ok(Columns { data })
