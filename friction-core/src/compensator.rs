@@ -358,18 +358,7 @@ mod tests {
     }
 
     fn olsson() -> LuGreParams {
-        LuGreParams {
-            curve: crate::StribeckParams {
-                fc: 0.28,
-                fs: 0.33,
-                vs: 0.01,
-                exponent: 2.0,
-            },
-            sigma0: 260.0,
-            sigma1: 0.6,
-            sigma2: 0.0176,
-            vd: None,
-        }
+        LuGreParams::OLSSON_1998
     }
 
     #[test]

@@ -33,18 +33,7 @@ use hw::{Plant, SimDrive, SimEncoder};
 use servo::Servo;
 
 /// Olsson et al. 1998, Table 2: the controller's model of the friction.
-const NOMINAL: LuGreParams = LuGreParams {
-    curve: StribeckParams {
-        fc: 0.28,
-        fs: 0.33,
-        vs: 0.01,
-        exponent: 2.0,
-    },
-    sigma0: 260.0,
-    sigma1: 0.6,
-    sigma2: 0.0176,
-    vd: None,
-};
+const NOMINAL: LuGreParams = LuGreParams::OLSSON_1998;
 
 /// The plant's "real" friction: 10-20 % away from the nominal model.
 const ACTUAL: LuGreParams = LuGreParams {

@@ -67,6 +67,20 @@ impl LuGreParams {
         vd: None,
     };
 
+    /// Olsson et al. 1998, Table 2: a measured DC servo (N m, rad).
+    pub const OLSSON_1998: Self = Self {
+        curve: StribeckParams {
+            fc: 0.28,
+            fs: 0.33,
+            vs: 0.01,
+            exponent: 2.0,
+        },
+        sigma0: 260.0,
+        sigma1: 0.6,
+        sigma2: 0.0176,
+        vd: None,
+    };
+
     /// Checks every parameter; the error names the first offending one.
     pub fn validate(&self) -> Result<(), ParamError> {
         self.curve.validate()?;
