@@ -205,13 +205,14 @@ impl<S: Scalar> LuGre<S> {
         let u = v - c;
         let mut z = state.z;
         if h > S::ZERO {
-            let x = speed / r * h; // a h, possibly +inf, never NaN
+            let a = speed / r; // possibly +inf
+            let x = a * h; // never NaN: h > 0
             let z_free = if x > S::ONE {
-                // equilibrium u/a; beyond the bound only with a correction
+                // equilibrium u/a, formed without a; beyond the bound only
+                // with a correction
                 let z_eq = (u / speed * r).sat(self.z_max + self.z_max);
                 z_eq + (z - z_eq) * (-x).exp()
             } else if x > S::ZERO {
-                let a = speed / r;
                 z + (u - a * z) * (-(-x).exp_m1() / a)
             } else {
                 z + u * h
