@@ -42,6 +42,7 @@
 //! Immutable configuration ([`Compensator`]) is split from the mutable state
 //! ([`CompensatorState`]): one compensator drives any number of axes.
 
+use crate::fixed_step::FixedStepObservable;
 use crate::model::{convert, non_negative, positive, FrictionModel, ParamError, VELOCITY_LIMIT};
 use crate::observer::{Observable, Observer};
 use crate::Scalar;
@@ -58,6 +59,12 @@ pub trait Compensation<S: Scalar> {
     /// should return a finite value (the compensator replaces a non-finite
     /// one by 0).
     fn estimate(&self, state: &mut Self::State, v: S, e: S, h: S) -> S;
+
+    /// The sample period the compensation was built for, if it has one (a
+    /// fixed-step model): the compensator must then run at that period.
+    fn period(&self) -> Option<f64> {
+        None
+    }
 }
 
 /// No friction compensation: `F^ = 0`.
@@ -94,6 +101,40 @@ impl<S: Scalar, M: Observable<S>> Compensation<S> for Observer<M, S> {
     #[inline]
     fn estimate(&self, state: &mut M::State, v: S, e: S, h: S) -> S {
         self.step(state, v, e, h)
+    }
+}
+
+/// An [`Observer`] on a fixed-step model ([`crate::fixed_step`]) as the
+/// compensation: `AtPeriod(Observer::new(model, k)?)`. The compensator's `h`
+/// must be the model's period ([`CompensatorParams::build`] checks it). A
+/// wrapper, because one blanket `impl` for both observer kinds would overlap.
+///
+/// ```
+/// use friction_core::{AtPeriod, CompensatorParams, CompensatorState, LuGreParams, Observer, ParamError, Setpoint};
+/// let model = LuGreParams::OLSSON_1998.build_at::<f32>(1e-3)?;
+/// let mut params = CompensatorParams {
+///     h: 1e-3, kp: 60.0, ki: 200.0, kd: 1.2,
+///     inertia: 0.0023, torque_constant: 1.0, limit: 5.0,
+/// };
+/// let servo = params.build(AtPeriod(Observer::new(model, 100.0)?))?;
+/// let tick = servo.tick(&mut CompensatorState::default(), 0.0, Setpoint { x: 1e-3, v: 0.0, a: 0.0 });
+/// assert!(tick.accepted && tick.command > 0.0);
+/// params.h = 5e-4; // not the model's period
+/// assert_eq!(params.build(AtPeriod(Observer::new(model, 100.0)?)).err(), Some(ParamError::PeriodMismatch));
+/// # Ok::<(), ParamError>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct AtPeriod<O>(pub O);
+
+impl<S: Scalar, M: FixedStepObservable<S>> Compensation<S> for AtPeriod<Observer<M, S>> {
+    type State = M::State;
+    #[inline]
+    fn estimate(&self, state: &mut M::State, v: S, e: S, _h: S) -> S {
+        self.0.step_at(state, v, e)
+    }
+    fn period(&self) -> Option<f64> {
+        Some(self.0.model().period())
     }
 }
 
@@ -153,6 +194,11 @@ impl CompensatorParams {
         compensation: C,
     ) -> Result<Compensator<S, C>, ParamError> {
         self.validate()?;
+        if let Some(period) = compensation.period() {
+            if (period - self.h).abs() > 1e-9 * self.h {
+                return Err(ParamError::PeriodMismatch);
+            }
+        }
         let limit = convert("limit", self.limit)?;
         convert::<S>("limit", 32.0 * self.limit)?;
         Ok(Compensator {

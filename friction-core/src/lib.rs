@@ -14,6 +14,7 @@
 extern crate std;
 
 pub mod compensator;
+pub mod fixed_step;
 pub mod model;
 pub mod models;
 pub mod observer;
@@ -22,15 +23,16 @@ pub mod scalar;
 pub mod stribeck;
 
 pub use compensator::{
-    Compensation, Compensator, CompensatorParams, CompensatorState, FeedForward, NoCompensation,
-    Setpoint, Tick,
+    AtPeriod, Compensation, Compensator, CompensatorParams, CompensatorState, FeedForward,
+    NoCompensation, Setpoint, Tick,
 };
+pub use fixed_step::{FixedStepModel, FixedStepObservable};
 pub use model::{FrictionModel, ParamError, VELOCITY_LIMIT};
 pub use models::bristle::{Bristle, BristleParams, BristleState};
 pub use models::dahl::{Dahl, DahlParams, DahlState};
 pub use models::elasto_plastic::{ElastoPlastic, ElastoPlasticParams};
 pub use models::gms::{Gms, GmsElement, GmsParams, GmsState, SlipMode};
-pub use models::lugre::{LuGre, LuGreParams, LuGreState};
+pub use models::lugre::{LuGre, LuGreAt, LuGreAtState, LuGreParams, LuGreState};
 pub use models::reset_integrator::{ResetIntegrator, ResetIntegratorParams, ResetIntegratorState};
 pub use models::xiong::{Xiong, XiongElement, XiongParams, XiongState};
 pub use observer::{Observable, Observer};

@@ -38,6 +38,9 @@ pub enum ParamError {
     /// The weights named by the parameter (one per element) must sum to 1
     /// within 1e-9.
     WeightsNotOne(&'static str),
+    /// The compensator's sample period `h` differs (by more than 1e-9
+    /// relative) from the period its fixed-step model was built for.
+    PeriodMismatch,
     /// The parameter must lie strictly below a limit set by other parameters.
     NotBelow {
         /// The offending parameter.
@@ -74,6 +77,10 @@ impl fmt::Display for ParamError {
             Self::WeightsNotOne(name) => write!(
                 f,
                 "the element weights `{name}` must sum to 1 (within 1e-9)"
+            ),
+            Self::PeriodMismatch => write!(
+                f,
+                "parameter `h` differs from the period the fixed-step model was built for"
             ),
             Self::NotBelow { name, limit } => {
                 write!(f, "parameter `{name}` must be below `{limit}`")

@@ -30,6 +30,7 @@
 //! `sigma1 dz^/dt` feed-forward can cost more than it gains: it is a switch
 //! ([`Observer::with_damping`]).
 
+use crate::fixed_step::FixedStepObservable;
 use crate::model::{checked_inputs, non_negative, FrictionModel, ParamError, VELOCITY_LIMIT};
 use crate::Scalar;
 
@@ -79,7 +80,7 @@ pub struct Observer<M, S> {
     damping: bool,
 }
 
-impl<S: Scalar, M: Observable<S>> Observer<M, S> {
+impl<S: Scalar, M> Observer<M, S> {
     /// Wraps `model` with correction gain `k >= 0` (1/s; parameter `gain`).
     /// The `sigma1 dz^/dt` term is included by default.
     pub fn new(model: M, gain: f64) -> Result<Self, ParamError> {
@@ -109,7 +110,9 @@ impl<S: Scalar, M: Observable<S>> Observer<M, S> {
     pub fn gain(&self) -> S {
         self.gain
     }
+}
 
+impl<S: Scalar, M: Observable<S>> Observer<M, S> {
     /// Advances the estimate by `h` with measured velocity `v` and position
     /// error `e = x - x_ref`, and returns the friction estimate `F^`, within
     /// `±force_bound(v)`. A non-finite `v`, `e` or `h` (or `h < 0`) leaves the
@@ -127,6 +130,38 @@ impl<S: Scalar, M: Observable<S>> Observer<M, S> {
                 f.sat(self.model.force_bound(v))
             }
             _ => self.model.hold_force(state),
+        }
+    }
+}
+
+impl<S: Scalar, M: FixedStepObservable<S>> Observer<M, S> {
+    /// [`Observer::step`] for a model built for one period
+    /// ([`crate::fixed_step`]): advances the estimate by that period with
+    /// measured velocity `v` and position error `e`; the same bounds and the
+    /// same handling of non-finite inputs.
+    ///
+    /// ```
+    /// use friction_core::{LuGreAtState, LuGreParams, Observer};
+    /// let model = LuGreParams::CANUDAS_1995.build_at::<f32>(1e-3)?;
+    /// let observer = Observer::new(model, 100.0)?;
+    /// let mut w_hat = LuGreAtState::default();
+    /// let f_hat = observer.step_at(&mut w_hat, 1e-3, 1e-6);
+    /// assert!(f_hat > 0.0 && f_hat.is_finite());
+    /// assert!(observer.step_at(&mut w_hat, 0.0, 1e30).abs() <= 1.5);
+    /// # Ok::<(), friction_core::ParamError>(())
+    /// ```
+    #[inline]
+    pub fn step_at(&self, state: &mut M::State, v: S, e: S) -> S {
+        if v.is_finite() && e.is_finite() {
+            let limit = S::from_f64(VELOCITY_LIMIT);
+            let v = v.sat(limit);
+            let correction = (self.gain * e).sat(limit);
+            let f = self
+                .model
+                .step_corrected(state, v, correction, self.damping);
+            f.sat(self.model.force_bound(v))
+        } else {
+            self.model.hold_force(state)
         }
     }
 }
@@ -168,7 +203,7 @@ mod tests {
     fn bad_gain_and_inputs() {
         let m = LuGreParams::CANUDAS_1995.build::<f32>().unwrap();
         assert_eq!(
-            Observer::new(m, -1.0).err(),
+            Observer::<_, f32>::new(m, -1.0).err(),
             Some(ParamError::Negative("gain"))
         );
         assert_eq!(

@@ -54,6 +54,13 @@ pub trait Scalar:
     /// `true` unless the value is NaN or infinite.
     fn is_finite(self) -> bool;
 
+    /// `e^-x` for `x >= 0` (a negative `x` counts as 0; NaN stays NaN): the
+    /// bounded-range exponential of the fixed-step forms. `f64` calls
+    /// `libm::exp`; `f32` uses a range-reduced polynomial in `f32` alone
+    /// (libm's `expf` works partly in `f64`, which an M4F's FPU lacks), within
+    /// 4 units in the last place.
+    fn exp_neg(self) -> Self;
+
     /// `sign(x)`: -1, 0 or 1 (0 at zero, unlike `f64::signum`).
     #[inline]
     fn sign(self) -> Self {
@@ -94,7 +101,7 @@ pub trait Scalar:
 }
 
 macro_rules! impl_float_scalar {
-    ($t:ty, $abs:path, $exp:path, $expm1:path, $log1p:path, $pow:path, $sqrt:path, $sin:path, $cos:path) => {
+    ($t:ty, $abs:path, $exp:path, $exp_neg:path, $expm1:path, $log1p:path, $pow:path, $sqrt:path, $sin:path, $cos:path) => {
         impl Scalar for $t {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
@@ -143,6 +150,10 @@ macro_rules! impl_float_scalar {
             fn is_finite(self) -> bool {
                 <$t>::is_finite(self)
             }
+            #[inline]
+            fn exp_neg(self) -> Self {
+                $exp_neg(self)
+            }
         }
     };
 }
@@ -151,6 +162,7 @@ impl_float_scalar!(
     f32,
     libm::fabsf,
     libm::expf,
+    exp_neg_f32,
     libm::expm1f,
     libm::log1pf,
     libm::powf,
@@ -162,6 +174,7 @@ impl_float_scalar!(
     f64,
     libm::fabs,
     libm::exp,
+    exp_neg_f64,
     libm::expm1,
     libm::log1p,
     libm::pow,
@@ -169,6 +182,51 @@ impl_float_scalar!(
     libm::sin,
     libm::cos
 );
+
+/// `e^-x` in `f64` through `libm::exp`.
+#[inline]
+fn exp_neg_f64(x: f64) -> f64 {
+    if x > 0.0 {
+        libm::exp(-x)
+    } else if x.is_nan() {
+        x
+    } else {
+        1.0
+    }
+}
+
+/// `e^-x` in `f32` arithmetic only: `x = k ln2 + r` with `|r| <= ln2 / 2`
+/// (Cody-Waite: `ln2` split in a part whose product with `k <= 126` is exact
+/// and a correction), `e^-r` by its degree-7 Taylor polynomial (truncation
+/// below 6e-9), and `2^-k` written into the exponent bits. Returns 0 beyond
+/// `x = 87.3`, where the result leaves the normal range (`e^-87.3 = 1.2e-38`).
+#[inline]
+fn exp_neg_f32(x: f32) -> f32 {
+    const LOG2E: f32 = core::f32::consts::LOG2_E;
+    const LN2_HI: f32 = 0.693_145_75; // 0x3f31_7200: 15 significant bits
+    const LN2_LO: f32 = 1.428_606_8e-6; // ln 2 - LN2_HI
+    if x.is_nan() {
+        return x;
+    }
+    if x <= 0.0 {
+        return 1.0;
+    }
+    if x > 87.3 {
+        return 0.0;
+    }
+    // 0 <= k <= 126: the cast cannot saturate
+    let k = (x * LOG2E + 0.5) as i32;
+    let kf = k as f32;
+    let s = kf * LN2_HI - x + kf * LN2_LO; // -r, within ±ln2/2
+    let p = 1.0
+        + s * (1.0
+            + s * (0.5
+                + s * (1.0 / 6.0
+                    + s * (1.0 / 24.0
+                        + s * (1.0 / 120.0 + s * (1.0 / 720.0 + s * (1.0 / 5040.0)))))));
+    // 127 - k is in 1..=127: a normal power of two
+    p * f32::from_bits(((127 - k) as u32) << 23)
+}
 
 #[cfg(test)]
 mod tests {
@@ -185,6 +243,35 @@ mod tests {
     fn abs_clears_sign_bit() {
         assert_eq!((-2.5f32).abs(), 2.5);
         assert_eq!(Scalar::abs(-0.0f64).to_bits(), 0);
+    }
+
+    #[test]
+    fn exp_neg_f32_is_within_4_ulp_everywhere() {
+        let mut worst = 0.0f64;
+        let mut x = 0.0f32;
+        while x < 90.0 {
+            let exact = libm::exp(-(x as f64));
+            let got = exp_neg_f32(x) as f64;
+            if x <= 87.3 {
+                let ulp = (exact as f32).to_bits();
+                let ulp = f32::from_bits(ulp + 1) as f64 - exact as f32 as f64;
+                worst = worst.max((got - exact).abs() / ulp);
+            } else {
+                assert!(got < 2.0 * f32::MIN_POSITIVE as f64, "x {x}");
+            }
+            x = if x < 1e-3 {
+                x + 1e-6
+            } else {
+                x * 1.000_37 + 1e-7
+            };
+        }
+        assert!(worst <= 4.0, "worst {worst} ulp");
+        assert_eq!(exp_neg_f32(0.0), 1.0);
+        assert_eq!(exp_neg_f32(-3.0), 1.0);
+        assert!(exp_neg_f32(f32::NAN).is_nan());
+        assert_eq!(exp_neg_f32(f32::INFINITY), 0.0);
+        assert_eq!(exp_neg_f64(f64::INFINITY), 0.0);
+        assert_eq!(exp_neg_f64(-1.0), 1.0);
     }
 
     #[test]

@@ -102,6 +102,19 @@ impl<S: Scalar> StribeckCurve<S> {
         self.fc + self.fs_minus_fc * (-p).exp()
     }
 
+    /// `g(v)` as [`Self::eval`], with the exponential of the fixed-step forms
+    /// ([`Scalar::exp_neg`]).
+    #[inline]
+    pub fn eval_fast(&self, v: S) -> S {
+        let r = (v * self.inv_vs).abs();
+        let p = match self.shape {
+            Shape::Square => r * r,
+            Shape::Linear => r,
+            Shape::Power(delta) => r.powf(delta),
+        };
+        self.fc + self.fs_minus_fc * p.exp_neg()
+    }
+
     /// The Coulomb level `Fc`.
     pub fn fc(&self) -> S {
         self.fc

@@ -16,6 +16,7 @@
 //! never formed where it could overflow (`sigma0 = 1e305` in `f64` still
 //! lands on the steady state).
 
+use crate::fixed_step::{period, FixedStepModel, FixedStepObservable};
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
     VELOCITY_LIMIT,
@@ -118,6 +119,46 @@ impl LuGreParams {
             },
             z_max: convert("sigma0", fs / self.sigma0)?,
             rate_factor: convert("fs", 1.0 + fs / fc)?,
+        })
+    }
+
+    /// Validates and builds the fixed-step form for sample period `h` (s):
+    /// see [`LuGreAt`]. The checks are [`Self::build`]'s, with `sigma0 h`
+    /// in place of `Fc / sigma0` (its state is a force, not a deflection).
+    ///
+    /// ```
+    /// use friction_core::{FixedStepModel, LuGreParams, LuGreAtState};
+    /// let model = LuGreParams::CANUDAS_1995.build_at::<f32>(1e-3)?;
+    /// let mut state = LuGreAtState::default();
+    /// let mut f = 0.0;
+    /// for _ in 0..1000 {
+    ///     f = model.step(&mut state, 0.1); // 0.1 m/s for 1 s at 1 kHz
+    /// }
+    /// assert!((f - (1.0 + 0.4 * 0.1)).abs() < 1e-4);
+    /// # Ok::<(), friction_core::ParamError>(())
+    /// ```
+    pub fn build_at<S: Scalar>(&self, h: f64) -> Result<LuGreAt<S>, ParamError> {
+        self.validate()?;
+        let h = period(h)?;
+        let curve = self.curve.build()?;
+        let (fc, fs) = (self.curve.fc, self.curve.fs);
+        check_force::<S>("sigma1", self.sigma1 * VELOCITY_LIMIT * (2.0 + fs / fc))?;
+        check_force::<S>("sigma2", self.sigma2 * VELOCITY_LIMIT)?;
+        // a correction of up to VELOCITY_LIMIT moves w by at most sigma0 h 1e6
+        let sigma0_h = self.sigma0 * h;
+        check_force::<S>("sigma0", sigma0_h * VELOCITY_LIMIT)?;
+        Ok(LuGreAt {
+            curve,
+            sigma0_h: convert("sigma0", sigma0_h)?,
+            sigma1: convert("sigma1", self.sigma1)?,
+            sigma2: convert("sigma2", self.sigma2)?,
+            inv_vd_sq: match self.vd {
+                Some(vd) => convert("vd", 1.0 / (vd * vd))?,
+                None => S::ZERO,
+            },
+            fs: convert("fs", fs)?,
+            rate_factor: convert("fs", 1.0 + fs / fc)?,
+            h,
         })
     }
 
@@ -265,6 +306,140 @@ impl<S: Scalar> Observable<S> for LuGre<S> {
     fn force_bound(&self, v: S) -> S {
         let speed = v.abs();
         self.curve.fs() + (self.damping(v) * self.rate_factor + self.sigma2) * speed
+    }
+}
+
+/// LuGre built for one sample period `h` ([`LuGreParams::build_at`]), with
+/// the elastic force `w = sigma0 z` as its state:
+///
+/// ```text
+/// x  = sigma0 h |v| / g(v)                       (= a h)
+/// w+ = w + (sign(v) g(v) - w) (1 - e^-x) - sigma0 h c (1 - e^-x) / x
+/// F  = w+ + sigma1(v) dz/dt + sigma2 v,   dz/dt = (v - c) - |v| w+ / g(v)
+/// ```
+///
+/// the variable-step form's exact held-velocity solution (`c` is an
+/// observer's correction, 0 for the model), with `sigma0 h` formed at build
+/// time, one reciprocal `1/g` per step, and `1 - e^-x` from a series below
+/// `x = 0.1` (no cancellation at low speed, see `relax`) and from [`Scalar::exp_neg`]
+/// above. `|w| <= Fs` always.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LuGreAt<S> {
+    curve: StribeckCurve<S>,
+    sigma0_h: S,
+    sigma1: S,
+    sigma2: S,
+    inv_vd_sq: S,
+    fs: S,
+    rate_factor: S,
+    h: f64,
+}
+
+/// The state of [`LuGreAt`]: the elastic force `w = sigma0 z` (N).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LuGreAtState<S> {
+    /// Elastic force `w = sigma0 z`, within `±Fs`.
+    pub w: S,
+}
+
+/// `1 - e^-x` and `(1 - e^-x) / x` for `x >= 0`: below `x = 0.1` from the
+/// series `sum_n (-x)^n / (n + 1)!` to `n = 7` (truncation under
+/// `x^8 / 9! < 3e-14`, no cancellation at low speed), above it from
+/// [`Scalar::exp_neg`].
+#[inline]
+pub(crate) fn relax<S: Scalar>(x: S) -> (S, S) {
+    if x < S::from_f64(0.1) {
+        let c = |n: f64| S::from_f64(1.0 / n);
+        // 1/(n+1)! for n = 0..=7, nested
+        let phi = S::ONE
+            - x * (c(2.0)
+                - x * (c(6.0)
+                    - x * (c(24.0)
+                        - x * (c(120.0) - x * (c(720.0) - x * (c(5040.0) - x * c(40320.0)))))));
+        (x * phi, phi)
+    } else {
+        let one_minus_e = S::ONE - x.exp_neg();
+        (one_minus_e, one_minus_e / x)
+    }
+}
+
+impl<S: Scalar> LuGreAt<S> {
+    /// The Stribeck curve `g`.
+    pub fn curve(&self) -> &StribeckCurve<S> {
+        &self.curve
+    }
+
+    /// `sigma1(v)`.
+    #[inline]
+    fn damping(&self, v: S) -> S {
+        if self.inv_vd_sq > S::ZERO {
+            self.sigma1 * (v * v * self.inv_vd_sq).exp_neg()
+        } else {
+            self.sigma1
+        }
+    }
+
+    #[inline]
+    fn advance(&self, state: &mut LuGreAtState<S>, v: S, c: S, damping: bool) -> S {
+        let g = self.curve.eval_fast(v);
+        let inv_g = S::ONE / g; // g >= Fc > 0
+        let speed = v.abs();
+        let x = self.sigma0_h * speed * inv_g; // finite or +inf, never NaN
+        let (one_minus_e, phi) = relax(x);
+        let w0 = state.w;
+        let mut w = w0 + (v.sign() * g - w0) * one_minus_e;
+        if c != S::ZERO {
+            // phi = 0 when x is infinite: the product stays a number
+            w = w - self.sigma0_h * (c * phi);
+        }
+        let w = w.sat(self.fs);
+        state.w = w;
+        let mut f = w + self.sigma2 * v;
+        if damping {
+            // dz/dt = (v - c) - |v| w / g, zero while held at the bound
+            let mut dz = (v - c) - speed * w * inv_g;
+            if w.abs() >= self.fs && dz * w > S::ZERO {
+                dz = S::ZERO;
+            }
+            f = f + self.damping(v) * dz;
+        }
+        f
+    }
+}
+
+impl<S: Scalar> FixedStepModel<S> for LuGreAt<S> {
+    type State = LuGreAtState<S>;
+
+    fn period(&self) -> f64 {
+        self.h
+    }
+
+    #[inline]
+    fn step(&self, state: &mut LuGreAtState<S>, v: S) -> S {
+        if v.is_finite() {
+            let v = v.sat(S::from_f64(VELOCITY_LIMIT));
+            self.advance(state, v, S::ZERO, true)
+        } else {
+            state.w
+        }
+    }
+
+    /// `w = sigma0 z`.
+    fn hold_force(&self, state: &LuGreAtState<S>) -> S {
+        state.w
+    }
+}
+
+impl<S: Scalar> FixedStepObservable<S> for LuGreAt<S> {
+    fn step_corrected(&self, state: &mut LuGreAtState<S>, v: S, correction: S, damping: bool) -> S {
+        self.advance(state, v, correction, damping)
+    }
+
+    fn force_bound(&self, v: S) -> S {
+        let speed = v.abs();
+        self.fs + (self.damping(v) * self.rate_factor + self.sigma2) * speed
     }
 }
 

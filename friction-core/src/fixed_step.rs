@@ -1,0 +1,61 @@
+//! The fixed-step form: a model built for one sample period `h`.
+//!
+//! Most firmware runs a model at one rate. `XxxParams::build_at::<S>(h)`
+//! returns a model whose `step(&self, state, v)` takes no `h`: everything
+//! that depends on `h` (such as `sigma0 h`) is formed once, in `f64`, when it
+//! is built, and `h` needs no run-time check. Its states carry forces rather
+//! than deflections (`w = sigma0 z` in newtons instead of `z` in metres), so
+//! that the same code runs on a fixed-point scalar, where micrometres do not
+//! fit. The discretisation is the variable-step form's (the same exact
+//! held-velocity solution), so the two agree to rounding.
+//!
+//! The step contract is the variable-step one ([`FrictionModel`]) without
+//! `h`: a non-finite `v` leaves the state untouched and returns
+//! [`FixedStepModel::hold_force`]; `|v|` is clamped to [`VELOCITY_LIMIT`];
+//! the force is always finite.
+//!
+//! The [`Observer`](crate::Observer) runs on a fixed-step model with
+//! [`Observer::step_at`](crate::Observer::step_at), and the
+//! [`Compensator`](crate::Compensator) accepts such an observer when it is
+//! built for the same period.
+//!
+//! [`FrictionModel`]: crate::FrictionModel
+//! [`VELOCITY_LIMIT`]: crate::VELOCITY_LIMIT
+
+use crate::Scalar;
+use core::fmt::Debug;
+
+/// A friction model built for one sample period.
+pub trait FixedStepModel<S: Scalar> {
+    /// The internal state; `Default` is the contact at rest, unstrained.
+    type State: Copy + Default + Debug;
+
+    /// The sample period `h` (s) the model was built for.
+    fn period(&self) -> f64;
+
+    /// Advances `state` by one period with velocity `v` held; returns the force.
+    fn step(&self, state: &mut Self::State, v: S) -> S;
+
+    /// The force the state alone holds, returned when `v` is not finite.
+    fn hold_force(&self, state: &Self::State) -> S;
+}
+
+/// A fixed-step model whose elastic input accepts an observer's velocity
+/// offset: the fixed-step twin of [`Observable`](crate::Observable).
+pub trait FixedStepObservable<S: Scalar>: FixedStepModel<S> {
+    /// Advances the state by one period like [`FixedStepModel::step`], with
+    /// `v - correction` straining the elastic part and `v` driving the
+    /// sliding law. Inputs are checked by the caller: `v` finite and clamped,
+    /// `|correction| <= VELOCITY_LIMIT`. Each state stays within its bound;
+    /// the damping term (only if `damping`) uses the rate actually taken.
+    fn step_corrected(&self, state: &mut Self::State, v: S, correction: S, damping: bool) -> S;
+
+    /// The largest `|F|` the model can produce at velocity `v` from any state
+    /// within its bounds.
+    fn force_bound(&self, v: S) -> S;
+}
+
+/// Checks a design-time sample period: finite and `> 0`.
+pub(crate) fn period(h: f64) -> Result<f64, crate::ParamError> {
+    crate::model::positive("h", h)
+}
