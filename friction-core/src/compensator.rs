@@ -43,7 +43,7 @@
 //! ([`CompensatorState`]): one compensator drives any number of axes.
 
 use crate::fixed_step::FixedStepObservable;
-use crate::model::{convert, non_negative, positive, FrictionModel, ParamError, VELOCITY_LIMIT};
+use crate::model::{convert, non_negative, positive, FrictionModel, ParamError};
 use crate::observer::{Observable, Observer};
 use crate::Scalar;
 use core::fmt::Debug;
@@ -212,7 +212,7 @@ impl CompensatorParams {
             inv_kc: convert("torque_constant", 1.0 / self.torque_constant)?,
             limit,
             term_limit: convert("limit", 4.0 * self.limit)?,
-            signal_limit: S::from_f64(VELOCITY_LIMIT),
+            signal_limit: S::VELOCITY_LIMIT,
             params: *self,
         })
     }

@@ -14,6 +14,8 @@
 extern crate std;
 
 pub mod compensator;
+#[cfg(feature = "fixed")]
+pub mod fixed_point;
 pub mod fixed_step;
 pub mod model;
 pub mod models;
@@ -26,6 +28,8 @@ pub use compensator::{
     AtPeriod, Compensation, Compensator, CompensatorParams, CompensatorState, FeedForward,
     NoCompensation, Setpoint, Tick,
 };
+#[cfg(feature = "fixed")]
+pub use fixed_point::Fixed32;
 pub use fixed_step::{FixedStepModel, FixedStepObservable};
 pub use model::{FrictionModel, ParamError, VELOCITY_LIMIT};
 pub use models::bristle::{Bristle, BristleParams, BristleState};
@@ -36,7 +40,7 @@ pub use models::lugre::{LuGre, LuGreAt, LuGreAtState, LuGreParams, LuGreState};
 pub use models::reset_integrator::{ResetIntegrator, ResetIntegratorParams, ResetIntegratorState};
 pub use models::xiong::{Xiong, XiongElement, XiongParams, XiongState};
 pub use observer::{Observable, Observer};
-pub use scalar::Scalar;
+pub use scalar::{Conversion, Scalar};
 pub use stribeck::{
     CoulombParams, CoulombViscous, CoulombViscousParams, Karnopp, StribeckCurve, StribeckMap,
     StribeckMapParams, StribeckParams,

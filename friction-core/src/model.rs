@@ -9,6 +9,7 @@
 //!
 //! The hot path, [`FrictionModel::step`], never fails and never panics.
 
+use crate::scalar::Conversion;
 use crate::Scalar;
 use core::fmt;
 
@@ -113,30 +114,24 @@ pub(crate) fn non_negative(name: &'static str, value: f64) -> Result<f64, ParamE
     }
 }
 
-/// Converts a validated `f64` into the run-time scalar, rejecting overflow,
-/// and a non-zero value that underflows (below [`Scalar::MIN_POSITIVE`] in
-/// magnitude: zero or subnormal) or loses more than 0.1 % to rounding.
+/// Converts a validated `f64` into the run-time scalar with
+/// [`Scalar::try_from_f64`]: overflow is [`ParamError::NotRepresentable`];
+/// a non-zero value that underflows or loses more than 0.1 % to rounding is
+/// [`ParamError::Underflow`].
 pub(crate) fn convert<S: Scalar>(name: &'static str, value: f64) -> Result<S, ParamError> {
-    let s = S::from_f64(value);
-    if !s.is_finite() {
-        Err(ParamError::NotRepresentable(name))
-    } else if (value != 0.0 && s.abs() < S::MIN_POSITIVE)
-        || (s.to_f64() - value).abs() > 1e-3 * value.abs()
-    {
-        Err(ParamError::Underflow(name))
-    } else {
-        Ok(s)
-    }
+    S::try_from_f64(value).map_err(|e| match e {
+        Conversion::Overflow => ParamError::NotRepresentable(name),
+        Conversion::Underflow | Conversion::Rounding => ParamError::Underflow(name),
+    })
 }
 
 /// Checks that a force magnitude (computed in `f64` from the parameters at
-/// the velocity limit) stays finite in the scalar type with a margin of 4
-/// for intermediate sums; the error names the parameter that carries it.
+/// the velocity limit) fits the scalar type with a margin of 4 for
+/// intermediate sums; the error names the parameter that carries it.
 pub(crate) fn check_force<S: Scalar>(name: &'static str, magnitude: f64) -> Result<(), ParamError> {
-    if magnitude.is_finite() && S::from_f64(4.0 * magnitude).is_finite() {
-        Ok(())
-    } else {
-        Err(ParamError::ForceOverflow(name))
+    match S::try_from_f64(4.0 * magnitude) {
+        Err(Conversion::Overflow) => Err(ParamError::ForceOverflow(name)),
+        _ => Ok(()),
     }
 }
 
@@ -176,7 +171,7 @@ pub trait FrictionModel<S: Scalar> {
 #[inline]
 pub(crate) fn checked_inputs<S: Scalar>(v: S, h: S) -> Option<S> {
     if v.is_finite() && h.is_finite() && h >= S::ZERO {
-        Some(v.sat(S::from_f64(VELOCITY_LIMIT)))
+        Some(v.sat(S::VELOCITY_LIMIT))
     } else {
         None
     }

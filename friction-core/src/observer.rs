@@ -31,7 +31,7 @@
 //! ([`Observer::with_damping`]).
 
 use crate::fixed_step::FixedStepObservable;
-use crate::model::{checked_inputs, non_negative, FrictionModel, ParamError, VELOCITY_LIMIT};
+use crate::model::{checked_inputs, non_negative, FrictionModel, ParamError};
 use crate::Scalar;
 
 /// A state model whose elastic input accepts an observer's velocity offset.
@@ -123,7 +123,7 @@ impl<S: Scalar, M: Observable<S>> Observer<M, S> {
         match checked_inputs(v, h) {
             Some(v) if e.is_finite() => {
                 // k and e are finite: k e is finite or infinite, never NaN
-                let correction = (self.gain * e).sat(S::from_f64(VELOCITY_LIMIT));
+                let correction = (self.gain * e).sat(S::VELOCITY_LIMIT);
                 let f = self
                     .model
                     .step_corrected(state, v, correction, h, self.damping);
@@ -153,7 +153,7 @@ impl<S: Scalar, M: FixedStepObservable<S>> Observer<M, S> {
     #[inline]
     pub fn step_at(&self, state: &mut M::State, v: S, e: S) -> S {
         if v.is_finite() && e.is_finite() {
-            let limit = S::from_f64(VELOCITY_LIMIT);
+            let limit = S::VELOCITY_LIMIT;
             let v = v.sat(limit);
             let correction = (self.gain * e).sat(limit);
             let f = self

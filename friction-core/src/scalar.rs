@@ -8,9 +8,23 @@
 use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
+/// Why [`Scalar::try_from_f64`] refused a value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Conversion {
+    /// Too large in magnitude for the type (or not finite).
+    Overflow,
+    /// Non-zero, but below the smallest positive value the type carries
+    /// at full precision.
+    Underflow,
+    /// Representable, but more than 0.1 % away from the design value.
+    Rounding,
+}
+
 /// A real number as the models compute with it.
 ///
-/// Implemented for `f32` and `f64` through `libm`. Parameters are designed
+/// Implemented for `f32` and `f64` through `libm`, and (feature `fixed`) for
+/// the Q16.16 [`Fixed32`](crate::Fixed32). Parameters are designed
 /// in `f64` and converted once, when a model is built, with [`Scalar::from_f64`].
 pub trait Scalar:
     Copy
@@ -30,9 +44,35 @@ pub trait Scalar:
     /// The smallest positive normal value: a non-zero parameter smaller in
     /// magnitude is rejected when a model is built.
     const MIN_POSITIVE: Self;
+    /// Velocity magnitude (m/s or rad/s) above which model inputs are
+    /// clamped; `build()` checks that every force term stays within range up
+    /// to it. [`crate::VELOCITY_LIMIT`] (1e6) for `f32` and `f64`.
+    const VELOCITY_LIMIT: Self;
 
-    /// Converts a design-time `f64`, rounding to the nearest representable value.
+    /// Converts a design-time `f64`, rounding to the nearest representable
+    /// value (saturating where the type cannot overflow to infinity).
     fn from_f64(x: f64) -> Self;
+
+    /// Converts a design-time `f64`, checked: [`Conversion::Overflow`] if it
+    /// does not fit (or is not finite), [`Conversion::Underflow`] if a
+    /// non-zero value lands below [`Scalar::MIN_POSITIVE`] (zero, or a
+    /// subnormal float), [`Conversion::Rounding`] if it loses more than
+    /// 0.1 % to rounding. Every `build()` converts its parameters with it.
+    fn try_from_f64(x: f64) -> Result<Self, Conversion> {
+        if !x.is_finite() {
+            return Err(Conversion::Overflow);
+        }
+        let s = Self::from_f64(x);
+        if !s.is_finite() {
+            Err(Conversion::Overflow)
+        } else if x != 0.0 && s.abs() < Self::MIN_POSITIVE {
+            Err(Conversion::Underflow)
+        } else if (s.to_f64() - x).abs() > 1e-3 * x.abs() {
+            Err(Conversion::Rounding)
+        } else {
+            Ok(s)
+        }
+    }
     /// Converts back to `f64` (for logs and host-side comparisons).
     fn to_f64(self) -> f64;
     /// `|x|`.
@@ -45,12 +85,6 @@ pub trait Scalar:
     fn ln_1p(self) -> Self;
     /// `x^y` for `x >= 0`.
     fn powf(self, y: Self) -> Self;
-    /// `sqrt(x)` for `x >= 0`.
-    fn sqrt(self) -> Self;
-    /// `sin(x)` (radians).
-    fn sin(self) -> Self;
-    /// `cos(x)` (radians).
-    fn cos(self) -> Self;
     /// `true` unless the value is NaN or infinite.
     fn is_finite(self) -> bool;
 
@@ -101,11 +135,12 @@ pub trait Scalar:
 }
 
 macro_rules! impl_float_scalar {
-    ($t:ty, $abs:path, $exp:path, $exp_neg:path, $expm1:path, $log1p:path, $pow:path, $sqrt:path, $sin:path, $cos:path) => {
+    ($t:ty, $abs:path, $exp:path, $exp_neg:path, $expm1:path, $log1p:path, $pow:path) => {
         impl Scalar for $t {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
             const MIN_POSITIVE: Self = <$t>::MIN_POSITIVE;
+            const VELOCITY_LIMIT: Self = crate::model::VELOCITY_LIMIT as $t;
             #[inline]
             fn from_f64(x: f64) -> Self {
                 x as $t
@@ -135,18 +170,6 @@ macro_rules! impl_float_scalar {
                 $pow(self, y)
             }
             #[inline]
-            fn sqrt(self) -> Self {
-                $sqrt(self)
-            }
-            #[inline]
-            fn sin(self) -> Self {
-                $sin(self)
-            }
-            #[inline]
-            fn cos(self) -> Self {
-                $cos(self)
-            }
-            #[inline]
             fn is_finite(self) -> bool {
                 <$t>::is_finite(self)
             }
@@ -165,10 +188,7 @@ impl_float_scalar!(
     exp_neg_f32,
     libm::expm1f,
     libm::log1pf,
-    libm::powf,
-    libm::sqrtf,
-    libm::sinf,
-    libm::cosf
+    libm::powf
 );
 impl_float_scalar!(
     f64,
@@ -177,10 +197,7 @@ impl_float_scalar!(
     exp_neg_f64,
     libm::expm1,
     libm::log1p,
-    libm::pow,
-    libm::sqrt,
-    libm::sin,
-    libm::cos
+    libm::pow
 );
 
 /// `e^-x` in `f64` through `libm::exp`.

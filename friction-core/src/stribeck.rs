@@ -8,7 +8,6 @@
 
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
-    VELOCITY_LIMIT,
 };
 use crate::Scalar;
 
@@ -167,7 +166,7 @@ impl CoulombViscousParams {
     pub fn build<S: Scalar>(&self) -> Result<CoulombViscous<S>, ParamError> {
         positive("fc", self.fc)?;
         non_negative("sigma2", self.sigma2)?;
-        check_force::<S>("sigma2", self.sigma2 * VELOCITY_LIMIT)?;
+        check_force::<S>("sigma2", self.sigma2 * S::VELOCITY_LIMIT.to_f64())?;
         Ok(CoulombViscous {
             fc: convert("fc", self.fc)?,
             sigma2: convert("sigma2", self.sigma2)?,
@@ -227,7 +226,7 @@ impl StribeckMapParams {
     pub fn build<S: Scalar>(&self) -> Result<StribeckMap<S>, ParamError> {
         let curve = self.curve.build()?;
         non_negative("sigma2", self.sigma2)?;
-        check_force::<S>("sigma2", self.sigma2 * VELOCITY_LIMIT)?;
+        check_force::<S>("sigma2", self.sigma2 * S::VELOCITY_LIMIT.to_f64())?;
         Ok(StribeckMap {
             curve,
             sigma2: convert("sigma2", self.sigma2)?,

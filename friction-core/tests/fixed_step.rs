@@ -207,3 +207,47 @@ proptest! {
         }
     }
 }
+
+/// Fixed point (feature `fixed`): LuGreAt in Q16.16 against f64, and the
+/// variable-step form refused with a typed error.
+#[cfg(feature = "fixed")]
+mod fixed_point {
+    use super::*;
+
+    fn rms_gap(p: LuGreParams, h: f64, scale: f64) -> f64 {
+        let var = p.build::<f64>().unwrap();
+        let at = p.build_at::<Fixed32>(h).unwrap();
+        let (mut sv, mut sa) = (LuGreState::default(), LuGreAtState::default());
+        let mut sum = 0.0;
+        let n = (4.0 / h) as usize;
+        for k in 0..n {
+            let v = scale * signal(k, h);
+            let fv = var.step(&mut sv, v, h);
+            let fa = at.step(&mut sa, Fixed32::from_f64(v)).to_f64();
+            sum += (fv - fa).powi(2);
+        }
+        (sum / n as f64).sqrt() / p.curve.fs
+    }
+
+    #[test]
+    fn lugre_fixed_point_tracks_f64() {
+        for (p, scale) in [
+            (LuGreParams::CANUDAS_1995, 1.0),
+            (LuGreParams::OLSSON_1998, 10.0),
+        ] {
+            for (h, bound) in [(1e-3, 0.03), (1e-4, 0.015)] {
+                let gap = rms_gap(p, h, scale);
+                std::println!("fixed LuGre rms gap {gap:.2e} of Fs at h {h}");
+                assert!(gap < bound, "rms gap {gap} of Fs at h {h}");
+            }
+        }
+    }
+
+    #[test]
+    fn variable_step_lugre_is_refused_in_fixed_point() {
+        assert_eq!(
+            LuGreParams::CANUDAS_1995.build::<Fixed32>().err(),
+            Some(ParamError::Underflow("sigma0"))
+        );
+    }
+}

@@ -22,7 +22,6 @@
 
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
-    VELOCITY_LIMIT,
 };
 use crate::observer::Observable;
 use crate::Scalar;
@@ -71,7 +70,7 @@ impl DahlParams {
     /// at the velocity limit.
     pub fn build<S: Scalar>(&self) -> Result<Dahl<S>, ParamError> {
         self.validate()?;
-        check_force::<S>("sigma2", self.sigma2 * VELOCITY_LIMIT)?;
+        check_force::<S>("sigma2", self.sigma2 * S::VELOCITY_LIMIT.to_f64())?;
         Ok(Dahl {
             fc: convert("fc", self.fc)?,
             sigma: convert("sigma", self.sigma)?,

@@ -39,7 +39,6 @@
 
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
-    VELOCITY_LIMIT,
 };
 use crate::observer::Observable;
 use crate::stribeck::{StribeckCurve, StribeckParams};
@@ -129,8 +128,11 @@ impl<const N: usize> GmsParams<N> {
         let sigma1_sum: f64 = self.elements.iter().map(|e| e.sigma1).sum();
         check_force::<S>("c", slip_damping)?;
         // sticking: |dz_i/dt| <= |v| + an observer's correction up to the limit
-        check_force::<S>("sigma1", sigma1_sum * VELOCITY_LIMIT * 2.0 + slip_damping)?;
-        check_force::<S>("sigma2", self.sigma2 * VELOCITY_LIMIT)?;
+        check_force::<S>(
+            "sigma1",
+            sigma1_sum * S::VELOCITY_LIMIT.to_f64() * 2.0 + slip_damping,
+        )?;
+        check_force::<S>("sigma2", self.sigma2 * S::VELOCITY_LIMIT.to_f64())?;
         let mut elements = [Element::<S>::default(); N];
         for (out, e) in elements.iter_mut().zip(&self.elements) {
             let alpha = e.alpha / sum;

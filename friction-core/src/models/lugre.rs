@@ -19,7 +19,6 @@
 use crate::fixed_step::{period, FixedStepModel, FixedStepObservable};
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
-    VELOCITY_LIMIT,
 };
 use crate::observer::Observable;
 use crate::stribeck::{StribeckCurve, StribeckParams};
@@ -106,8 +105,11 @@ impl LuGreParams {
         // the steady deflection g(v)/sigma0 lies in [Fc, Fs]/sigma0
         convert::<S>("sigma0", fc / self.sigma0)?;
         // |dz/dt| <= |v| (1 + Fs/Fc), plus an observer's correction up to the limit
-        check_force::<S>("sigma1", self.sigma1 * VELOCITY_LIMIT * (2.0 + fs / fc))?;
-        check_force::<S>("sigma2", self.sigma2 * VELOCITY_LIMIT)?;
+        check_force::<S>(
+            "sigma1",
+            self.sigma1 * S::VELOCITY_LIMIT.to_f64() * (2.0 + fs / fc),
+        )?;
+        check_force::<S>("sigma2", self.sigma2 * S::VELOCITY_LIMIT.to_f64())?;
         Ok(LuGre {
             curve,
             sigma0: convert("sigma0", self.sigma0)?,
@@ -142,11 +144,14 @@ impl LuGreParams {
         let h = period(h)?;
         let curve = self.curve.build()?;
         let (fc, fs) = (self.curve.fc, self.curve.fs);
-        check_force::<S>("sigma1", self.sigma1 * VELOCITY_LIMIT * (2.0 + fs / fc))?;
-        check_force::<S>("sigma2", self.sigma2 * VELOCITY_LIMIT)?;
+        check_force::<S>(
+            "sigma1",
+            self.sigma1 * S::VELOCITY_LIMIT.to_f64() * (2.0 + fs / fc),
+        )?;
+        check_force::<S>("sigma2", self.sigma2 * S::VELOCITY_LIMIT.to_f64())?;
         // a correction of up to VELOCITY_LIMIT moves w by at most sigma0 h 1e6
         let sigma0_h = self.sigma0 * h;
-        check_force::<S>("sigma0", sigma0_h * VELOCITY_LIMIT)?;
+        check_force::<S>("sigma0", sigma0_h * S::VELOCITY_LIMIT.to_f64())?;
         Ok(LuGreAt {
             curve,
             sigma0_h: convert("sigma0", sigma0_h)?,
@@ -419,7 +424,7 @@ impl<S: Scalar> FixedStepModel<S> for LuGreAt<S> {
     #[inline]
     fn step(&self, state: &mut LuGreAtState<S>, v: S) -> S {
         if v.is_finite() {
-            let v = v.sat(S::from_f64(VELOCITY_LIMIT));
+            let v = v.sat(S::VELOCITY_LIMIT);
             self.advance(state, v, S::ZERO, true)
         } else {
             state.w

@@ -17,7 +17,6 @@
 
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
-    VELOCITY_LIMIT,
 };
 use crate::observer::Observable;
 use crate::stribeck::{StribeckCurve, StribeckParams};
@@ -70,7 +69,7 @@ impl ResetIntegratorParams {
     pub fn build<S: Scalar>(&self) -> Result<ResetIntegrator<S>, ParamError> {
         self.validate()?;
         check_force::<S>("sigma0", (1.0 + self.stiction) * self.sigma0 * self.z0)?;
-        check_force::<S>("sigma1", self.sigma1 * 2.0 * VELOCITY_LIMIT)?;
+        check_force::<S>("sigma1", self.sigma1 * 2.0 * S::VELOCITY_LIMIT.to_f64())?;
         let (curve, inv_fs) = match &self.curve {
             Some(c) => (Some(c.build()?), convert("fs", 1.0 / c.fs)?),
             None => (None, S::ONE),

@@ -49,7 +49,6 @@
 
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
-    VELOCITY_LIMIT,
 };
 use crate::models::gms::WEIGHT_TOLERANCE;
 use crate::observer::Observable;
@@ -127,7 +126,7 @@ impl<const N: usize> XiongParams<N> {
         let curve = self.curve.build()?;
         let fc = self.curve.fc;
         let sum: f64 = self.elements.iter().map(|e| e.lambda).sum();
-        check_force::<S>("sigma2", self.sigma2 * VELOCITY_LIMIT)?;
+        check_force::<S>("sigma2", self.sigma2 * S::VELOCITY_LIMIT.to_f64())?;
         let mut elements = [Element::<S>::default(); N];
         for (out, e) in elements.iter_mut().zip(&self.elements) {
             let lambda = e.lambda / sum;

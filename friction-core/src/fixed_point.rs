@@ -1,0 +1,297 @@
+//! Q16.16 fixed point for cores without an FPU (feature `fixed`).
+//!
+//! [`Fixed32`] wraps the `fixed` crate's `I16F16`: 16 integer and 16
+//! fraction bits, so values from -32768 to 32767.99998 in steps of
+//! `2^-16 = 1.53e-5`. Every operation saturates: no overflow panic in a
+//! debug build, no wrap-around in release, and a division by zero gives the
+//! largest value of the dividend's sign (0 / 0 gives 0).
+//!
+//! # What runs on it, and where it is valid
+//!
+//! The fixed-step forms ([`crate::fixed_step`]) are written for it: their
+//! states are forces, and `h` enters only through products such as
+//! `sigma0 h` formed in `f64` at build time. A deflection of micrometres or
+//! a stiffness of 1e5 N/m does not fit, so the variable-step forms (state in
+//! metres) are refused at `build()` with a typed error for any realistic
+//! parameter set.
+//!
+//! A configuration is valid, and checked at `build_at()`, for:
+//! - velocities `|v| <= 4` (m/s or rad/s; larger inputs are clamped to 4),
+//!   resolved to 1.5e-5;
+//! - force terms up to a quarter of the range (8192) at that velocity
+//!   ([`ParamError::ForceOverflow`](crate::ParamError::ForceOverflow)
+//!   otherwise), each parameter and product formed at build time within the
+//!   range and 0.1 % of its design value
+//!   ([`ParamError::Underflow`](crate::ParamError::Underflow) otherwise);
+//! - any `h` for which those products fit.
+//!
+//! Accuracy against the `f64` reference is measured by `friction validate`
+//! (`--scalar fixed` rows) and stated in the README.
+//!
+//! # Functions
+//!
+//! [`Scalar::exp_neg`], the only transcendental function of the fixed-step
+//! forms, is computed in integer arithmetic (range reduction by `ln 2` and a
+//! degree-6 polynomial, no floating point). `exp`, `exp_m1`, `ln_1p` and
+//! `powf`, which only the variable-step forms and a Stribeck exponent other
+//! than 1 or 2 use, go through `f32` (software floating point on an M0).
+
+use crate::scalar::Conversion;
+use crate::Scalar;
+use core::ops::{Add, Div, Mul, Neg, Sub};
+use fixed::types::I16F16;
+
+/// A Q16.16 number with saturating arithmetic; see the [module
+/// documentation](self).
+///
+/// ```
+/// use friction_core::{Fixed32, Scalar};
+/// let a = Fixed32::from_f64(30000.0);
+/// assert_eq!((a + a).to_f64(), Fixed32::MAX.to_f64()); // saturates
+/// assert_eq!((a / Fixed32::ZERO), Fixed32::MAX);
+/// assert!((Fixed32::from_f64(1.0).exp_neg().to_f64() - (-1f64).exp()).abs() < 1e-4);
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Fixed32(I16F16);
+
+impl Fixed32 {
+    /// The largest value, 32767.99998.
+    pub const MAX: Self = Self(I16F16::MAX);
+    /// The smallest value, -32768.
+    pub const MIN: Self = Self(I16F16::MIN);
+
+    /// The value with these raw bits (`value = bits / 65536`).
+    pub const fn from_bits(bits: i32) -> Self {
+        Self(I16F16::from_bits(bits))
+    }
+
+    /// The raw bits (`value * 65536`).
+    pub const fn to_bits(self) -> i32 {
+        self.0.to_bits()
+    }
+}
+
+#[cfg(feature = "defmt")]
+impl defmt::Format for Fixed32 {
+    fn format(&self, f: defmt::Formatter) {
+        defmt::write!(f, "{=i32}/65536", self.to_bits())
+    }
+}
+
+impl Add for Fixed32 {
+    type Output = Self;
+    #[inline]
+    fn add(self, rhs: Self) -> Self {
+        Self(self.0.saturating_add(rhs.0))
+    }
+}
+
+impl Sub for Fixed32 {
+    type Output = Self;
+    #[inline]
+    fn sub(self, rhs: Self) -> Self {
+        Self(self.0.saturating_sub(rhs.0))
+    }
+}
+
+impl Mul for Fixed32 {
+    type Output = Self;
+    #[inline]
+    fn mul(self, rhs: Self) -> Self {
+        Self(self.0.saturating_mul(rhs.0))
+    }
+}
+
+impl Div for Fixed32 {
+    type Output = Self;
+    /// Saturating; `x / 0` is the largest value of the sign of `x` (0 for 0).
+    #[inline]
+    fn div(self, rhs: Self) -> Self {
+        if rhs.0 == I16F16::ZERO {
+            if self.0 > I16F16::ZERO {
+                Self::MAX
+            } else if self.0 < I16F16::ZERO {
+                Self::MIN
+            } else {
+                Self::default()
+            }
+        } else {
+            Self(self.0.saturating_div(rhs.0))
+        }
+    }
+}
+
+impl Neg for Fixed32 {
+    type Output = Self;
+    #[inline]
+    fn neg(self) -> Self {
+        Self(self.0.saturating_neg())
+    }
+}
+
+/// `ln 2` in Q16.16.
+const LN2_BITS: i32 = 45_426;
+/// `e^-x` rounds to 0 in Q16.16 beyond `x = 11.1` (`e^-11.1 < 2^-17`).
+const EXP_NEG_ZERO_BITS: i32 = 11 * 65_536 + 6_554;
+/// `1/n!` in Q16.16 for n = 0..=6 (rounded).
+const INV_FACTORIAL: [u32; 7] = [65_536, 65_536, 32_768, 10_923, 2_731, 546, 91];
+
+/// `e^-x` for `x >= 0` in integer arithmetic: `x = k ln2 + r` with
+/// `0 <= r < ln2`, `e^-r` by Horner on the alternating degree-6 Taylor
+/// polynomial (every partial sum stays in `[0, 1]`, so the products fit
+/// in `u32`; truncation under `r^7 / 7! < 2e-5`), then a rounding shift by `k`.
+#[inline]
+fn exp_neg_bits(x: i32) -> i32 {
+    if x <= 0 {
+        return 65_536;
+    }
+    if x >= EXP_NEG_ZERO_BITS {
+        return 0;
+    }
+    // k = floor(x / ln2) <= 16, within 1: (x / 16) (2^28 / LN2_BITS) / 2^24,
+    // a product below 2^29
+    let mut k = ((x as u32 >> 4) * 5_909) >> 24;
+    let mut r = x - (k as i32) * LN2_BITS;
+    if r < 0 {
+        k -= 1;
+        r += LN2_BITS;
+    } else if r >= LN2_BITS {
+        k += 1;
+        r -= LN2_BITS;
+    }
+    let r = r as u32; // 0 <= r < 45426
+    let mut p = INV_FACTORIAL[6];
+    for c in [
+        INV_FACTORIAL[5],
+        INV_FACTORIAL[4],
+        INV_FACTORIAL[3],
+        INV_FACTORIAL[2],
+        INV_FACTORIAL[1],
+        INV_FACTORIAL[0],
+    ] {
+        // p in [0, 65536], r < 2^16: r p < 2^32; c >= r p / 2^16 for this r
+        p = c.saturating_sub((r * p + 32_768) >> 16);
+    }
+    if k == 0 {
+        p as i32
+    } else {
+        ((p + (1 << (k - 1))) >> k) as i32
+    }
+}
+
+impl Scalar for Fixed32 {
+    const ZERO: Self = Self(I16F16::ZERO);
+    const ONE: Self = Self(I16F16::ONE);
+    const MIN_POSITIVE: Self = Self(I16F16::DELTA);
+    const VELOCITY_LIMIT: Self = Self::from_bits(4 << 16);
+
+    /// Rounds to nearest, saturating; NaN gives 0.
+    fn from_f64(x: f64) -> Self {
+        if x.is_nan() {
+            Self::ZERO
+        } else {
+            Self(I16F16::saturating_from_num(x))
+        }
+    }
+
+    /// Overflow beyond the range, underflow to 0, or rounding beyond 0.1 %.
+    fn try_from_f64(x: f64) -> Result<Self, Conversion> {
+        if !(-32768.0..32768.0).contains(&x) {
+            return Err(Conversion::Overflow);
+        }
+        let s = Self::from_f64(x);
+        if x != 0.0 && s == Self::ZERO {
+            Err(Conversion::Underflow)
+        } else if (s.to_f64() - x).abs() > 1e-3 * x.abs() {
+            Err(Conversion::Rounding)
+        } else {
+            Ok(s)
+        }
+    }
+
+    fn to_f64(self) -> f64 {
+        self.0.to_num::<f64>()
+    }
+
+    #[inline]
+    fn abs(self) -> Self {
+        Self(self.0.saturating_abs())
+    }
+
+    fn exp(self) -> Self {
+        Self::from_f64(f64::from(libm::expf(self.0.to_num::<f32>())))
+    }
+
+    fn exp_m1(self) -> Self {
+        Self::from_f64(f64::from(libm::expm1f(self.0.to_num::<f32>())))
+    }
+
+    fn ln_1p(self) -> Self {
+        Self::from_f64(f64::from(libm::log1pf(self.0.to_num::<f32>())))
+    }
+
+    fn powf(self, y: Self) -> Self {
+        Self::from_f64(f64::from(libm::powf(
+            self.0.to_num::<f32>(),
+            y.0.to_num::<f32>(),
+        )))
+    }
+
+    #[inline]
+    fn is_finite(self) -> bool {
+        true
+    }
+
+    #[inline]
+    fn exp_neg(self) -> Self {
+        Self::from_bits(exp_neg_bits(self.to_bits()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn arithmetic_saturates_and_never_panics() {
+        let big = Fixed32::from_f64(20000.0);
+        assert_eq!(big + big, Fixed32::MAX);
+        assert_eq!(-big - big, Fixed32::MIN);
+        assert_eq!(big * big, Fixed32::MAX);
+        assert_eq!(big * -big, Fixed32::MIN);
+        assert_eq!(-Fixed32::MIN, Fixed32::MAX);
+        assert_eq!(Fixed32::MIN.abs(), Fixed32::MAX);
+        assert_eq!(big / Fixed32::ZERO, Fixed32::MAX);
+        assert_eq!(-big / Fixed32::ZERO, Fixed32::MIN);
+        assert_eq!(Fixed32::ZERO / Fixed32::ZERO, Fixed32::ZERO);
+        assert_eq!(Fixed32::MIN / -Fixed32::ONE, Fixed32::MAX);
+        assert_eq!(big / Fixed32::MIN_POSITIVE, Fixed32::MAX);
+        assert_eq!(Fixed32::from_f64(f64::NAN), Fixed32::ZERO);
+        assert_eq!(Fixed32::from_f64(1e300), Fixed32::MAX);
+    }
+
+    #[test]
+    fn checked_conversion_names_the_failure() {
+        assert_eq!(Fixed32::try_from_f64(1e5), Err(Conversion::Overflow));
+        assert_eq!(Fixed32::try_from_f64(f64::NAN), Err(Conversion::Overflow));
+        assert_eq!(Fixed32::try_from_f64(1e-6), Err(Conversion::Underflow));
+        // 1e-3 is 65.536 steps: 0.7 % rounding
+        assert_eq!(Fixed32::try_from_f64(1e-3), Err(Conversion::Rounding));
+        assert_eq!(Fixed32::try_from_f64(0.28).map(|x| x.to_bits()), Ok(18_350));
+        assert_eq!(Fixed32::try_from_f64(0.0), Ok(Fixed32::ZERO));
+    }
+
+    #[test]
+    fn exp_neg_is_within_3e5_absolute_everywhere() {
+        let mut worst = 0.0f64;
+        for bits in (0..(13 << 16)).step_by(7) {
+            let x = Fixed32::from_bits(bits);
+            let got = x.exp_neg().to_f64();
+            let exact = (-x.to_f64()).exp();
+            worst = worst.max((got - exact).abs());
+        }
+        assert!(worst < 3e-5, "worst {worst}");
+        assert_eq!(Fixed32::from_bits(-5).exp_neg(), Fixed32::ONE);
+        assert_eq!(Fixed32::MAX.exp_neg(), Fixed32::ZERO);
+    }
+}
