@@ -88,6 +88,18 @@ pub trait Scalar:
     /// `true` unless the value is NaN or infinite.
     fn is_finite(self) -> bool;
 
+    /// The power of two by which a fixed-step form scales the forces it
+    /// carries inside, given the largest force term it must hold
+    /// (`max_force`, from the parameters at the velocity limit). `1` for
+    /// floats, where scaling by a power of two changes nothing; for fixed
+    /// point, the largest power of two that keeps `4 max_force scale` in
+    /// range, so that small forces and small per-step increments keep their
+    /// precision.
+    fn force_scale(max_force: f64) -> f64 {
+        let _ = max_force;
+        1.0
+    }
+
     /// `e^-x` for `x >= 0` (a negative `x` counts as 0; NaN stays NaN): the
     /// bounded-range exponential of the fixed-step forms. `f64` calls
     /// `libm::exp`; `f32` uses a range-reduced polynomial in `f32` alone

@@ -2,6 +2,7 @@
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
+use friction_core::Scalar;
 use friction_host::experiments::{self, Options};
 use friction_host::identify;
 use friction_host::io;
@@ -41,9 +42,11 @@ enum Command {
         /// Output CSV.
         #[arg(long)]
         output: PathBuf,
-        /// Number type of the core model.
+        /// Number type of the core model: `fixed` runs the fixed-step form
+        /// in Q16.16 fixed point (LuGre, ...), built for the time step of
+        /// the first two rows, which every row must keep (within 1e-6).
         #[arg(long, value_enum, default_value = "f64")]
-        scalar: ScalarKind,
+        scalar: SimScalar,
     },
     /// Run one of the classic friction experiments: writes DIR/trace.csv and a plot.
     ///
@@ -164,19 +167,66 @@ fn positive(name: &str, x: Option<f64>) -> Result<()> {
 
 /// `friction simulate`: streams the input row by row into the output, so
 /// memory stays constant in the input's length.
-fn simulate(params: &Path, input: &Path, output: &Path, scalar: ScalarKind) -> Result<()> {
+/// The number type `simulate` runs the core in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum SimScalar {
+    /// 32-bit float (variable-step form).
+    F32,
+    /// 64-bit float (variable-step form).
+    F64,
+    /// Q16.16 fixed point (fixed-step form).
+    Fixed,
+}
+
+fn simulate(params: &Path, input: &Path, output: &Path, scalar: SimScalar) -> Result<()> {
     io::refuse_overwrite("--output", output, &[params, input])?;
     let file = ParamFile::load(params)?;
-    let mut model = file.model.stepper(scalar).with_context(|| {
+    let context = || {
         format!(
             "{}: `{}` in {scalar:?}",
             params.display(),
             file.model.name()
         )
-    })?;
-    let rows = io::TvRows::open(input)?;
+    };
+    let mut rows = io::TvRows::open(input)?.peekable();
+    let mut first_row = None;
+    // fixed point: the period of the first two rows, which every row keeps
+    let mut period = None;
+    let (mut model, limit) = match scalar {
+        SimScalar::F32 | SimScalar::F64 => {
+            let kind = if scalar == SimScalar::F32 {
+                ScalarKind::F32
+            } else {
+                ScalarKind::F64
+            };
+            let model = file.model.stepper(kind).with_context(context)?;
+            (model, friction_core::VELOCITY_LIMIT)
+        }
+        SimScalar::Fixed => {
+            let first = match rows.next() {
+                Some(row) => row?,
+                None => anyhow::bail!("{}: no data rows", input.display()),
+            };
+            let h = match rows.peek() {
+                Some(Ok((_, t, _))) => t - first.1,
+                _ => anyhow::bail!(
+                    "{}: `--scalar fixed` needs at least two rows (the time step)",
+                    input.display()
+                ),
+            };
+            if !(h.is_finite() && h > 0.0) {
+                anyhow::bail!(
+                    "{}: the time step of the first two rows ({h:e} s) must be finite and > 0",
+                    input.display()
+                );
+            }
+            period = Some(h);
+            let model = file.model.fixed_stepper(h).with_context(context)?;
+            first_row = Some(first);
+            (model, friction_core::Fixed32::VELOCITY_LIMIT.to_f64())
+        }
+    };
     let names = model.state_names();
-    let limit = friction_core::VELOCITY_LIMIT;
     let count = io::write_atomic(output, |w| {
         let mut csv = csv::Writer::from_writer(w);
         let werr = |e: csv::Error| anyhow::anyhow!("cannot write {}: {e}", output.display());
@@ -184,7 +234,7 @@ fn simulate(params: &Path, input: &Path, output: &Path, scalar: ScalarKind) -> R
         header.extend(names.iter().map(String::as_str));
         csv.write_record(&header).map_err(werr)?;
         let (mut prev_t, mut clamped, mut count) = (None, 0u64, 0u64);
-        for row in rows {
+        for row in first_row.map(Ok).into_iter().chain(rows) {
             let (line, t, v) = row?;
             let h: f64 = prev_t.map_or(0.0, |p| t - p);
             if !h.is_finite() {
@@ -192,6 +242,14 @@ fn simulate(params: &Path, input: &Path, output: &Path, scalar: ScalarKind) -> R
                     "{}:{line}: the time step from the previous row overflows ({h})",
                     input.display()
                 );
+            }
+            if let (Some(p), true) = (period, prev_t.is_some()) {
+                if (h - p).abs() > 1e-6 * p {
+                    anyhow::bail!(
+                        "{}:{line}: the time step {h:e} s differs from {p:e} s, the period the fixed-step model was built for (`--scalar fixed` needs uniform steps)",
+                        input.display()
+                    );
+                }
             }
             prev_t = Some(t);
             let v_used = v.clamp(-limit, limit);

@@ -142,27 +142,39 @@ impl LuGreParams {
     pub fn build_at<S: Scalar>(&self, h: f64) -> Result<LuGreAt<S>, ParamError> {
         self.validate()?;
         let h = period(h)?;
-        let curve = self.curve.build()?;
         let (fc, fs) = (self.curve.fc, self.curve.fs);
-        check_force::<S>(
-            "sigma1",
-            self.sigma1 * S::VELOCITY_LIMIT.to_f64() * (2.0 + fs / fc),
-        )?;
-        check_force::<S>("sigma2", self.sigma2 * S::VELOCITY_LIMIT.to_f64())?;
-        // a correction of up to VELOCITY_LIMIT moves w by at most sigma0 h 1e6
+        let v_max = S::VELOCITY_LIMIT.to_f64();
         let sigma0_h = self.sigma0 * h;
-        check_force::<S>("sigma0", sigma0_h * S::VELOCITY_LIMIT.to_f64())?;
+        // |dz/dt| <= |v| (1 + Fs/Fc), plus an observer's correction up to the limit;
+        // a correction moves w by at most sigma0 h v_max
+        let damping_max = self.sigma1 * v_max * (2.0 + fs / fc);
+        let elastic_max = sigma0_h * v_max;
+        let viscous_max = self.sigma2 * v_max;
+        let k = S::force_scale(fs.max(damping_max).max(elastic_max).max(viscous_max));
+        check_force::<S>("sigma1", k * damping_max)?;
+        check_force::<S>("sigma2", k * viscous_max)?;
+        check_force::<S>("sigma0", k * elastic_max)?;
+        check_force::<S>("fs", k * fs)?;
+        let curve = StribeckParams {
+            fc: k * fc,
+            fs: k * fs,
+            ..self.curve
+        }
+        .build()?;
         Ok(LuGreAt {
             curve,
-            sigma0_h: convert("sigma0", sigma0_h)?,
-            sigma1: convert("sigma1", self.sigma1)?,
-            sigma2: convert("sigma2", self.sigma2)?,
+            sigma0_h: convert("sigma0", k * sigma0_h)?,
+            sigma1: convert("sigma1", k * self.sigma1)?,
+            sigma2: convert("sigma2", k * self.sigma2)?,
             inv_vd_sq: match self.vd {
                 Some(vd) => convert("vd", 1.0 / (vd * vd))?,
                 None => S::ZERO,
             },
-            fs: convert("fs", fs)?,
+            fs: convert("fs", k * fs)?,
             rate_factor: convert("fs", 1.0 + fs / fc)?,
+            inv_scale: convert("fs", 1.0 / k)?,
+            scale_s: convert("fs", k)?,
+            scale: k,
             h,
         })
     }
@@ -325,55 +337,56 @@ impl<S: Scalar> Observable<S> for LuGre<S> {
 ///
 /// the variable-step form's exact held-velocity solution (`c` is an
 /// observer's correction, 0 for the model), with `sigma0 h` formed at build
-/// time, one reciprocal `1/g` per step, and `1 - e^-x` from a series below
-/// `x = 0.1` (no cancellation at low speed, see `relax`) and from [`Scalar::exp_neg`]
-/// above. `|w| <= Fs` always.
+/// time, one division per step (`1/g`), and `1 - e^-x` from a series below
+/// `x = 0.1` (no cancellation at low speed, see `phi_series`) and from [`Scalar::exp_neg`]
+/// above. `|w| <= Fs` always. Forces are carried times a power of two,
+/// [`LuGreAt::force_scale`] ([`Scalar::force_scale`]: 1 in floating point,
+/// chosen to use the range in fixed point).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct LuGreAt<S> {
     curve: StribeckCurve<S>,
+    /// `sigma0 h`, times the force scale.
     sigma0_h: S,
     sigma1: S,
     sigma2: S,
     inv_vd_sq: S,
     fs: S,
     rate_factor: S,
+    inv_scale: S,
+    scale_s: S,
+    scale: f64,
     h: f64,
 }
 
-/// The state of [`LuGreAt`]: the elastic force `w = sigma0 z` (N).
+/// The state of [`LuGreAt`]: the elastic force `w = sigma0 z` (N), times
+/// the model's [`force_scale`](LuGreAt::force_scale) (1 in floating point).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct LuGreAtState<S> {
-    /// Elastic force `w = sigma0 z`, within `±Fs`.
+    /// Elastic force `w = sigma0 z` times the force scale, within `±Fs` times it.
     pub w: S,
 }
 
-/// `1 - e^-x` and `(1 - e^-x) / x` for `x >= 0`: below `x = 0.1` from the
-/// series `sum_n (-x)^n / (n + 1)!` to `n = 7` (truncation under
-/// `x^8 / 9! < 3e-14`, no cancellation at low speed), above it from
-/// [`Scalar::exp_neg`].
+/// `(1 - e^-x) / x` for `0 <= x < 0.1` from the series
+/// `sum_n (-x)^n / (n + 1)!` to `n = 7` (truncation under
+/// `x^8 / 9! < 3e-14`): no cancellation at low speed.
 #[inline]
-pub(crate) fn relax<S: Scalar>(x: S) -> (S, S) {
-    if x < S::from_f64(0.1) {
-        let c = |n: f64| S::from_f64(1.0 / n);
-        // 1/(n+1)! for n = 0..=7, nested
-        let phi = S::ONE
-            - x * (c(2.0)
-                - x * (c(6.0)
-                    - x * (c(24.0)
-                        - x * (c(120.0) - x * (c(720.0) - x * (c(5040.0) - x * c(40320.0)))))));
-        (x * phi, phi)
-    } else {
-        let one_minus_e = S::ONE - x.exp_neg();
-        (one_minus_e, one_minus_e / x)
-    }
+pub(crate) fn phi_series<S: Scalar>(x: S) -> S {
+    let c = |n: f64| S::from_f64(1.0 / n);
+    // 1/(n+1)! for n = 0..=7, nested
+    S::ONE
+        - x * (c(2.0)
+            - x * (c(6.0)
+                - x * (c(24.0)
+                    - x * (c(120.0) - x * (c(720.0) - x * (c(5040.0) - x * c(40320.0)))))))
 }
 
 impl<S: Scalar> LuGreAt<S> {
-    /// The Stribeck curve `g`.
-    pub fn curve(&self) -> &StribeckCurve<S> {
-        &self.curve
+    /// The power of two the forces inside (the state `w` included) are
+    /// carried times: 1 in floating point.
+    pub fn force_scale(&self) -> f64 {
+        self.scale
     }
 
     /// `sigma1(v)`.
@@ -388,23 +401,36 @@ impl<S: Scalar> LuGreAt<S> {
 
     #[inline]
     fn advance(&self, state: &mut LuGreAtState<S>, v: S, c: S, damping: bool) -> S {
-        let g = self.curve.eval_fast(v);
-        let inv_g = S::ONE / g; // g >= Fc > 0
+        let g = self.curve.eval_fast(v); // scaled, >= Fc scaled > 0
+                                         // 1/g unscaled: in fixed point a scaled g of hundreds has a
+                                         // reciprocal of a few hundred steps, this one of hundreds of thousands
+        let inv_g = self.scale_s / g;
         let speed = v.abs();
-        let x = self.sigma0_h * speed * inv_g; // finite or +inf, never NaN
-        let (one_minus_e, phi) = relax(x);
+        // the elastic increment over the step, sigma0 h |v| (scaled): the
+        // products below are ordered so that none is a tiny number, which
+        // fixed point would round to a few steps
+        let p = self.sigma0_h * speed;
+        let x = p * inv_g * self.inv_scale; // = sigma0 h |v| / g, finite or +inf
         let w0 = state.w;
-        let mut w = w0 + (v.sign() * g - w0) * one_minus_e;
+        let gap = v.sign() * g - w0;
+        let (mut w, phi) = if x < S::from_f64(0.1) {
+            // gap (1 - e^-x) = p (gap / g) phi(x)
+            let phi = phi_series(x);
+            (w0 + p * (gap * inv_g * self.inv_scale) * phi, phi)
+        } else {
+            let one_minus_e = S::ONE - x.exp_neg();
+            (w0 + gap * one_minus_e, one_minus_e / x)
+        };
         if c != S::ZERO {
             // phi = 0 when x is infinite: the product stays a number
-            w = w - self.sigma0_h * (c * phi);
+            w = w - self.sigma0_h * c * phi;
         }
         let w = w.sat(self.fs);
         state.w = w;
         let mut f = w + self.sigma2 * v;
         if damping {
             // dz/dt = (v - c) - |v| w / g, zero while held at the bound
-            let mut dz = (v - c) - speed * w * inv_g;
+            let mut dz = (v - c) - speed * (w * inv_g * self.inv_scale);
             if w.abs() >= self.fs && dz * w > S::ZERO {
                 dz = S::ZERO;
             }
@@ -425,26 +451,26 @@ impl<S: Scalar> FixedStepModel<S> for LuGreAt<S> {
     fn step(&self, state: &mut LuGreAtState<S>, v: S) -> S {
         if v.is_finite() {
             let v = v.sat(S::VELOCITY_LIMIT);
-            self.advance(state, v, S::ZERO, true)
+            self.advance(state, v, S::ZERO, true) * self.inv_scale
         } else {
-            state.w
+            self.hold_force(state)
         }
     }
 
     /// `w = sigma0 z`.
     fn hold_force(&self, state: &LuGreAtState<S>) -> S {
-        state.w
+        state.w * self.inv_scale
     }
 }
 
 impl<S: Scalar> FixedStepObservable<S> for LuGreAt<S> {
     fn step_corrected(&self, state: &mut LuGreAtState<S>, v: S, correction: S, damping: bool) -> S {
-        self.advance(state, v, correction, damping)
+        self.advance(state, v, correction, damping) * self.inv_scale
     }
 
     fn force_bound(&self, v: S) -> S {
         let speed = v.abs();
-        self.fs + (self.damping(v) * self.rate_factor + self.sigma2) * speed
+        (self.fs + (self.damping(v) * self.rate_factor + self.sigma2) * speed) * self.inv_scale
     }
 }
 

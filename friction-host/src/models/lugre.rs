@@ -2,11 +2,13 @@
 //! continuous equations, expectations and bounds.
 
 use super::{
-    boxed, curve_g, default_exponent, from_toml, in_scalar, model_file, sign, Continuous, Expect,
-    HostModel, ScalarKind, Stepper, N, Y,
+    boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, sign,
+    Continuous, Expect, HostModel, ScalarKind, Stepper, N, Y,
 };
 use anyhow::{bail, Result};
-use friction_core::{LuGreParams, LuGreState, ParamError, Scalar, StribeckParams};
+use friction_core::{
+    Fixed32, LuGreAtState, LuGreParams, LuGreState, ParamError, Scalar, StribeckParams,
+};
 
 model_file!(LuGreFile {
     fc: f64,
@@ -107,6 +109,12 @@ impl HostModel for LuGreParams {
     }
     fn stepper(&self, scalar: ScalarKind) -> Result<Box<dyn Stepper>, ParamError> {
         in_scalar!(scalar, build(self))
+    }
+    fn fixed_stepper(&self, h: f64) -> Option<Result<Box<dyn Stepper>, ParamError>> {
+        Some(
+            self.build_at::<Fixed32>(h)
+                .map(|m| boxed_fixed(m, &["w"], |s: &LuGreAtState<Fixed32>| vec![s.w.to_f64()])),
+        )
     }
     fn max_static_force(&self) -> f64 {
         self.curve.fs

@@ -13,7 +13,10 @@
 use crate::signals::Signal;
 use crate::sim::ReferenceRun;
 use anyhow::Result;
-use friction_core::{FrictionModel, ParamError, Scalar};
+use friction_core::{Fixed32, FixedStepModel, FrictionModel, ParamError, Scalar};
+
+/// The models with a fixed-point (fixed-step) form.
+pub const FIXED_POINT_MODELS: &[&str] = &["lugre"];
 
 mod bristle;
 mod dahl;
@@ -89,6 +92,51 @@ where
     })
 }
 
+/// A core model's fixed-step form in Q16.16 fixed point, stepped from `f64`
+/// inputs. Every `h` is taken to be the period it was built for (the
+/// caller checks that steps are uniform); `h = 0`, the first sample, and a
+/// non-finite `v` return the held force without stepping.
+struct FixedCore<M: FixedStepModel<Fixed32>> {
+    model: M,
+    state: M::State,
+    names: Vec<String>,
+    read: fn(&M::State) -> Vec<f64>,
+}
+
+impl<M: FixedStepModel<Fixed32>> Stepper for FixedCore<M> {
+    fn step(&mut self, v: f64, h: f64) -> f64 {
+        if h == 0.0 || !v.is_finite() {
+            return self.model.hold_force(&self.state).to_f64();
+        }
+        self.model
+            .step(&mut self.state, Fixed32::from_f64(v))
+            .to_f64()
+    }
+    fn state_names(&self) -> Vec<String> {
+        self.names.clone()
+    }
+    fn states(&self) -> Vec<f64> {
+        (self.read)(&self.state)
+    }
+}
+
+/// Boxes a built fixed-point fixed-step model at rest (see `FixedCore`).
+pub(crate) fn boxed_fixed<M>(
+    model: M,
+    names: &[&str],
+    read: fn(&M::State) -> Vec<f64>,
+) -> Box<dyn Stepper>
+where
+    M: FixedStepModel<Fixed32> + 'static,
+{
+    Box::new(FixedCore {
+        model,
+        state: M::State::default(),
+        names: names.iter().map(|n| n.to_string()).collect(),
+        read,
+    })
+}
+
 /// Builds a core stepper in the chosen scalar from a function generic over it.
 macro_rules! in_scalar {
     ($scalar:expr, $build:ident ( $($arg:expr),* )) => {
@@ -143,6 +191,11 @@ pub trait HostModel {
     fn validate(&self) -> Result<(), ParamError>;
     /// The core's model in the given scalar, at rest.
     fn stepper(&self, scalar: ScalarKind) -> Result<Box<dyn Stepper>, ParamError>;
+    /// The core's fixed-step form in Q16.16 fixed point for period `h`, at
+    /// rest; `None` where the model has no fixed-point form.
+    fn fixed_stepper(&self, _h: f64) -> Option<Result<Box<dyn Stepper>, ParamError>> {
+        None
+    }
     /// The static friction level: the largest force the model holds at rest.
     fn max_static_force(&self) -> f64;
     /// How far the contact deflects before it slides; 0 for static maps.
@@ -283,6 +336,18 @@ impl ModelSpec {
     /// See [`HostModel::stepper`].
     pub fn stepper(&self, scalar: ScalarKind) -> Result<Box<dyn Stepper>, ParamError> {
         self.host().stepper(scalar)
+    }
+    /// See [`HostModel::fixed_stepper`]; an error names the model when it
+    /// has no fixed-point form.
+    pub fn fixed_stepper(&self, h: f64) -> anyhow::Result<Box<dyn Stepper>> {
+        match self.host().fixed_stepper(h) {
+            Some(built) => Ok(built?),
+            None => anyhow::bail!(
+                "model `{}` has no fixed-point form (`--scalar fixed` runs {})",
+                self.name(),
+                FIXED_POINT_MODELS.join(", ")
+            ),
+        }
     }
     /// See [`HostModel::continuous`].
     pub fn continuous(&self) -> Option<Box<dyn Continuous>> {
