@@ -371,9 +371,24 @@ impl<S: Scalar> LuGreAt<S> {
         &self.curve
     }
 
+    /// `sigma0 h`.
+    pub(crate) fn sigma0_h(&self) -> S {
+        self.sigma0_h
+    }
+
+    /// `sigma2`.
+    pub(crate) fn sigma2(&self) -> S {
+        self.sigma2
+    }
+
+    /// `Fs`, the bound on `|w|`.
+    pub(crate) fn fs(&self) -> S {
+        self.fs
+    }
+
     /// `sigma1(v)`.
     #[inline]
-    fn damping(&self, v: S) -> S {
+    pub(crate) fn damping(&self, v: S) -> S {
         if self.inv_vd_sq > S::ZERO {
             self.sigma1 * (v * v * self.inv_vd_sq).exp_neg()
         } else {
