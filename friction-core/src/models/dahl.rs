@@ -20,7 +20,7 @@
 //! rounding. Exact in `x`, so rate independence holds to rounding at any
 //! step, and `|F| <= Fc` is kept.
 
-use crate::fixed_step::{period, FixedStepModel, FixedStepObservable};
+use crate::fixed_step::{checked_velocity, period, signed, FixedStepModel, FixedStepObservable};
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
     VELOCITY_LIMIT,
@@ -237,8 +237,8 @@ impl<S: Scalar> DahlAt<S> {
         let mut f = state.f;
         let k = self.sigma_h_over_fc * v.abs();
         if k > S::ZERO {
-            let s = v.sign();
-            let y = S::ONE - f * s * self.inv_fc;
+            // k > 0: v != 0, so sign(v) is the sign `signed` applies
+            let y = S::ONE - signed(v, f) * self.inv_fc;
             if y > S::ZERO {
                 let d = self.delta_minus_one;
                 // 1 - e^-L
@@ -247,7 +247,7 @@ impl<S: Scalar> DahlAt<S> {
                 } else {
                     relax(k).0
                 };
-                f = (f + s * self.fc * y * one_minus_e).sat(self.fc);
+                f = (f + signed(v, self.fc * y) * one_minus_e).sat(self.fc);
             }
         }
         if c != S::ZERO {
@@ -267,11 +267,9 @@ impl<S: Scalar> FixedStepModel<S> for DahlAt<S> {
 
     #[inline]
     fn step(&self, state: &mut DahlState<S>, v: S) -> S {
-        if v.is_finite() {
-            let v = v.sat(S::from_f64(VELOCITY_LIMIT));
-            self.advance(state, v, S::ZERO)
-        } else {
-            state.f
+        match checked_velocity(v) {
+            Some(v) => self.advance(state, v, S::ZERO),
+            None => state.f,
         }
     }
 

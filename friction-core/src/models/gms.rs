@@ -37,7 +37,7 @@
 //! let m = p.build::<f32>(); // error: N = 0 elements
 //! ```
 
-use crate::fixed_step::{period, FixedStepModel, FixedStepObservable};
+use crate::fixed_step::{checked_velocity, period, signed, FixedStepModel, FixedStepObservable};
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
     VELOCITY_LIMIT,
@@ -525,7 +525,6 @@ impl<S: Scalar, const N: usize> GmsAt<S, N> {
     fn advance(&self, state: &mut GmsState<S, N>, v: S, c: S, damping: bool) -> S {
         let g = self.curve.eval_fast(v); // >= Fc > 0
         let inv_g = S::ONE / g;
-        let sign = v.sign();
         let u = v - c;
         let mut total = self.sigma2 * v;
         for ((e, f), mode) in self
@@ -535,7 +534,8 @@ impl<S: Scalar, const N: usize> GmsAt<S, N> {
             .zip(state.mode.iter_mut())
         {
             let b = e.alpha * g;
-            let target = b * sign;
+            // used only while slipping, so with v != 0
+            let target = signed(v, b);
             let (nf, nm) = element_step_at(e, *f, *mode, v, u, b, target, inv_g);
             *f = nf;
             *mode = nm;
@@ -543,7 +543,7 @@ impl<S: Scalar, const N: usize> GmsAt<S, N> {
             if damping {
                 let dz = if nm.slips_with(v) {
                     e.c_over_alpha_k * inv_g * (target - nf)
-                } else if u != S::ZERO && u.sign() * nf >= b {
+                } else if (u > S::ZERO && nf >= b) || (u < S::ZERO && -nf >= b) {
                     S::ZERO // held at the bound by a correction against v
                 } else {
                     u
@@ -577,18 +577,22 @@ fn element_step_at<S: Scalar>(
         mode = SlipMode::Stick;
         left = S::ZERO;
         if u != S::ZERO {
-            let dir = u.sign();
-            let room = b - dir * f;
+            // u != 0: `signed(u, x)` is sign(u) x
+            let room = b - signed(u, f);
             let travel = e.k_h * u.abs();
             if travel < room {
-                f = f + dir * travel;
+                f = f + signed(u, travel);
             } else {
-                let with_v = dir == v.sign();
+                let with_v = if u > S::ZERO {
+                    v > S::ZERO
+                } else {
+                    v < S::ZERO
+                };
                 if room > S::ZERO {
                     if with_v {
                         left = S::ONE - room / travel;
                     }
-                    f = dir * b;
+                    f = signed(u, b);
                 }
                 if with_v {
                     mode = SlipMode::of_sign(v);
@@ -614,11 +618,9 @@ impl<S: Scalar, const N: usize> FixedStepModel<S> for GmsAt<S, N> {
 
     #[inline]
     fn step(&self, state: &mut GmsState<S, N>, v: S) -> S {
-        if v.is_finite() {
-            let v = v.sat(S::from_f64(VELOCITY_LIMIT));
-            self.advance(state, v, S::ZERO, true)
-        } else {
-            self.hold_force(state)
+        match checked_velocity(v) {
+            Some(v) => self.advance(state, v, S::ZERO, true),
+            None => self.hold_force(state),
         }
     }
 

@@ -16,7 +16,7 @@
 //! never formed where it could overflow (`sigma0 = 1e305` in `f64` still
 //! lands on the steady state).
 
-use crate::fixed_step::{period, FixedStepModel, FixedStepObservable};
+use crate::fixed_step::{checked_velocity, period, signed, FixedStepModel, FixedStepObservable};
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
     VELOCITY_LIMIT,
@@ -404,7 +404,8 @@ impl<S: Scalar> LuGreAt<S> {
         let x = self.sigma0_h * speed * inv_g; // finite or +inf, never NaN
         let (one_minus_e, phi) = relax(x);
         let w0 = state.w;
-        let mut w = w0 + (v.sign() * g - w0) * one_minus_e;
+        // at v = 0 nothing moves (1 - e^-x = 0): the target's sign is moot
+        let mut w = w0 + (signed(v, g) - w0) * one_minus_e;
         if c != S::ZERO {
             // phi = 0 when x is infinite: the product stays a number
             w = w - self.sigma0_h * (c * phi);
@@ -433,11 +434,9 @@ impl<S: Scalar> FixedStepModel<S> for LuGreAt<S> {
 
     #[inline]
     fn step(&self, state: &mut LuGreAtState<S>, v: S) -> S {
-        if v.is_finite() {
-            let v = v.sat(S::from_f64(VELOCITY_LIMIT));
-            self.advance(state, v, S::ZERO, true)
-        } else {
-            state.w
+        match checked_velocity(v) {
+            Some(v) => self.advance(state, v, S::ZERO, true),
+            None => state.w,
         }
     }
 

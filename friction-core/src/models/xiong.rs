@@ -47,7 +47,7 @@
 //! let m = p.build::<f32>(); // error: N = 0 elements
 //! ```
 
-use crate::fixed_step::{period, FixedStepModel, FixedStepObservable};
+use crate::fixed_step::{checked_velocity, period, FixedStepModel, FixedStepObservable};
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
     VELOCITY_LIMIT,
@@ -470,11 +470,9 @@ impl<S: Scalar, const N: usize> FixedStepModel<S> for XiongAt<S, N> {
 
     #[inline]
     fn step(&self, state: &mut XiongAtState<S, N>, v: S) -> S {
-        if v.is_finite() {
-            let v = v.sat(S::from_f64(VELOCITY_LIMIT));
-            self.advance(state, v, S::ZERO, true)
-        } else {
-            self.hold_force(state)
+        match checked_velocity(v) {
+            Some(v) => self.advance(state, v, S::ZERO, true),
+            None => self.hold_force(state),
         }
     }
 
