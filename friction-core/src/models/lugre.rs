@@ -345,19 +345,26 @@ pub struct LuGreAtState<S> {
 }
 
 /// `1 - e^-x` and `(1 - e^-x) / x` for `x >= 0`: below `x = 0.1` from the
-/// series `sum_n (-x)^n / (n + 1)!` to `n = 7` (truncation under
-/// `x^8 / 9! < 3e-14`, no cancellation at low speed), above it from
-/// [`Scalar::exp_neg`].
+/// series `sum_n (-x)^n / (n + 1)!` (no cancellation at low speed), above it
+/// from [`Scalar::exp_neg`]. The series runs to `n = 7` (truncation under
+/// `x^8 / 9! < 3e-14`), or to `n = 4` (under `x^5 / 6! < 1.4e-8`, a quarter
+/// of `f32`'s half unit) in a scalar that cannot tell `1 + 1e-9` from 1
+/// (`f32`, fixed point): a test the compiler folds away.
 #[inline]
 pub(crate) fn relax<S: Scalar>(x: S) -> (S, S) {
     if x < S::from_f64(0.1) {
         let c = |n: f64| S::from_f64(1.0 / n);
-        // 1/(n+1)! for n = 0..=7, nested
-        let phi = S::ONE
-            - x * (c(2.0)
-                - x * (c(6.0)
-                    - x * (c(24.0)
-                        - x * (c(120.0) - x * (c(720.0) - x * (c(5040.0) - x * c(40320.0)))))));
+        let coarse = S::from_f64(1.0 + 1e-9) == S::ONE;
+        // 1/(n+1)! nested
+        let phi = if coarse {
+            S::ONE - x * (c(2.0) - x * (c(6.0) - x * (c(24.0) - x * c(120.0))))
+        } else {
+            S::ONE
+                - x * (c(2.0)
+                    - x * (c(6.0)
+                        - x * (c(24.0)
+                            - x * (c(120.0) - x * (c(720.0) - x * (c(5040.0) - x * c(40320.0)))))))
+        };
         (x * phi, phi)
     } else {
         let one_minus_e = S::ONE - x.exp_neg();
