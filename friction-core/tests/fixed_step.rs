@@ -622,6 +622,11 @@ proptest! {
             let gamma = m.gamma(s);
             gamma >= fc * (1.0 - 1e-6) && gamma <= fs && s.w.iter().sum::<f32>().abs() <= gamma * (1.0 + 1e-6)
         })?;
+        let m = xiong_sets::<1>()[set].build_at::<f32>(h).unwrap();
+        contract(&m, &vs, |s| {
+            let gamma = m.gamma(s);
+            gamma >= fc * (1.0 - 1e-6) && gamma <= fs && s.w[0].abs() <= gamma * (1.0 + 1e-6)
+        })?;
     }
 
     #[test]
