@@ -59,3 +59,32 @@ pub trait FixedStepObservable<S: Scalar>: FixedStepModel<S> {
 pub(crate) fn period(h: f64) -> Result<f64, crate::ParamError> {
     crate::model::positive("h", h)
 }
+
+/// The fixed-step forms' input check: `Some(v)` clamped to
+/// `±S::VELOCITY_LIMIT` when `v` is finite, `None` when it is not. Within the
+/// limit (the common case) it costs one comparison: a NaN fails it, and
+/// `is_finite` is asked only beyond the limit.
+#[inline]
+pub(crate) fn checked_velocity<S: Scalar>(v: S) -> Option<S> {
+    let limit = S::VELOCITY_LIMIT;
+    if v.abs() <= limit {
+        Some(v)
+    } else if v.is_finite() {
+        Some(v.sat(limit))
+    } else {
+        None
+    }
+}
+
+/// `-x` when `v < 0`, else `x`: `sign(v) x` for `v != 0`, with one
+/// comparison instead of `sign`'s two and a multiplication. Where it
+/// replaces `sign(v) x` the value at `v = 0` is never used (the step moves
+/// nothing there).
+#[inline]
+pub(crate) fn signed<S: Scalar>(v: S, x: S) -> S {
+    if v < S::ZERO {
+        -x
+    } else {
+        x
+    }
+}

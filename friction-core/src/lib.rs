@@ -33,12 +33,12 @@ pub use fixed_point::Fixed32;
 pub use fixed_step::{FixedStepModel, FixedStepObservable};
 pub use model::{FrictionModel, ParamError, VELOCITY_LIMIT};
 pub use models::bristle::{Bristle, BristleParams, BristleState};
-pub use models::dahl::{Dahl, DahlParams, DahlState};
-pub use models::elasto_plastic::{ElastoPlastic, ElastoPlasticParams};
-pub use models::gms::{Gms, GmsElement, GmsParams, GmsState, SlipMode};
+pub use models::dahl::{Dahl, DahlAt, DahlParams, DahlState};
+pub use models::elasto_plastic::{ElastoPlastic, ElastoPlasticAt, ElastoPlasticParams};
+pub use models::gms::{Gms, GmsAt, GmsElement, GmsParams, GmsState, SlipMode};
 pub use models::lugre::{LuGre, LuGreAt, LuGreAtState, LuGreParams, LuGreState};
 pub use models::reset_integrator::{ResetIntegrator, ResetIntegratorParams, ResetIntegratorState};
-pub use models::xiong::{Xiong, XiongElement, XiongParams, XiongState};
+pub use models::xiong::{Xiong, XiongAt, XiongAtState, XiongElement, XiongParams, XiongState};
 pub use observer::{Observable, Observer};
 pub use scalar::{Conversion, Scalar};
 pub use stribeck::{

@@ -208,6 +208,449 @@ proptest! {
     }
 }
 
+// ---- Dahl, elasto-plastic, GMS and Xiong -------------------------------
+
+const CURVE: StribeckParams = StribeckParams {
+    fc: 1.0,
+    fs: 1.5,
+    vs: 1e-3,
+    exponent: 2.0,
+};
+
+fn dahl_sets() -> [DahlParams; 3] {
+    let o = LuGreParams::OLSSON_1998;
+    [
+        DahlParams {
+            sigma: 1e5,
+            fc: 1.0,
+            delta: 1.0,
+            sigma2: 0.4,
+        },
+        DahlParams {
+            sigma: 1e5,
+            fc: 1.0,
+            delta: 2.5,
+            sigma2: 0.0,
+        },
+        DahlParams {
+            sigma: o.sigma0,
+            fc: o.curve.fc,
+            delta: 1.0,
+            sigma2: o.sigma2,
+        },
+    ]
+}
+
+fn ep_sets() -> impl Iterator<Item = ElastoPlasticParams> {
+    [LuGreParams::CANUDAS_1995, LuGreParams::OLSSON_1998]
+        .into_iter()
+        .flat_map(|lugre| {
+            [0.1, 0.5, 0.9].map(|frac| ElastoPlasticParams {
+                lugre,
+                z_ba: frac * lugre.curve.fc / lugre.sigma0,
+            })
+        })
+}
+
+/// GMS with `N` elements: stiffnesses from 2.5e4 to 2e5 N/m (one element:
+/// 1e5), weights falling, damping 1e-4 s times stiffness.
+fn gms_set<const N: usize>(curve: StribeckParams, stiffness: f64, c: f64) -> GmsParams<N> {
+    let mut elements = [GmsElement::default(); N];
+    let total: f64 = (1..=N).map(|i| (N + 1 - i) as f64).sum();
+    for (i, e) in elements.iter_mut().enumerate() {
+        let k = stiffness * (1 << i) as f64 / (1 << (N / 2)) as f64;
+        *e = GmsElement {
+            k,
+            alpha: (N - i) as f64 / total,
+            sigma1: 1e-4 * k,
+        };
+    }
+    GmsParams {
+        curve,
+        sigma2: 0.4 * curve.fc,
+        c,
+        elements,
+    }
+}
+
+fn xiong_set<const N: usize>(curve: StribeckParams, stiffness: f64, tau: f64) -> XiongParams<N> {
+    let mut elements = [XiongElement::default(); N];
+    let total: f64 = (1..=N).map(|i| (N + 1 - i) as f64).sum();
+    for (i, e) in elements.iter_mut().enumerate() {
+        let k = stiffness * (1 << i) as f64 / (1 << (N / 2)) as f64;
+        *e = XiongElement {
+            k,
+            sigma: 1e-4 * k,
+            lambda: (N - i) as f64 / total,
+        };
+    }
+    XiongParams {
+        curve,
+        tau,
+        sigma2: 0.4 * curve.fc,
+        elements,
+    }
+}
+
+fn gms_sets<const N: usize>() -> [GmsParams<N>; 2] {
+    let o = LuGreParams::OLSSON_1998;
+    [gms_set(CURVE, 1e5, 100.0), gms_set(o.curve, o.sigma0, 20.0)]
+}
+
+fn xiong_sets<const N: usize>() -> [XiongParams<N>; 2] {
+    let o = LuGreParams::OLSSON_1998;
+    [
+        xiong_set(CURVE, 1e5, 1e-2),
+        xiong_set(o.curve, o.sigma0, 1e-2),
+    ]
+}
+
+fn assert_agrees<V, A>(name: &str, var: V, at: A, h: f64, fs: f64)
+where
+    V: Observable<f64> + Copy,
+    A: FixedStepObservable<f64> + Copy,
+{
+    let (m, o) = max_gap(var, at, h, fs, 100.0);
+    assert!(m < 1e-9, "{name}: model gap {m} at h {h}");
+    assert!(o < 1e-9, "{name}: observer gap {o} at h {h}");
+}
+
+#[test]
+fn dahl_at_is_the_variable_step_solution() {
+    for p in dahl_sets() {
+        for h in [1e-3, 1e-4] {
+            let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f64>(h).unwrap());
+            assert_agrees("dahl", var, at, h, p.fc);
+        }
+    }
+}
+
+#[test]
+fn elasto_plastic_at_is_the_variable_step_solution() {
+    for p in ep_sets() {
+        for h in [1e-3, 1e-4] {
+            let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f64>(h).unwrap());
+            assert_agrees("elasto-plastic", var, at, h, p.lugre.curve.fs);
+        }
+    }
+}
+
+#[test]
+fn gms_at_is_the_variable_step_solution() {
+    for h in [1e-3, 1e-4] {
+        for p in gms_sets::<1>() {
+            let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f64>(h).unwrap());
+            assert_agrees("gms 1", var, at, h, p.curve.fs);
+        }
+        for p in gms_sets::<4>() {
+            let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f64>(h).unwrap());
+            assert_agrees("gms 4", var, at, h, p.curve.fs);
+        }
+    }
+}
+
+#[test]
+fn xiong_at_is_the_variable_step_solution() {
+    for h in [1e-3, 1e-4] {
+        for p in xiong_sets::<1>() {
+            let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f64>(h).unwrap());
+            assert_agrees("xiong 1", var, at, h, p.curve.fs);
+        }
+        for p in xiong_sets::<4>() {
+            let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f64>(h).unwrap());
+            assert_agrees("xiong 4", var, at, h, p.curve.fs);
+        }
+    }
+}
+
+/// Max |F_at(f32) - F_var(f64)| / Fs over the program at `h`.
+fn f32_gap<V, A>(var: V, at: A, h: f64, fs: f64) -> f64
+where
+    V: FrictionModel<f64>,
+    A: FixedStepModel<f32>,
+{
+    let (mut sv, mut sa) = (V::State::default(), A::State::default());
+    let mut worst = 0.0f64;
+    for k in 0..(4.0 / h) as usize {
+        let v = signal(k, h);
+        let fv = var.step(&mut sv, v, h);
+        let fa = at.step(&mut sa, v as f32) as f64;
+        worst = worst.max((fv - fa).abs() / fs);
+    }
+    worst
+}
+
+/// f32 fixed-step against f64 variable-step, as for LuGre.
+#[test]
+fn new_fixed_step_forms_f32_track_f64() {
+    let h = 1e-4;
+    for p in dahl_sets() {
+        let gap = f32_gap(
+            p.build::<f64>().unwrap(),
+            p.build_at::<f32>(h).unwrap(),
+            h,
+            p.fc,
+        );
+        assert!(gap < 1e-5, "dahl {p:?}: {gap} of Fc");
+    }
+    for p in ep_sets() {
+        let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f32>(h).unwrap());
+        let gap = f32_gap(var, at, h, p.lugre.curve.fs);
+        assert!(gap < 1e-5, "elasto-plastic {p:?}: {gap} of Fs");
+    }
+    for p in gms_sets::<4>() {
+        let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f32>(h).unwrap());
+        let gap = f32_gap(var, at, h, p.curve.fs);
+        assert!(gap < 1e-5, "gms: {gap} of Fs");
+    }
+    for p in xiong_sets::<4>() {
+        let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f32>(h).unwrap());
+        let gap = f32_gap(var, at, h, p.curve.fs);
+        assert!(gap < 1e-5, "xiong: {gap} of Fs");
+    }
+}
+
+#[test]
+fn new_build_at_reject_bad_periods_and_overflow() {
+    let dahl = dahl_sets()[0];
+    let ep = ep_sets().next().unwrap();
+    let gms = gms_sets::<4>()[0];
+    let xiong = xiong_sets::<4>()[0];
+    for h in [0.0, -1e-3, f64::NAN, f64::INFINITY] {
+        let expect = Some(if h.is_finite() {
+            ParamError::NotPositive("h")
+        } else {
+            ParamError::NotFinite("h")
+        });
+        assert_eq!(dahl.build_at::<f32>(h).err(), expect, "dahl h {h}");
+        assert_eq!(ep.build_at::<f32>(h).err(), expect, "ep h {h}");
+        assert_eq!(gms.build_at::<f32>(h).err(), expect, "gms h {h}");
+        assert_eq!(xiong.build_at::<f32>(h).err(), expect, "xiong h {h}");
+    }
+    // a correction's sigma h c, k_i h (v - c), (sigma_i + h K_i) (v - c)
+    // overflowing f32 at the velocity limit
+    let stiff = DahlParams {
+        sigma: 1e36,
+        ..dahl
+    };
+    assert_eq!(
+        stiff.build_at::<f32>(1e-3).err(),
+        Some(ParamError::ForceOverflow("sigma"))
+    );
+    let mut stiff = ep;
+    stiff.lugre.sigma0 = 1e36;
+    stiff.z_ba = 0.5 / 1e36;
+    assert_eq!(
+        stiff.build_at::<f32>(1e-3).err(),
+        Some(ParamError::ForceOverflow("sigma0"))
+    );
+    let mut stiff = gms;
+    stiff.elements[3].k = 1e36;
+    assert_eq!(
+        stiff.build_at::<f32>(1e-3).err(),
+        Some(ParamError::ForceOverflow("k"))
+    );
+    let mut stiff = xiong;
+    stiff.elements[3].k = 1e36;
+    assert_eq!(
+        stiff.build_at::<f32>(1e-3).err(),
+        Some(ParamError::ForceOverflow("k"))
+    );
+    // the same parameter sets at a sane h build
+    assert!(dahl.build_at::<f32>(1e-3).is_ok() && ep.build_at::<f32>(1e-3).is_ok());
+    assert!(gms.build_at::<f32>(1e-3).is_ok() && xiong.build_at::<f32>(1e-3).is_ok());
+}
+
+/// The compensator takes each new fixed-step observer at its period and
+/// ticks like the variable-step one.
+#[test]
+fn compensator_at_period_runs_every_new_form() {
+    fn run<V, A>(name: &str, var: V, at: A)
+    where
+        V: Observable<f64> + Copy,
+        A: FixedStepObservable<f64> + Copy,
+    {
+        let mut params = CompensatorParams {
+            h: 1e-3,
+            kp: 60.0,
+            ki: 200.0,
+            kd: 1.2,
+            inertia: 0.0023,
+            torque_constant: 1.0,
+            limit: 5.0,
+        };
+        let a = params.build(Observer::new(var, 100.0).unwrap()).unwrap();
+        let b = params
+            .build(AtPeriod(Observer::new(at, 100.0).unwrap()))
+            .unwrap();
+        let (mut sa, mut sb) = (CompensatorState::default(), CompensatorState::default());
+        for k in 0..3000 {
+            let t = k as f64 * 1e-3;
+            let r = Setpoint {
+                x: 0.1 * (2.0 * t).sin(),
+                v: 0.2 * (2.0 * t).cos(),
+                a: -0.4 * (2.0 * t).sin(),
+            };
+            let x = r.x + 1e-4 * (13.0 * t).sin();
+            let ta = a.tick(&mut sa, x, r);
+            let tb = b.tick(&mut sb, x, r);
+            assert!((ta.command - tb.command).abs() < 1e-9, "{name}: tick {k}");
+        }
+        params.h = 1.001e-3;
+        assert_eq!(
+            params
+                .build(AtPeriod(Observer::new(at, 100.0).unwrap()))
+                .err(),
+            Some(ParamError::PeriodMismatch),
+            "{name}"
+        );
+    }
+    let o = LuGreParams::OLSSON_1998;
+    let dahl = dahl_sets()[2];
+    run("dahl", dahl.build().unwrap(), dahl.build_at(1e-3).unwrap());
+    let ep = ElastoPlasticParams {
+        lugre: o,
+        z_ba: 0.5 * o.curve.fc / o.sigma0,
+    };
+    run("ep", ep.build().unwrap(), ep.build_at(1e-3).unwrap());
+    let gms = gms_sets::<4>()[1];
+    run("gms", gms.build().unwrap(), gms.build_at(1e-3).unwrap());
+    let xiong = xiong_sets::<4>()[1];
+    run(
+        "xiong",
+        xiong.build().unwrap(),
+        xiong.build_at(1e-3).unwrap(),
+    );
+}
+
+/// The step contract for any fixed-step model: finite force, the state
+/// within `bounded`, a non-finite `v` leaving the state untouched and
+/// returning the hold force.
+fn contract<M>(m: &M, vs: &[f64], bounded: impl Fn(&M::State) -> bool) -> Result<(), TestCaseError>
+where
+    M: FixedStepModel<f32>,
+    M::State: PartialEq,
+{
+    let mut s = M::State::default();
+    for &v in vs {
+        let before = s;
+        let f = m.step(&mut s, v as f32);
+        prop_assert!(f.is_finite());
+        prop_assert!(bounded(&s), "{:?}", s);
+        if !(v as f32).is_finite() {
+            prop_assert_eq!(s, before);
+            prop_assert_eq!(f, m.hold_force(&s));
+        }
+    }
+    Ok(())
+}
+
+/// The observer on a fixed-step model: finite estimates within the force
+/// bound, a bounded state.
+fn observer_bounds<M>(
+    m: M,
+    gain: f64,
+    inputs: &[(f64, f64)],
+    bounded: impl Fn(&M::State) -> bool,
+) -> Result<(), TestCaseError>
+where
+    M: FixedStepObservable<f64> + Copy,
+{
+    let o = Observer::new(m, gain).unwrap();
+    let mut s = M::State::default();
+    for &(v, e) in inputs {
+        let f = o.step_at(&mut s, v, e);
+        prop_assert!(f.is_finite());
+        prop_assert!(f.abs() <= m.force_bound(v.clamp(-1e6, 1e6)));
+        prop_assert!(bounded(&s), "{:?}", s);
+    }
+    Ok(())
+}
+
+fn arb_velocities() -> impl Strategy<Value = Vec<f64>> {
+    proptest::collection::vec(
+        prop_oneof![-1e-2f64..1e-2, -10.0f64..10.0, proptest::num::f64::ANY],
+        1..200,
+    )
+}
+
+fn arb_period() -> impl Strategy<Value = f64> {
+    prop_oneof![Just(1e-5), Just(1e-4), Just(1e-3), 1e-6f64..1e-1]
+}
+
+fn arb_observer_inputs() -> impl Strategy<Value = Vec<(f64, f64)>> {
+    proptest::collection::vec(
+        (-1e9f64..1e9, prop_oneof![-1e300f64..1e300, -1e-3f64..1e-3]),
+        1..100,
+    )
+}
+
+proptest! {
+    #[test]
+    fn dahl_at_contract(vs in arb_velocities(), h in arb_period(), set in 0usize..3) {
+        let p = dahl_sets()[set];
+        let m = p.build_at::<f32>(h).unwrap();
+        contract(&m, &vs, |s| s.f.abs() <= p.fc as f32)?;
+    }
+
+    #[test]
+    fn elasto_plastic_at_contract(vs in arb_velocities(), h in arb_period(), set in 0usize..6) {
+        let p = ep_sets().nth(set).unwrap();
+        let m = p.build_at::<f32>(h).unwrap();
+        let fs = p.lugre.curve.fs as f32;
+        contract(&m, &vs, |s| s.w.abs() <= fs)?;
+    }
+
+    #[test]
+    fn gms_at_contract(vs in arb_velocities(), h in arb_period(), set in 0usize..2) {
+        let p = gms_sets::<4>()[set];
+        let m = p.build_at::<f32>(h).unwrap();
+        let bounds = m.force_bounds();
+        contract(&m, &vs, |s| s.force.iter().zip(&bounds).all(|(f, b)| f.abs() <= *b))?;
+        let p = gms_sets::<1>()[set];
+        let m = p.build_at::<f32>(h).unwrap();
+        let bounds = m.force_bounds();
+        contract(&m, &vs, |s| s.force.iter().zip(&bounds).all(|(f, b)| f.abs() <= *b))?;
+    }
+
+    #[test]
+    fn xiong_at_contract(vs in arb_velocities(), h in arb_period(), set in 0usize..2) {
+        let p = xiong_sets::<4>()[set];
+        let m = p.build_at::<f32>(h).unwrap();
+        let (fc, fs) = (p.curve.fc as f32, p.curve.fs as f32);
+        contract(&m, &vs, |s| {
+            let gamma = m.gamma(s);
+            gamma >= fc * (1.0 - 1e-6) && gamma <= fs && s.w.iter().sum::<f32>().abs() <= gamma * (1.0 + 1e-6)
+        })?;
+        let m = xiong_sets::<1>()[set].build_at::<f32>(h).unwrap();
+        contract(&m, &vs, |s| {
+            let gamma = m.gamma(s);
+            gamma >= fc * (1.0 - 1e-6) && gamma <= fs && s.w[0].abs() <= gamma * (1.0 + 1e-6)
+        })?;
+    }
+
+    #[test]
+    fn new_fixed_step_observers_are_bounded(
+        inputs in arb_observer_inputs(),
+        gain in prop_oneof![Just(0.0), 0.0f64..1e9],
+        set in 0usize..2,
+    ) {
+        let h = 1e-3;
+        let d = dahl_sets()[set];
+        observer_bounds(d.build_at::<f64>(h).unwrap(), gain, &inputs, |s| s.f.abs() <= d.fc)?;
+        let e = ep_sets().nth(3 * set + 1).unwrap();
+        let fs = e.lugre.curve.fs;
+        observer_bounds(e.build_at::<f64>(h).unwrap(), gain, &inputs, |s| s.w.abs() <= fs)?;
+        let g = gms_sets::<4>()[set];
+        let m = g.build_at::<f64>(h).unwrap();
+        let bounds = m.force_bounds();
+        observer_bounds(m, gain, &inputs, |s| s.force.iter().zip(&bounds).all(|(f, b)| f.abs() <= *b))?;
+        let x = xiong_sets::<4>()[set];
+        let m = x.build_at::<f64>(h).unwrap();
+        observer_bounds(m, gain, &inputs, |s| s.w.iter().sum::<f64>().abs() <= m.gamma(s) * (1.0 + 1e-12))?;
+    }
+}
+
 /// Fixed point (feature `fixed`): LuGreAt in Q16.16 against f64, and the
 /// variable-step form refused with a typed error.
 #[cfg(feature = "fixed")]

@@ -20,9 +20,11 @@
 //! rounding. Exact in `x`, so rate independence holds to rounding at any
 //! step, and `|F| <= Fc` is kept.
 
+use crate::fixed_step::{checked_velocity, period, signed, FixedStepModel, FixedStepObservable};
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
 };
+use crate::models::lugre::relax;
 use crate::observer::Observable;
 use crate::Scalar;
 
@@ -77,6 +79,40 @@ impl DahlParams {
             sigma_over_fc: convert("sigma", self.sigma / self.fc)?,
             delta_minus_one: convert("delta", self.delta - 1.0)?,
             sigma2: convert("sigma2", self.sigma2)?,
+        })
+    }
+
+    /// Validates and builds the fixed-step form for sample period `h` (s):
+    /// see [`DahlAt`]. Besides [`Self::build`]'s checks, rejects a bad `h`
+    /// and an observer correction term `sigma h c` that overflows the scalar
+    /// at `c = VELOCITY_LIMIT` ([`ParamError::ForceOverflow`] naming `sigma`).
+    ///
+    /// ```
+    /// use friction_core::{DahlParams, DahlState, FixedStepModel};
+    /// let p = DahlParams { sigma: 1e5, fc: 1.0, delta: 1.0, sigma2: 0.0 };
+    /// let model = p.build_at::<f32>(1e-3)?;
+    /// let mut state = DahlState::default();
+    /// let mut f = 0.0;
+    /// for _ in 0..1000 {
+    ///     f = model.step(&mut state, 1e-3); // 1 mm of sliding
+    /// }
+    /// assert!((f - 1.0).abs() < 1e-5); // saturated at Fc
+    /// # Ok::<(), friction_core::ParamError>(())
+    /// ```
+    pub fn build_at<S: Scalar>(&self, h: f64) -> Result<DahlAt<S>, ParamError> {
+        self.validate()?;
+        let h = period(h)?;
+        check_force::<S>("sigma2", self.sigma2 * S::VELOCITY_LIMIT.to_f64())?;
+        let sigma_h = self.sigma * h;
+        check_force::<S>("sigma", sigma_h * S::VELOCITY_LIMIT.to_f64())?;
+        Ok(DahlAt {
+            fc: convert("fc", self.fc)?,
+            inv_fc: convert("fc", 1.0 / self.fc)?,
+            sigma_h: convert("sigma", sigma_h)?,
+            sigma_h_over_fc: convert("sigma", sigma_h / self.fc)?,
+            delta_minus_one: convert("delta", self.delta - 1.0)?,
+            sigma2: convert("sigma2", self.sigma2)?,
+            h,
         })
     }
 }
@@ -158,6 +194,95 @@ impl<S: Scalar> Observable<S> for Dahl<S> {
         _damping: bool,
     ) -> S {
         self.advance(state, v, correction, h)
+    }
+
+    /// `Fc + sigma2 |v|`.
+    fn force_bound(&self, v: S) -> S {
+        self.fc + self.sigma2 * v.abs()
+    }
+}
+
+/// Dahl built for one sample period `h` ([`DahlParams::build_at`]). Its
+/// state is the variable-step one, [`DahlState`] (already a force). With
+/// `k = sigma h |v| / Fc` (`sigma h / Fc` formed at build time),
+/// `y = 1 - sign(v) F / Fc` and `d = delta - 1`:
+///
+/// ```text
+/// L  = k                      (delta = 1)
+///    = ln(1 + d k y^d) / d    (delta > 1)
+/// F+ = sat(F + sign(v) Fc y (1 - e^-L) - sigma h c, Fc)
+/// ```
+///
+/// the variable-step form's step, exact in displacement (Dahl 1968, 1976;
+/// the reference sheet's `dF/dx = sigma sign(y) |y|^delta`), with `c` an
+/// observer's correction (0 for the model). For `delta = 1` it costs one
+/// [`Scalar::exp_neg`] (or a series below `L = 0.1`), no division, no
+/// `powf`; `delta > 1` keeps `powf`, `ln_1p` and `exp_m1`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct DahlAt<S> {
+    fc: S,
+    inv_fc: S,
+    sigma_h: S,
+    sigma_h_over_fc: S,
+    delta_minus_one: S,
+    sigma2: S,
+    h: f64,
+}
+
+impl<S: Scalar> DahlAt<S> {
+    #[inline]
+    fn advance(&self, state: &mut DahlState<S>, v: S, c: S) -> S {
+        let mut f = state.f;
+        let k = self.sigma_h_over_fc * v.abs();
+        if k > S::ZERO {
+            // k > 0: v != 0, so sign(v) is the sign `signed` applies
+            let y = S::ONE - signed(v, f) * self.inv_fc;
+            if y > S::ZERO {
+                let d = self.delta_minus_one;
+                // 1 - e^-L
+                let one_minus_e = if d > S::ZERO {
+                    -(-((d * k * y.powf(d)).ln_1p() / d)).exp_m1()
+                } else {
+                    relax(k).0
+                };
+                f = (f + signed(v, self.fc * y) * one_minus_e).sat(self.fc);
+            }
+        }
+        if c != S::ZERO {
+            f = (f - self.sigma_h * c).sat(self.fc);
+        }
+        state.f = f;
+        f + self.sigma2 * v
+    }
+}
+
+impl<S: Scalar> FixedStepModel<S> for DahlAt<S> {
+    type State = DahlState<S>;
+
+    fn period(&self) -> f64 {
+        self.h
+    }
+
+    #[inline]
+    fn step(&self, state: &mut DahlState<S>, v: S) -> S {
+        match checked_velocity(v) {
+            Some(v) => self.advance(state, v, S::ZERO),
+            None => state.f,
+        }
+    }
+
+    /// `F`.
+    fn hold_force(&self, state: &DahlState<S>) -> S {
+        state.f
+    }
+}
+
+/// As [`Dahl`]'s observer form: the correction strains the contact after
+/// the exact step; Dahl has no `sigma1`, `damping` has no effect.
+impl<S: Scalar> FixedStepObservable<S> for DahlAt<S> {
+    fn step_corrected(&self, state: &mut DahlState<S>, v: S, correction: S, _damping: bool) -> S {
+        self.advance(state, v, correction)
     }
 
     /// `Fc + sigma2 |v|`.

@@ -49,8 +49,9 @@
 //! Measured: 2,885 instructions on a Cortex-M4F for the worst case (f32),
 //! against 84,238 for the former implicit-Euler step with `sinf`.
 
+use crate::fixed_step::{checked_velocity, signed, FixedStepModel, FixedStepObservable};
 use crate::model::{checked_inputs, convert, positive, FrictionModel, ParamError};
-use crate::models::lugre::{LuGre, LuGreParams, LuGreState};
+use crate::models::lugre::{relax, LuGre, LuGreAt, LuGreAtState, LuGreParams, LuGreState};
 use crate::observer::Observable;
 use crate::Scalar;
 
@@ -98,6 +99,28 @@ impl ElastoPlasticParams {
         Ok(ElastoPlastic {
             lugre: self.lugre.build()?,
             z_ba: convert("z_ba", self.z_ba)?,
+        })
+    }
+
+    /// Validates and builds the fixed-step form for sample period `h` (s):
+    /// see [`ElastoPlasticAt`]. The checks are [`LuGreParams::build_at`]'s,
+    /// and `sigma0 z_ba` must be representable.
+    ///
+    /// ```
+    /// use friction_core::{ElastoPlasticParams, FixedStepModel, LuGreAtState, LuGreParams};
+    /// let p = ElastoPlasticParams { lugre: LuGreParams::CANUDAS_1995, z_ba: 5e-6 };
+    /// let model = p.build_at::<f64>(1e-3)?;
+    /// let mut state = LuGreAtState::default();
+    /// // 2 µm of displacement below z_ba: purely elastic, w = sigma0 x
+    /// model.step(&mut state, 2e-3);
+    /// assert!((state.w - 0.2).abs() < 1e-12);
+    /// # Ok::<(), friction_core::ParamError>(())
+    /// ```
+    pub fn build_at<S: Scalar>(&self, h: f64) -> Result<ElastoPlasticAt<S>, ParamError> {
+        self.validate()?;
+        Ok(ElastoPlasticAt {
+            lugre: self.lugre.build_at(h)?,
+            w_ba: convert("z_ba", self.lugre.sigma0 * self.z_ba)?,
         })
     }
 }
@@ -267,6 +290,168 @@ fn sin_over_x<S: Scalar>(x: S) -> S {
         acc = (acc + S::from_f64(*c)) * x;
     }
     S::ONE + acc
+}
+
+/// [`zone_step`] with the tail's exponentials from [`relax`] (the fixed-step
+/// forms' [`Scalar::exp_neg`], or a series for small arguments).
+fn zone_step_at<S: Scalar>(mut u: S, mut left: S, eps: S) -> S {
+    let (mut r, mut b) = zone_rate(u, eps);
+    let (c, tail) = (S::from_f64(RK_REACH), S::from_f64(TAIL));
+    let half = S::from_f64(0.5);
+    let sixth = S::from_f64(1.0 / 6.0);
+    let mut taken = 0;
+    while taken < MAX_SUBSTEPS && u > tail {
+        let h = (c / (r + S::from_f64(Q) * u)).min(left);
+        let k1 = u * r;
+        let u2 = u - half * h * k1;
+        let k2 = u2 * zone_rate(u2, eps).0;
+        let u3 = u - half * h * k2;
+        let k3 = u3 * zone_rate(u3, eps).0;
+        let u4 = u - h * k3;
+        let k4 = u4 * zone_rate(u4, eps).0;
+        u = (u - sixth * h * (k1 + S::from_f64(2.0) * (k2 + k3) + k4)).max(S::ZERO);
+        left = left - h;
+        taken += 1;
+        if left <= S::ZERO {
+            return u;
+        }
+        (r, b) = zone_rate(u, eps);
+    }
+    // the Riccati tail of `zone_step`, with 1 - e^(-x) and (1 - e^(-x)) / x
+    // (x = eps left) from `relax`
+    let (one_minus_e, phi) = relax(eps * left);
+    u * (S::ONE - one_minus_e) / (S::ONE + b * u * (phi * left))
+}
+
+/// The elasto-plastic model built for one sample period `h`
+/// ([`ElastoPlasticParams::build_at`]), with the elastic force `w = sigma0 z`
+/// as its state ([`LuGreAtState`], `|w| <= Fs`). In force units the
+/// model of Dupont, Hayward, Armstrong and Altpeter (2002) reads, along the
+/// motion (`W = sign(v) w`, distance `X = sigma0 h |v|`, `sigma0 h` formed
+/// at build time):
+///
+/// ```text
+/// dW/dX = 1 - alpha(W) W / g(v),   W_ba = sigma0 z_ba <= W <= g(v) the transition zone
+/// w+ = sat(w(X) - sigma0 h c, Fs)
+/// F  = w+ + sigma1(v) dz/dt + sigma2 v,   dz/dt = v dW/dX - c
+/// ```
+///
+/// with the variable-step form's discretisation ([`ElastoPlastic`]): exact
+/// below `W_ba` and above `g(v)`, RK4 sub-steps then the exact Riccati
+/// tail in the zone, so the two agree to rounding. `c` is an observer's
+/// correction, 0 for the model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ElastoPlasticAt<S> {
+    lugre: LuGreAt<S>,
+    /// `sigma0 z_ba` (N).
+    w_ba: S,
+}
+
+impl<S: Scalar> ElastoPlasticAt<S> {
+    /// The break-away force `sigma0 z_ba`.
+    pub fn w_ba(&self) -> S {
+        self.w_ba
+    }
+
+    /// `dW/dX` at the force along the motion `w`, with `w_max = g(v)`.
+    #[inline]
+    fn slip(&self, w: S, w_max: S, inv_w_max: S) -> S {
+        if w <= self.w_ba {
+            S::ONE
+        } else if w >= w_max {
+            S::ONE - w * inv_w_max
+        } else {
+            let width = w_max - self.w_ba;
+            let u = ((w_max - w) / width).min(S::ONE);
+            let (r, _) = zone_rate(u, width * inv_w_max);
+            u * r
+        }
+    }
+
+    /// The force along the motion `w` over the distance `xi` (in force
+    /// units, `sigma0 |v| h`), as [`ElastoPlastic`]'s `advance_w`.
+    #[inline]
+    fn advance_w(&self, mut w: S, mut xi: S, w_max: S, inv_w_max: S) -> S {
+        if w < self.w_ba {
+            let reach = self.w_ba - w;
+            if xi <= reach {
+                return w + xi;
+            }
+            w = self.w_ba;
+            xi = xi - reach;
+        }
+        xi = xi.min(S::from_f64(XI_CAP) * w_max);
+        if w >= w_max {
+            return w_max + (w - w_max) * (xi * inv_w_max).exp_neg();
+        }
+        let width = w_max - self.w_ba;
+        let inv_width = S::ONE / width;
+        let eps = width * inv_w_max;
+        let u = ((w_max - w) * inv_width).min(S::ONE);
+        w_max - zone_step_at(u, xi * inv_width, eps) * width
+    }
+
+    #[inline]
+    fn advance(&self, state: &mut LuGreAtState<S>, v: S, c: S, damping: bool) -> S {
+        let lugre = &self.lugre;
+        let w_max = lugre.curve().eval_fast(v);
+        let inv_w_max = S::ONE / w_max; // g >= Fc > 0
+        let mut w = state.w;
+        if v != S::ZERO {
+            let along = self.advance_w(signed(v, w), lugre.sigma0_h() * v.abs(), w_max, inv_w_max);
+            w = signed(v, along);
+        }
+        if c != S::ZERO {
+            w = w - lugre.sigma0_h() * c;
+        }
+        let w = w.sat(lugre.fs());
+        state.w = w;
+        let mut f = w + lugre.sigma2() * v;
+        if damping {
+            // at v = 0 the slip is multiplied by 0: its argument's sign is moot
+            let mut dz = v * self.slip(signed(v, w), w_max, inv_w_max) - c;
+            if w.abs() >= lugre.fs() && dz * w > S::ZERO {
+                dz = S::ZERO;
+            }
+            f = f + lugre.damping(v) * dz;
+        }
+        f
+    }
+}
+
+impl<S: Scalar> FixedStepModel<S> for ElastoPlasticAt<S> {
+    type State = LuGreAtState<S>;
+
+    fn period(&self) -> f64 {
+        self.lugre.period()
+    }
+
+    #[inline]
+    fn step(&self, state: &mut LuGreAtState<S>, v: S) -> S {
+        match checked_velocity(v) {
+            Some(v) => self.advance(state, v, S::ZERO, true),
+            None => state.w,
+        }
+    }
+
+    /// `w = sigma0 z`.
+    fn hold_force(&self, state: &LuGreAtState<S>) -> S {
+        state.w
+    }
+}
+
+/// As [`ElastoPlastic`]'s observer form: the correction moves the state
+/// after the model's step, `w <- w - sigma0 h c`, then `|w| <= Fs`.
+impl<S: Scalar> FixedStepObservable<S> for ElastoPlasticAt<S> {
+    fn step_corrected(&self, state: &mut LuGreAtState<S>, v: S, correction: S, damping: bool) -> S {
+        self.advance(state, v, correction, damping)
+    }
+
+    /// As LuGre's.
+    fn force_bound(&self, v: S) -> S {
+        self.lugre.force_bound(v)
+    }
 }
 
 impl<S: Scalar> FrictionModel<S> for ElastoPlastic<S> {

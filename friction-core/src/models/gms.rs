@@ -37,6 +37,7 @@
 //! let m = p.build::<f32>(); // error: N = 0 elements
 //! ```
 
+use crate::fixed_step::{checked_velocity, period, signed, FixedStepModel, FixedStepObservable};
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
 };
@@ -153,6 +154,58 @@ impl<const N: usize> GmsParams<N> {
             elements,
             sigma1_sum: convert("sigma1", sigma1_sum)?,
             slip_damping: convert("c", slip_damping)?,
+        })
+    }
+
+    /// Validates and builds the fixed-step form for sample period `h` (s):
+    /// see [`GmsAt`] (`N >= 1`, checked at compile time). Besides
+    /// [`Self::build`]'s checks, rejects a bad `h` and an element whose
+    /// stick travel `k_i h (v - c)` overflows the scalar at twice the
+    /// velocity limit ([`ParamError::ForceOverflow`] naming `k`).
+    ///
+    /// ```
+    /// use friction_core::{FixedStepModel, GmsElement, GmsParams, GmsState, StribeckParams};
+    /// let curve = StribeckParams { fc: 1.0, fs: 1.5, vs: 1e-3, exponent: 2.0 };
+    /// let e = |k, alpha| GmsElement { k, alpha, sigma1: 0.0 };
+    /// let p = GmsParams { curve, sigma2: 0.4, c: 100.0, elements: [e(1e5, 0.5), e(2e4, 0.5)] };
+    /// let model = p.build_at::<f32>(1e-3)?;
+    /// let mut state = GmsState::default();
+    /// let mut f = 0.0;
+    /// for _ in 0..1000 {
+    ///     f = model.step(&mut state, 0.1); // 0.1 m/s for 1 s at 1 kHz
+    /// }
+    /// assert!((f - (1.0 + 0.4 * 0.1)).abs() < 1e-4);
+    /// # Ok::<(), friction_core::ParamError>(())
+    /// ```
+    pub fn build_at<S: Scalar>(&self, h: f64) -> Result<GmsAt<S, N>, ParamError> {
+        const { assert!(N > 0, "the GMS model needs at least one element") };
+        let var = self.build::<S>()?;
+        let h = period(h)?;
+        let fc = self.curve.fc;
+        let sum: f64 = self.elements.iter().map(|e| e.alpha).sum();
+        let mut elements = [ElementAt::<S>::default(); N];
+        for (out, e) in elements.iter_mut().zip(&self.elements) {
+            let alpha = e.alpha / sum;
+            let k_h = e.k * h;
+            check_force::<S>("k", k_h * 2.0 * S::VELOCITY_LIMIT.to_f64())?;
+            let c_over_alpha = self.c / alpha;
+            convert::<S>("c", c_over_alpha * h / fc)?;
+            *out = ElementAt {
+                k_h: convert("k", k_h)?,
+                alpha: convert("alpha", alpha)?,
+                f_max: convert("alpha", alpha * self.curve.fs)?,
+                c_h_over_alpha: convert("c", c_over_alpha * h)?,
+                c_over_alpha_k: convert("c", c_over_alpha / e.k)?,
+                sigma1: convert("sigma1", e.sigma1)?,
+            };
+        }
+        Ok(GmsAt {
+            curve: var.curve,
+            sigma2: var.sigma2,
+            elements,
+            sigma1_sum: var.sigma1_sum,
+            slip_damping: var.slip_damping,
+            h,
         })
     }
 }
@@ -399,6 +452,206 @@ impl<S: Scalar, const N: usize> Observable<S> for Gms<S, N> {
             S::ZERO
         };
         self.curve.fs() + (self.sigma1_sum + self.sigma2) * speed + slip
+    }
+}
+
+/// One element of [`GmsAt`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+struct ElementAt<S> {
+    /// `k_i h`.
+    k_h: S,
+    /// Normalised weight.
+    alpha: S,
+    /// `alpha_i Fs`, the bound on `|F_i|`.
+    f_max: S,
+    /// `C h / alpha_i`.
+    c_h_over_alpha: S,
+    /// `C / (alpha_i k_i)`.
+    c_over_alpha_k: S,
+    sigma1: S,
+}
+
+/// GMS built for one sample period `h` ([`GmsParams::build_at`]). Its state
+/// is the variable-step one, [`GmsState`] (element forces and modes). With
+/// `b_i = alpha_i g(v)` and `u = v - c` (`c` an observer's correction, 0 for
+/// the model), each element per step:
+///
+/// ```text
+/// sticking: F_i + sign(u) k_i h |u|          while below b_i; reaching it at
+///           the fraction s = 1 - room / (k_i h |u|) of the step before the end
+/// slipping: F_i+ = sign(v) b_i + (F_i - sign(v) b_i) e^(-(C h / alpha_i) s / g(v))
+/// F = sum_i (F_i + sigma1_i dz_i/dt) + sigma2 v
+/// ```
+///
+/// the variable-step form's exact held-velocity step (Lampaert, Al-Bender,
+/// Swevers 2003; see [`Gms`]) with `k_i h`, `C h / alpha_i` and
+/// `C / (alpha_i k_i)` formed in `f64` at build time, one reciprocal `1/g`
+/// per step and [`Scalar::exp_neg`] for the relaxation.
+///
+/// `N` must be at least 1:
+///
+/// ```compile_fail
+/// use friction_core::{GmsParams, StribeckParams};
+/// let curve = StribeckParams { fc: 1.0, fs: 1.5, vs: 1e-3, exponent: 2.0 };
+/// let p = GmsParams::<0> { curve, sigma2: 0.0, c: 100.0, elements: [] };
+/// let m = p.build_at::<f32>(1e-3); // error: N = 0 elements
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct GmsAt<S, const N: usize> {
+    curve: StribeckCurve<S>,
+    sigma2: S,
+    elements: [ElementAt<S>; N],
+    sigma1_sum: S,
+    slip_damping: S,
+    h: f64,
+}
+
+impl<S: Scalar, const N: usize> GmsAt<S, N> {
+    /// The Stribeck curve `g`.
+    pub fn curve(&self) -> &StribeckCurve<S> {
+        &self.curve
+    }
+
+    /// The bound `alpha_i Fs` on `|F_i|` of each element.
+    pub fn force_bounds(&self) -> [S; N] {
+        let mut out = [S::ZERO; N];
+        for (o, e) in out.iter_mut().zip(&self.elements) {
+            *o = e.f_max;
+        }
+        out
+    }
+
+    #[inline]
+    fn advance(&self, state: &mut GmsState<S, N>, v: S, c: S, damping: bool) -> S {
+        let g = self.curve.eval_fast(v); // >= Fc > 0
+        let inv_g = S::ONE / g;
+        let u = v - c;
+        let mut total = self.sigma2 * v;
+        for ((e, f), mode) in self
+            .elements
+            .iter()
+            .zip(state.force.iter_mut())
+            .zip(state.mode.iter_mut())
+        {
+            let b = e.alpha * g;
+            // used only while slipping, so with v != 0
+            let target = signed(v, b);
+            let (nf, nm) = element_step_at(e, *f, *mode, v, u, b, target, inv_g);
+            *f = nf;
+            *mode = nm;
+            total = total + nf;
+            if damping {
+                let dz = if nm.slips_with(v) {
+                    e.c_over_alpha_k * inv_g * (target - nf)
+                } else if (u > S::ZERO && nf >= b) || (u < S::ZERO && -nf >= b) {
+                    S::ZERO // held at the bound by a correction against v
+                } else {
+                    u
+                };
+                total = total + e.sigma1 * dz;
+            }
+        }
+        total
+    }
+}
+
+/// One element over the period: [`element_step`] with the time left for
+/// slipping counted in periods.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn element_step_at<S: Scalar>(
+    e: &ElementAt<S>,
+    f: S,
+    mode: SlipMode,
+    v: S,
+    u: S,
+    b: S,
+    target: S,
+    inv_g: S,
+) -> (S, SlipMode) {
+    let mut f = f;
+    let mut mode = mode;
+    // fraction of the period left for slipping
+    let mut left = S::ONE;
+    if !mode.slips_with(v) {
+        mode = SlipMode::Stick;
+        left = S::ZERO;
+        if u != S::ZERO {
+            // u != 0: `signed(u, x)` is sign(u) x
+            let room = b - signed(u, f);
+            let travel = e.k_h * u.abs();
+            if travel < room {
+                f = f + signed(u, travel);
+            } else {
+                let with_v = if u > S::ZERO {
+                    v > S::ZERO
+                } else {
+                    v < S::ZERO
+                };
+                if room > S::ZERO {
+                    if with_v {
+                        left = S::ONE - room / travel;
+                    }
+                    f = signed(u, b);
+                }
+                if with_v {
+                    mode = SlipMode::of_sign(v);
+                    if room <= S::ZERO {
+                        left = S::ONE;
+                    }
+                }
+            }
+        }
+    }
+    if mode != SlipMode::Stick && left > S::ZERO {
+        f = target + (f - target) * (e.c_h_over_alpha * inv_g * left).exp_neg();
+    }
+    (f.sat(e.f_max), mode)
+}
+
+impl<S: Scalar, const N: usize> FixedStepModel<S> for GmsAt<S, N> {
+    type State = GmsState<S, N>;
+
+    fn period(&self) -> f64 {
+        self.h
+    }
+
+    #[inline]
+    fn step(&self, state: &mut GmsState<S, N>, v: S) -> S {
+        match checked_velocity(v) {
+            Some(v) => self.advance(state, v, S::ZERO, true),
+            None => self.hold_force(state),
+        }
+    }
+
+    /// `sum_i F_i`, within `±Fs` (also after rounding).
+    fn hold_force(&self, state: &GmsState<S, N>) -> S {
+        let mut sum = S::ZERO;
+        for &f in &state.force {
+            sum = sum + f;
+        }
+        sum.sat(self.curve.fs())
+    }
+}
+
+/// As [`Gms`]'s observer form: sticking elements deflect with `v - c`,
+/// slipping follows the measured `v`.
+impl<S: Scalar, const N: usize> FixedStepObservable<S> for GmsAt<S, N> {
+    fn step_corrected(&self, state: &mut GmsState<S, N>, v: S, correction: S, damping: bool) -> S {
+        self.advance(state, v, correction, damping)
+    }
+
+    /// As [`Gms`]'s: `Fs + (sum_i sigma1_i + sigma2) |v|`, plus the fastest
+    /// slip's damping when `v != 0`.
+    fn force_bound(&self, v: S) -> S {
+        let slip = if v != S::ZERO {
+            self.slip_damping
+        } else {
+            S::ZERO
+        };
+        self.curve.fs() + (self.sigma1_sum + self.sigma2) * v.abs() + slip
     }
 }
 

@@ -16,7 +16,7 @@
 //! never formed where it could overflow (`sigma0 = 1e305` in `f64` still
 //! lands on the steady state).
 
-use crate::fixed_step::{period, FixedStepModel, FixedStepObservable};
+use crate::fixed_step::{checked_velocity, period, signed, FixedStepModel, FixedStepObservable};
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
 };
@@ -369,17 +369,38 @@ pub struct LuGreAtState<S> {
 }
 
 /// `(1 - e^-x) / x` for `0 <= x < 0.1` from the series
-/// `sum_n (-x)^n / (n + 1)!` to `n = 7` (truncation under
-/// `x^8 / 9! < 3e-14`): no cancellation at low speed.
+/// `sum_n (-x)^n / (n + 1)!` (no cancellation at low speed): to `n = 7`
+/// (truncation under `x^8 / 9! < 3e-14`), or to `n = 4` (under
+/// `x^5 / 6! < 1.4e-8`, a quarter of `f32`'s half unit) in a scalar that
+/// cannot tell `1 + 1e-9` from 1 (`f32`, fixed point): a test the compiler
+/// folds away.
 #[inline]
 pub(crate) fn phi_series<S: Scalar>(x: S) -> S {
     let c = |n: f64| S::from_f64(1.0 / n);
-    // 1/(n+1)! for n = 0..=7, nested
-    S::ONE
-        - x * (c(2.0)
-            - x * (c(6.0)
-                - x * (c(24.0)
-                    - x * (c(120.0) - x * (c(720.0) - x * (c(5040.0) - x * c(40320.0)))))))
+    let coarse = S::from_f64(1.0 + 1e-9) == S::ONE;
+    // 1/(n+1)! nested
+    if coarse {
+        S::ONE - x * (c(2.0) - x * (c(6.0) - x * (c(24.0) - x * c(120.0))))
+    } else {
+        S::ONE
+            - x * (c(2.0)
+                - x * (c(6.0)
+                    - x * (c(24.0)
+                        - x * (c(120.0) - x * (c(720.0) - x * (c(5040.0) - x * c(40320.0)))))))
+    }
+}
+
+/// `1 - e^-x` and `(1 - e^-x) / x` for `x >= 0`: [`phi_series`] below
+/// `x = 0.1`, [`Scalar::exp_neg`] above.
+#[inline]
+pub(crate) fn relax<S: Scalar>(x: S) -> (S, S) {
+    if x < S::from_f64(0.1) {
+        let phi = phi_series(x);
+        (x * phi, phi)
+    } else {
+        let one_minus_e = S::ONE - x.exp_neg();
+        (one_minus_e, one_minus_e / x)
+    }
 }
 
 impl<S: Scalar> LuGreAt<S> {
@@ -389,9 +410,29 @@ impl<S: Scalar> LuGreAt<S> {
         self.scale
     }
 
+    /// The Stribeck curve `g`, times the force scale.
+    pub(crate) fn curve(&self) -> &StribeckCurve<S> {
+        &self.curve
+    }
+
+    /// `sigma0 h`, times the force scale.
+    pub(crate) fn sigma0_h(&self) -> S {
+        self.sigma0_h
+    }
+
+    /// `sigma2`.
+    pub(crate) fn sigma2(&self) -> S {
+        self.sigma2
+    }
+
+    /// `Fs`, the bound on `|w|`.
+    pub(crate) fn fs(&self) -> S {
+        self.fs
+    }
+
     /// `sigma1(v)`.
     #[inline]
-    fn damping(&self, v: S) -> S {
+    pub(crate) fn damping(&self, v: S) -> S {
         if self.inv_vd_sq > S::ZERO {
             self.sigma1 * (v * v * self.inv_vd_sq).exp_neg()
         } else {
@@ -412,7 +453,8 @@ impl<S: Scalar> LuGreAt<S> {
         let p = self.sigma0_h * speed;
         let x = p * inv_g * self.inv_scale; // = sigma0 h |v| / g, finite or +inf
         let w0 = state.w;
-        let gap = v.sign() * g - w0;
+        // at v = 0 nothing moves (p = 0): the target's sign is moot
+        let gap = signed(v, g) - w0;
         let (mut w, phi) = if x < S::from_f64(0.1) {
             // gap (1 - e^-x) = p (gap / g) phi(x)
             let phi = phi_series(x);
@@ -449,11 +491,9 @@ impl<S: Scalar> FixedStepModel<S> for LuGreAt<S> {
 
     #[inline]
     fn step(&self, state: &mut LuGreAtState<S>, v: S) -> S {
-        if v.is_finite() {
-            let v = v.sat(S::VELOCITY_LIMIT);
-            self.advance(state, v, S::ZERO, true) * self.inv_scale
-        } else {
-            self.hold_force(state)
+        match checked_velocity(v) {
+            Some(v) => self.advance(state, v, S::ZERO, true) * self.inv_scale,
+            None => self.hold_force(state),
         }
     }
 

@@ -47,6 +47,7 @@
 //! let m = p.build::<f32>(); // error: N = 0 elements
 //! ```
 
+use crate::fixed_step::{checked_velocity, period, FixedStepModel, FixedStepObservable};
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
 };
@@ -146,6 +147,59 @@ impl<const N: usize> XiongParams<N> {
             sigma2: convert("sigma2", self.sigma2)?,
             fs_minus_fc: convert("fs", self.curve.fs - self.curve.fc)?,
             elements,
+        })
+    }
+
+    /// Validates and builds the fixed-step form for sample period `h` (s):
+    /// see [`XiongAt`] (`N >= 1`, checked at compile time). Besides
+    /// [`Self::build`]'s checks, rejects a bad `h` and an element whose
+    /// trial force `(sigma_i + h K_i) (v - c)` overflows the scalar at twice
+    /// the velocity limit ([`ParamError::ForceOverflow`] naming `k`).
+    ///
+    /// ```
+    /// use friction_core::{FixedStepModel, StribeckParams, XiongAtState, XiongElement, XiongParams};
+    /// let curve = StribeckParams { fc: 1.0, fs: 1.5, vs: 1e-3, exponent: 2.0 };
+    /// let e = |k: f64, lambda| XiongElement { k, sigma: k * 1e-4, lambda };
+    /// let p = XiongParams { curve, tau: 1e-2, sigma2: 0.4, elements: [e(1e5, 0.5), e(2e4, 0.5)] };
+    /// let model = p.build_at::<f32>(1e-3)?;
+    /// let mut state = XiongAtState::default();
+    /// let mut f = 0.0;
+    /// for _ in 0..1000 {
+    ///     f = model.step(&mut state, 0.1); // 0.1 m/s for 1 s at 1 kHz
+    /// }
+    /// assert!((f - (1.0 + 0.4 * 0.1)).abs() < 1e-4);
+    /// # Ok::<(), friction_core::ParamError>(())
+    /// ```
+    pub fn build_at<S: Scalar>(&self, h: f64) -> Result<XiongAt<S, N>, ParamError> {
+        const { assert!(N > 0, "the Xiong model needs at least one element") };
+        self.validate()?;
+        let h = period(h)?;
+        let curve = self.curve.build()?;
+        let fc = self.curve.fc;
+        let sum: f64 = self.elements.iter().map(|e| e.lambda).sum();
+        check_force::<S>("sigma2", self.sigma2 * S::VELOCITY_LIMIT.to_f64())?;
+        let mut elements = [ElementAt::<S>::default(); N];
+        for (out, e) in elements.iter_mut().zip(&self.elements) {
+            let lambda = e.lambda / sum;
+            convert::<S>("lambda", lambda * fc)?;
+            let scale = e.sigma + h * e.k;
+            check_force::<S>("k", scale * 2.0 * S::VELOCITY_LIMIT.to_f64())?;
+            let r = 1.0 / (1.0 + h * (e.k / e.sigma));
+            *out = ElementAt {
+                scale: convert("k", scale)?,
+                r: S::from_f64(r),
+                one_minus_r: S::from_f64(1.0 - r),
+                lambda: convert("lambda", lambda)?,
+            };
+        }
+        Ok(XiongAt {
+            curve,
+            decay: S::from_f64(libm::exp(-h / self.tau)),
+            sigma2: convert("sigma2", self.sigma2)?,
+            fs: convert("fs", self.curve.fs)?,
+            fs_minus_fc: convert("fs", self.curve.fs - self.curve.fc)?,
+            elements,
+            h,
         })
     }
 }
@@ -300,6 +354,154 @@ impl<S: Scalar, const N: usize> Observable<S> for Xiong<S, N> {
     /// `Fs + sigma2 |v|`: every `|f_i| <= lambda_i gamma <= lambda_i Fs`.
     fn force_bound(&self, v: S) -> S {
         self.curve.fs() + self.sigma2 * v.abs()
+    }
+}
+
+/// One element of [`XiongAt`]: everything its step needs, formed at build.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+struct ElementAt<S> {
+    /// `sigma_i + h K_i`.
+    scale: S,
+    /// `r_i = 1 / (1 + h K_i / sigma_i)`.
+    r: S,
+    /// `1 - r_i`.
+    one_minus_r: S,
+    /// Normalised weight.
+    lambda: S,
+}
+
+/// Xiong built for one sample period `h` ([`XiongParams::build_at`]), with
+/// the element forces `w_i = K_i z_i` as its state ([`XiongAtState`]):
+///
+/// ```text
+/// lag+ = (Fs - g(v)) + (lag - (Fs - g(v))) e^(-h/tau),   gamma+ = Fs - lag+
+/// f_i  = sat(lambda_i gamma+, w_i + (sigma_i + h K_i) (v - c))
+/// w_i+ = sat(lambda_i gamma+, r_i w_i + (1 - r_i) f_i),  r_i = 1 / (1 + h K_i / sigma_i)
+/// F    = sum_i f_i + sigma2 v
+/// ```
+///
+/// the variable-step form's step (exact lag level, implicit Euler for the
+/// elements of Xiong, Kikuuwe and Yamamoto's model; see [`Xiong`]) with
+/// `e^(-h/tau)`, `sigma_i + h K_i`, `r_i` and `1 - r_i` formed in `f64` at
+/// build time: no division, no exponential in the step. `c` is an
+/// observer's correction, 0 for the model.
+///
+/// `N` must be at least 1:
+///
+/// ```compile_fail
+/// use friction_core::{XiongParams, StribeckParams};
+/// let curve = StribeckParams { fc: 1.0, fs: 1.5, vs: 1e-3, exponent: 2.0 };
+/// let p = XiongParams::<0> { curve, tau: 1e-2, sigma2: 0.0, elements: [] };
+/// let m = p.build_at::<f32>(1e-3); // error: N = 0 elements
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct XiongAt<S, const N: usize> {
+    curve: StribeckCurve<S>,
+    /// `e^(-h/tau)`.
+    decay: S,
+    sigma2: S,
+    fs: S,
+    fs_minus_fc: S,
+    elements: [ElementAt<S>; N],
+    h: f64,
+}
+
+/// The state of [`XiongAt`]: the lag level and each element's force.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct XiongAtState<S, const N: usize> {
+    /// `Fs - gamma` (N), within `[0, Fs - Fc]`: 0 at rest.
+    pub lag: S,
+    /// Element forces `w_i = K_i z_i` (N), `|w_i| <= lambda_i gamma`.
+    pub w: [S; N],
+}
+
+impl<S: Scalar, const N: usize> Default for XiongAtState<S, N> {
+    /// At rest: `gamma = Fs`, every `w_i = 0`.
+    fn default() -> Self {
+        Self {
+            lag: S::ZERO,
+            w: [S::ZERO; N],
+        }
+    }
+}
+
+impl<S: Scalar, const N: usize> XiongAt<S, N> {
+    /// The Stribeck curve `g`.
+    pub fn curve(&self) -> &StribeckCurve<S> {
+        &self.curve
+    }
+
+    /// The frictional-lag level `gamma = Fs - lag` of a state.
+    pub fn gamma(&self, state: &XiongAtState<S, N>) -> S {
+        self.fs - state.lag
+    }
+
+    #[inline]
+    fn advance(&self, state: &mut XiongAtState<S, N>, v: S, c: S, damping: bool) -> S {
+        let u = v - c;
+        let lag_eq = self.fs - self.curve.eval_fast(v);
+        let lag = (lag_eq + (state.lag - lag_eq) * self.decay)
+            .sat(self.fs_minus_fc)
+            .max(S::ZERO);
+        state.lag = lag;
+        let gamma = self.fs - lag;
+        let mut total = self.sigma2 * v;
+        for (e, w) in self.elements.iter().zip(state.w.iter_mut()) {
+            let cap = e.lambda * gamma;
+            let f = (*w + e.scale * u).sat(cap);
+            let next = (e.r * *w + e.one_minus_r * f).sat(cap);
+            *w = next;
+            total = total + if damping { f } else { next };
+        }
+        total
+    }
+}
+
+impl<S: Scalar, const N: usize> FixedStepModel<S> for XiongAt<S, N> {
+    type State = XiongAtState<S, N>;
+
+    fn period(&self) -> f64 {
+        self.h
+    }
+
+    #[inline]
+    fn step(&self, state: &mut XiongAtState<S, N>, v: S) -> S {
+        match checked_velocity(v) {
+            Some(v) => self.advance(state, v, S::ZERO, true),
+            None => self.hold_force(state),
+        }
+    }
+
+    /// `sum_i w_i`, within `±Fs` (also after rounding).
+    fn hold_force(&self, state: &XiongAtState<S, N>) -> S {
+        let mut sum = S::ZERO;
+        for &w in &state.w {
+            sum = sum + w;
+        }
+        sum.sat(self.fs)
+    }
+}
+
+/// As [`Xiong`]'s observer form: `v - c` inside the saturation, the lag
+/// level follows the measured `v`; without damping the estimate is the
+/// elastic part `sum_i w_i+ + sigma2 v`.
+impl<S: Scalar, const N: usize> FixedStepObservable<S> for XiongAt<S, N> {
+    fn step_corrected(
+        &self,
+        state: &mut XiongAtState<S, N>,
+        v: S,
+        correction: S,
+        damping: bool,
+    ) -> S {
+        self.advance(state, v, correction, damping)
+    }
+
+    /// `Fs + sigma2 |v|`.
+    fn force_bound(&self, v: S) -> S {
+        self.fs + self.sigma2 * v.abs()
     }
 }
 
