@@ -194,6 +194,7 @@ impl Scalar for Fixed32 {
     const ONE: Self = Self(I16F16::ONE);
     const MIN_POSITIVE: Self = Self(I16F16::DELTA);
     const VELOCITY_LIMIT: Self = Self::from_bits(4 << 16);
+    const SCALES_FORCES: bool = true;
 
     /// Rounds to nearest, saturating; NaN gives 0.
     fn from_f64(x: f64) -> Self {

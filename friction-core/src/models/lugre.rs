@@ -451,14 +451,14 @@ impl<S: Scalar> LuGreAt<S> {
         // products below are ordered so that none is a tiny number, which
         // fixed point would round to a few steps
         let p = self.sigma0_h * speed;
-        let x = p * inv_g * self.inv_scale; // = sigma0 h |v| / g, finite or +inf
+        let x = (p * inv_g).rescale(self.inv_scale); // = sigma0 h |v| / g, finite or +inf
         let w0 = state.w;
         // at v = 0 nothing moves (p = 0): the target's sign is moot
         let gap = signed(v, g) - w0;
         let (mut w, phi) = if x < S::from_f64(0.1) {
             // gap (1 - e^-x) = p (gap / g) phi(x)
             let phi = phi_series(x);
-            (w0 + p * (gap * inv_g * self.inv_scale) * phi, phi)
+            (w0 + p * (gap * inv_g).rescale(self.inv_scale) * phi, phi)
         } else {
             let one_minus_e = S::ONE - x.exp_neg();
             (w0 + gap * one_minus_e, one_minus_e / x)
@@ -472,7 +472,7 @@ impl<S: Scalar> LuGreAt<S> {
         let mut f = w + self.sigma2 * v;
         if damping {
             // dz/dt = (v - c) - |v| w / g, zero while held at the bound
-            let mut dz = (v - c) - speed * (w * inv_g * self.inv_scale);
+            let mut dz = (v - c) - speed * (w * inv_g).rescale(self.inv_scale);
             if w.abs() >= self.fs && dz * w > S::ZERO {
                 dz = S::ZERO;
             }
@@ -492,25 +492,29 @@ impl<S: Scalar> FixedStepModel<S> for LuGreAt<S> {
     #[inline]
     fn step(&self, state: &mut LuGreAtState<S>, v: S) -> S {
         match checked_velocity(v) {
-            Some(v) => self.advance(state, v, S::ZERO, true) * self.inv_scale,
+            Some(v) => self
+                .advance(state, v, S::ZERO, true)
+                .rescale(self.inv_scale),
             None => self.hold_force(state),
         }
     }
 
     /// `w = sigma0 z`.
     fn hold_force(&self, state: &LuGreAtState<S>) -> S {
-        state.w * self.inv_scale
+        state.w.rescale(self.inv_scale)
     }
 }
 
 impl<S: Scalar> FixedStepObservable<S> for LuGreAt<S> {
     fn step_corrected(&self, state: &mut LuGreAtState<S>, v: S, correction: S, damping: bool) -> S {
-        self.advance(state, v, correction, damping) * self.inv_scale
+        self.advance(state, v, correction, damping)
+            .rescale(self.inv_scale)
     }
 
     fn force_bound(&self, v: S) -> S {
         let speed = v.abs();
-        (self.fs + (self.damping(v) * self.rate_factor + self.sigma2) * speed) * self.inv_scale
+        (self.fs + (self.damping(v) * self.rate_factor + self.sigma2) * speed)
+            .rescale(self.inv_scale)
     }
 }
 
