@@ -4,8 +4,9 @@
 //! feed-forward) tracks one trajectory four times against a simulated plant
 //! (inertia + LuGre friction whose parameters differ from the controller's
 //! model): without compensation, with a static Coulomb + viscous
-//! feed-forward on the measured velocity, and with the LuGre observer with
-//! and without its `sigma1 dz^/dt` term. `servo.rs` is only the embedded-hal
+//! feed-forward on the measured velocity, and with the LuGre observer (the
+//! fixed-step form built for the loop's 1 kHz) with and without its
+//! `sigma1 dz^/dt` term. `servo.rs` is only the embedded-hal
 //! glue around it. It logs the RMS tracking errors through defmt, counts
 //! the instructions of the core's steps and of one full compensated servo
 //! tick with SysTick (QEMU `-icount shift=0`), and exits non-zero if the
@@ -24,10 +25,11 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use defmt_semihosting as _;
 use friction_core::{
-    BristleParams, Compensation, Compensator, CompensatorParams, CompensatorState,
-    CoulombViscousParams, DahlParams, ElastoPlasticParams, FeedForward, FrictionModel, GmsElement,
-    GmsParams, GmsState, LuGre, LuGreParams, LuGreState, NoCompensation, Observer,
-    ResetIntegratorParams, Setpoint, SlipMode, StribeckParams, XiongElement, XiongParams,
+    AtPeriod, BristleParams, Compensation, Compensator, CompensatorParams, CompensatorState,
+    CoulombViscousParams, DahlParams, ElastoPlasticParams, FeedForward, FixedStepModel,
+    FrictionModel, GmsElement, GmsParams, GmsState, LuGre, LuGreAt, LuGreAtState, LuGreParams,
+    LuGreState, NoCompensation, Observer, ResetIntegratorParams, Setpoint, SlipMode,
+    StribeckParams, XiongElement, XiongParams,
 };
 use hw::{Plant, SimDrive, SimEncoder};
 use servo::Servo;
@@ -148,7 +150,9 @@ fn ticks(n: u32, mut f: impl FnMut()) -> u32 {
 fn count_instructions(
     model: &LuGre<f32>,
     observer: &Observer<LuGre<f32>, f32>,
-    servo: &Compensator<f32, Observer<LuGre<f32>, f32>>,
+    model_at: &LuGreAt<f32>,
+    observer_at: &Observer<LuGreAt<f32>, f32>,
+    servo: &Compensator<f32, AtPeriod<Observer<LuGreAt<f32>, f32>>>,
 ) {
     const N: u32 = 1024;
     let with_loop = ticks(N, || {
@@ -188,6 +192,16 @@ fn count_instructions(
     let obs = ticks(N, || {
         i = (i + 1) & 63;
         black_box(observer.step(&mut z, black_box(vs[i]), black_box(1e-5), black_box(1e-3)));
+    });
+    let mut w = LuGreAtState::default();
+    let at = ticks(N, || {
+        i = (i + 1) & 63;
+        black_box(FixedStepModel::step(model_at, &mut w, black_box(vs[i])));
+    });
+    let mut w = LuGreAtState::default();
+    let obs_at = ticks(N, || {
+        i = (i + 1) & 63;
+        black_box(observer_at.step_at(&mut w, black_box(vs[i]), black_box(1e-5)));
     });
     // one full servo tick (observer + PID): positions 1 mrad around a sine
     // whose differences sweep the velocity through zero, reference 10 µrad off
@@ -327,7 +341,9 @@ fn count_instructions(
     for (name, t) in [
         ("LuGre", measure(model, &vs)),
         ("LuGre observer", obs),
-        ("servo tick (observer + PID)", tick),
+        ("LuGre fixed-step", at),
+        ("LuGre fixed-step observer", obs_at),
+        ("servo tick (fixed-step observer + PID)", tick),
         ("Dahl", measure(&dahl, &vs)),
         ("elasto-plastic", measure(&ep, &vs)),
         ("elasto-plastic worst case", ep_worst),
@@ -363,8 +379,10 @@ fn main() -> ! {
     cp.SYST.clear_current();
     cp.SYST.enable_counter();
 
-    let (Ok(model), Ok(coulomb)) = (
+    // the loop runs at one rate: the fixed-step form, built for H
+    let (Ok(model), Ok(model_at), Ok(coulomb)) = (
         NOMINAL.build::<f32>(),
+        NOMINAL.build_at::<f32>(H as f64),
         CoulombViscousParams {
             fc: NOMINAL.curve.fc,
             sigma2: NOMINAL.sigma2,
@@ -373,20 +391,23 @@ fn main() -> ! {
     ) else {
         fail("controller parameters")
     };
-    let Ok(observer) = Observer::new(model, OBSERVER_GAIN) else {
+    let (Ok(observer), Ok(observer_at)) = (
+        Observer::new(model, OBSERVER_GAIN),
+        Observer::new(model_at, OBSERVER_GAIN),
+    ) else {
         fail("observer gain")
     };
     let p = controller();
     let (Ok(c_none), Ok(c_coul), Ok(c_obs), Ok(c_plain)) = (
         p.build::<f32, _>(NoCompensation),
         p.build(FeedForward(coulomb)),
-        p.build(observer),
-        p.build(observer.with_damping(false)),
+        p.build(AtPeriod(observer_at)),
+        p.build(AtPeriod(observer_at.with_damping(false))),
     ) else {
         fail("controller gains")
     };
 
-    count_instructions(&model, &observer, &c_obs);
+    count_instructions(&model, &observer, &model_at, &observer_at, &c_obs);
 
     let none = run(c_none);
     let coul = run(c_coul);
