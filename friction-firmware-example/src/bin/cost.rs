@@ -33,6 +33,7 @@
 
 #![no_std]
 #![no_main]
+#![deny(unsafe_code)]
 
 use core::hint::black_box;
 use cortex_m::peripheral::{syst::SystClkSource, SYST};
@@ -126,6 +127,16 @@ impl Form {
             Form::Fixed => "fixed",
         }
     }
+
+    /// Appended to the row's name in the `cost` and `cost-worst` lines, so
+    /// both forms of a model have their own line (the detail line and the
+    /// budgets name the model and the form separately).
+    fn suffix(self) -> &'static str {
+        match self {
+            Form::Variable => "",
+            Form::Fixed => "-fixed",
+        }
+    }
 }
 
 /// An empty step with the same signature: the measurement overhead.
@@ -157,6 +168,55 @@ fn replay<M, St: Copy, I: Copy, O>(
     (t as f32 - base as f32) * per_tick / REPS as f32
 }
 
+/// Bytes of stack below the caller's that `step` uses over `n` inputs from
+/// `start`, less the same for the empty step: the stack is painted below
+/// the stack pointer, the steps run, and the lowest overwritten word marks
+/// the depth. No interrupt is enabled, so only these calls touch it.
+fn stack_use<M, St: Copy, I: Copy, O>(
+    model: &M,
+    step: impl Fn(&M, &mut St, I) -> O + Copy,
+    start: St,
+    input: impl Fn(usize) -> I + Copy,
+    n: usize,
+) -> u32 {
+    let used = stack_depth(model, step, start, input, n);
+    let empty = stack_depth(model, step_none, start, input, n);
+    used.saturating_sub(empty)
+}
+
+#[inline(never)]
+#[allow(unsafe_code)]
+fn stack_depth<M, St: Copy, I: Copy, O>(
+    model: &M,
+    step: impl Fn(&M, &mut St, I) -> O,
+    start: St,
+    input: impl Fn(usize) -> I,
+    n: usize,
+) -> u32 {
+    const SPAN: u32 = 16 * 1024;
+    const PAINT: u32 = 0xC057_C057;
+    let sp = cortex_m::register::msp::read() & !3;
+    let low = sp - SPAN;
+    let mut a = low;
+    while a < sp {
+        // SAFETY: [low, sp) is free stack inside the 4 MiB RAM (the stack
+        // starts at its top and nothing else lives within 16 KiB of it);
+        // nothing below the stack pointer is live, and no interrupt runs.
+        unsafe { core::ptr::write_volatile(a as *mut u32, PAINT) };
+        a += 4;
+    }
+    let mut s = start;
+    for k in 0..n {
+        black_box(step(black_box(model), &mut s, black_box(input(k))));
+    }
+    let mut a = low;
+    // SAFETY: as above, reading the words just painted.
+    while a < sp && unsafe { core::ptr::read_volatile(a as *const u32) } == PAINT {
+        a += 4;
+    }
+    sp - a
+}
+
 /// Where the worst step was found.
 #[derive(Clone, Copy)]
 enum Where {
@@ -169,12 +229,13 @@ enum Where {
 fn row<M, St: Copy + Default, I: Copy, O>(
     per_tick: f32,
     name: &str,
+    function: &str,
     scalar: &str,
     form: Form,
     model: &M,
     step: impl Fn(&M, &mut St, I) -> O + Copy,
-    sweep: impl Fn(usize) -> I,
-    stress: impl Fn(usize) -> I,
+    sweep: impl Fn(usize) -> I + Copy,
+    stress: impl Fn(usize) -> I + Copy,
     stress_len: usize,
 ) -> Row {
     // every step of the sweep (from rest) and of the stress sequence (from
@@ -217,15 +278,30 @@ fn row<M, St: Copy + Default, I: Copy, O>(
         black_box(step_none(black_box(model), &mut s, black_box(v)));
     });
     let straight = (t as f32 - base as f32) * per_tick / SWEEP_STEPS as f32;
+    let stack = stack_use(model, step, St::default(), sweep, SWEEP_STEPS).max(stack_use(
+        model,
+        step,
+        St::default(),
+        stress,
+        stress_len,
+    ));
     let (model_bytes, state_bytes) = (core::mem::size_of::<M>(), core::mem::size_of::<St>());
-    hprintln!("cost {} {} {} {}", name, scalar, CORE, round(avg));
-    hprintln!("cost-worst {} {} {} {}", name, scalar, CORE, round(worst));
+    let suffix = form.suffix();
+    hprintln!("cost {}{} {} {} {}", name, suffix, scalar, CORE, round(avg));
+    hprintln!(
+        "cost-worst {}{} {} {} {}",
+        name,
+        suffix,
+        scalar,
+        CORE,
+        round(worst)
+    );
     let (what, index) = match at {
         Where::Sweep(k) => ("sweep", k),
         Where::Stress(k) => ("stress", k),
     };
     hprintln!(
-        "cost-detail {} {} {} {} avg={} worst={} ratio={} worst-at={}:{} straight-avg={} model-bytes={} state-bytes={}",
+        "cost-detail {} {} {} {} avg={} worst={} ratio={} worst-at={}:{} straight-avg={} model-bytes={} state-bytes={} stack-bytes={} fn={}",
         name,
         scalar,
         CORE,
@@ -237,7 +313,9 @@ fn row<M, St: Copy + Default, I: Copy, O>(
         index,
         tenths(straight),
         model_bytes,
-        state_bytes
+        state_bytes,
+        stack,
+        function
     );
     Row { avg, worst }
 }
@@ -316,6 +394,7 @@ macro_rules! row {
         row(
             $pt,
             $name,
+            stringify!($step),
             $scalar,
             $form,
             $model,
@@ -559,6 +638,7 @@ fn main() -> ! {
     let tick = row(
         pt,
         "servo-lugre",
+        "step_servo_lugre_f32",
         "f32",
         v,
         &servo,
