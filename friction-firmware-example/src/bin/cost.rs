@@ -429,6 +429,9 @@ step_fn!(step_xiong1_f32, Xiong<f32, 1>, XiongState<f32, 1>, f32 => f32, |m, s, 
 step_fn!(step_xiong4_f32, Xiong<f32, 4>, XiongState<f32, 4>, f32 => f32, |m, s, v| m.step(s, v, black_box(H)));
 step_fn!(step_xiong16_f32, Xiong<f32, 16>, XiongState<f32, 16>, f32 => f32,
     |m, s, v| m.step(s, v, black_box(H)));
+// the parts the steps spend most on (libm): arguments as in LuGre's step
+step_fn!(step_libm_expf_f32, (), (), f32 => f32, |_m, _s, v| libm::expf(v));
+step_fn!(step_libm_expm1f_f32, (), (), f32 => f32, |_m, _s, v| libm::expm1f(v));
 step_fn!(step_servo_lugre_f32, Servo, ServoState, (f32, Setpoint<f32>) => f32,
     |m, s, input| m.tick(s, input.0, input.1).command);
 
@@ -588,6 +591,16 @@ fn main() -> ! {
     .build::<f32, _>(observer)
     .unwrap_or_else(|_| fail("servo gains"));
 
+    // One line per row. Still to come, one `step_fn!` and one `row!` each:
+    // - the fixed-step form, once the core has `build_at(h)`:
+    //     step_fn!(step_lugre_fixed_f32, LuGreAt<f32>, LuGreState<f32>, f32 => f32,
+    //         |m, s, v| m.step(s, v));
+    //     row!(pt, "lugre", "f32", Form::Fixed, &NOMINAL.build_at::<f32>(1e-3)..,
+    //         step_lugre_fixed_f32, f32);
+    //   (the `cost` line reads `lugre-fixed`; budgets.txt keys it as `lugre
+    //   f32 cortex-m4f fixed`);
+    // - a fixed-point scalar `Q`: the same with `Q` for `f32` and its label
+    //   (budgets.txt holds `fixed` as a stand-in for that label).
     let v = Form::Variable;
     row!(pt, "coulomb", "f32", v, &coulomb, step_coulomb_f32, f32);
     row!(pt, "stribeck", "f32", v, &stribeck, step_stribeck_f32, f32);
@@ -650,6 +663,34 @@ fn main() -> ! {
     if !(tick.avg > 0.0 && tick.worst >= tick.avg) {
         fail("implausible servo tick count");
     }
+    // the parts: e^(-(v/vs)^2) of the Stribeck curve and e^(-a h) - 1 of the
+    // relaxation (a h = sigma0 |v| h / g, about 0.01 on the sweep)
+    let stribeck_arg = |v: f64| -(v / curve.vs) * (v / curve.vs);
+    let relax_arg = |v: f64| -(NOMINAL.sigma0 * libm::fabs(v) * H as f64 / curve.fc).min(1.0);
+    row(
+        pt,
+        "libm-expf",
+        "step_libm_expf_f32",
+        "f32",
+        v,
+        &(),
+        step_libm_expf_f32,
+        |k| stribeck_arg(sweep_velocity(k)) as f32,
+        |k| stribeck_arg(stress_velocity(k)) as f32,
+        STRESS_LEN,
+    );
+    row(
+        pt,
+        "libm-expm1f",
+        "step_libm_expm1f_f32",
+        "f32",
+        v,
+        &(),
+        step_libm_expm1f_f32,
+        |k| relax_arg(sweep_velocity(k)) as f32,
+        |k| relax_arg(stress_velocity(k)) as f32,
+        STRESS_LEN,
+    );
     hprintln!("cost-done");
     debug::exit(EXIT_SUCCESS);
     loop {
