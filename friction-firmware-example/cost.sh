@@ -8,12 +8,13 @@
 #
 # Needs qemu-system-arm, the two thumb targets and the rustup component
 # llvm-tools (llvm-nm, llvm-objdump). QEMU_TIMEOUT (s, default 300) bounds
-# each run. Raw output goes to target/cost/.
+# each run. Raw output goes to target/cost/ (under CARGO_TARGET_DIR if set).
 set -euo pipefail
 cd "$(dirname "$0")"
 
 limit="${QEMU_TIMEOUT:-300}"
-out=target/cost
+tdir="${CARGO_TARGET_DIR:-target}"
+out="$tdir/cost"
 mkdir -p "$out"
 host=$(rustc -vV | sed -n 's/^host: //p')
 tools="$(rustc --print sysroot)/lib/rustlib/$host/bin"
@@ -32,7 +33,7 @@ rows=(
 for r in "${rows[@]}"; do
   IFS='|' read -r target machine core <<<"$r"
   cargo build --release --bin cost --target "$target" --quiet
-  elf="target/$target/release/cost"
+  elf="$tdir/$target/release/cost"
   # shellcheck disable=SC2086 # $machine is two options
   if ! timeout "$limit" qemu-system-arm $machine -nographic \
     -semihosting-config enable=on,target=native -icount shift=0 \
