@@ -12,7 +12,8 @@
 //! ```text
 //! cost MODEL SCALAR CORE AVG            average over the sweep, rounded
 //! cost-worst MODEL SCALAR CORE WORST    the most expensive single step found
-//! cost-detail MODEL SCALAR CORE FORM avg=.. worst=.. ratio=.. worst-at=.. model-bytes=.. state-bytes=..
+//! cost-detail MODEL SCALAR CORE FORM avg=.. worst=.. ratio=.. worst-at=..
+//!     straight-avg=.. model-bytes=.. state-bytes=.. stack-bytes=.. fn=step_..
 //! ```
 //!
 //! - every step is replayed 64 times from its own starting state and
@@ -25,7 +26,10 @@
 //!   reversing every step and held, from rest);
 //! - the call overhead (loop, state copy, call and return of the same
 //!   non-inlined wrapper around an empty body) is measured and subtracted;
-//!   inputs and results pass through `black_box`.
+//!   inputs and results pass through `black_box`;
+//! - SysTick is 24 bits: one measurement must stay under 2^24 ticks (671 M
+//!   instructions, 10 M per replayed step); the dearest today, bristle on
+//!   the M0, is 0.8 M a step.
 //!
 //! Each row's step is one `#[inline(never)]` function named `step_<row>`, so
 //! `cost.sh` can size its code (and what it calls) in the ELF. Adding a row
