@@ -563,6 +563,14 @@ fn main() -> ! {
     }
     .build::<f32>()
     .unwrap_or_else(|_| fail("elasto-plastic parameters"));
+    // the narrowest transition zone of the former worst case (z_ba = 0.99
+    // Fc/sigma0): same step, the parameter set at the edge of its range
+    let elasto_plastic_z99 = ElastoPlasticParams {
+        lugre: NOMINAL,
+        z_ba: 0.99 * curve.fc / NOMINAL.sigma0,
+    }
+    .build::<f32>()
+    .unwrap_or_else(|_| fail("elasto-plastic parameters"));
     let reset = ResetIntegratorParams {
         sigma0: NOMINAL.sigma0,
         sigma1: NOMINAL.sigma1,
@@ -625,6 +633,15 @@ fn main() -> ! {
         "f32",
         v,
         &elasto_plastic,
+        step_elasto_plastic_f32,
+        f32
+    );
+    row!(
+        pt,
+        "elasto-plastic-z99",
+        "f32",
+        v,
+        &elasto_plastic_z99,
         step_elasto_plastic_f32,
         f32
     );
