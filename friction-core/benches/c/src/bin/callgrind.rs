@@ -1,0 +1,29 @@
+//! Steps the Rust and the C LuGre step over the same sweep, `ROUNDS` x 1024
+//! steps each, for an instruction count under callgrind (`run.sh`): the
+//! inclusive counts of `rust_step` and `c_step` divided by the step count.
+use friction_bench_c::{c_step, rust_step, velocities, CLuGre, H, PARAMS};
+use friction_core::LuGreState;
+use std::hint::black_box;
+
+/// Rounds over the 1024-step sweep.
+const ROUNDS: usize = 100;
+
+fn main() {
+    let rust = PARAMS.build::<f64>().expect("canudas1995 builds");
+    let c = CLuGre::new(&PARAMS).expect("exponent 2");
+    let vs = velocities();
+    let (mut s, mut z) = (LuGreState::default(), 0.0);
+    let (mut fr, mut fc) = (0.0, 0.0);
+    for _ in 0..ROUNDS {
+        for &v in &vs {
+            fr += rust_step(black_box(&rust), &mut s, black_box(v), black_box(H));
+        }
+    }
+    for _ in 0..ROUNDS {
+        for &v in &vs {
+            fc += c_step(black_box(&c), &mut z, black_box(v), black_box(H));
+        }
+    }
+    println!("steps {} (each)", ROUNDS * vs.len());
+    println!("force sums: rust {fr:.9e}, c {fc:.9e}");
+}

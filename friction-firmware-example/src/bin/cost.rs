@@ -1,0 +1,725 @@
+//! The Cortex-M cost table: instructions per step of every model of the
+//! core, under QEMU with `-icount shift=0` (one instruction per virtual
+//! nanosecond, so SysTick advances with executed instructions).
+//!
+//! Built for `thumbv7em-none-eabihf` (f32 in the FPU, run on `mps2-an386`, a
+//! Cortex-M4F) and `thumbv6m-none-eabi` (Thumb-1 code with soft-float f32,
+//! run on `mps2-an385`, a Cortex-M3 that executes Thumb-1 code unchanged).
+//! `cost.sh` builds and runs both and checks the budgets.
+//!
+//! For each row it prints, through semihosting:
+//!
+//! ```text
+//! cost MODEL SCALAR CORE AVG            average over the sweep, rounded
+//! cost-worst MODEL SCALAR CORE WORST    the most expensive single step found
+//! cost-detail MODEL SCALAR CORE FORM avg=.. worst=.. ratio=.. worst-at=..
+//!     straight-avg=.. model-bytes=.. state-bytes=.. stack-bytes=.. fn=step_..
+//! ```
+//!
+//! - every step is replayed 64 times from its own starting state and
+//!   counted alone;
+//! - the average is over 1024 steps of a sine sweep through zero velocity
+//!   (0.01 rad/s, 32 steps a period at 1 kHz), from the state at rest
+//!   (`straight-avg` is the same sweep run straight through, a cross-check);
+//! - the worst case is the largest single step of that sweep and of a
+//!   stress sequence (velocities from 1e-4 rad/s to beyond the 1e6 clamp,
+//!   reversing every step and held, from rest);
+//! - the call overhead (loop, state copy, call and return of the same
+//!   non-inlined wrapper around an empty body) is measured and subtracted;
+//!   inputs and results pass through `black_box`;
+//! - SysTick is 24 bits: one measurement must stay under 2^24 ticks (671 M
+//!   instructions, 10 M per replayed step); the dearest today, bristle on
+//!   the M0, is 0.8 M a step.
+//!
+//! Each row's step is one `#[inline(never)]` function named `step_<row>`, so
+//! `cost.sh` can size its code (and what it calls) in the ELF. Adding a row
+//! is one `step_fn!` line and one `row!` line.
+
+#![no_std]
+#![no_main]
+#![deny(unsafe_code)]
+
+use core::hint::black_box;
+use cortex_m::peripheral::{syst::SystClkSource, SYST};
+use cortex_m_rt::entry;
+use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
+use cortex_m_semihosting::hprintln;
+use friction_core::{
+    Bristle, BristleParams, BristleState, Compensator, CompensatorParams, CompensatorState,
+    CoulombViscous, CoulombViscousParams, Dahl, DahlParams, DahlState, ElastoPlastic,
+    ElastoPlasticParams, FrictionModel, Gms, GmsElement, GmsParams, GmsState, LuGre, LuGreParams,
+    LuGreState, Observer, ResetIntegrator, ResetIntegratorParams, ResetIntegratorState, Scalar,
+    Setpoint, StribeckMap, StribeckMapParams, Xiong, XiongElement, XiongParams, XiongState,
+};
+
+/// The controller's model: Olsson et al. 1998, Table 2 (N m, rad).
+const NOMINAL: LuGreParams = LuGreParams::OLSSON_1998;
+/// Step length of the variable-step form (1 kHz), passed through `black_box`.
+const H: f32 = 1e-3;
+/// Observer gain (1/s) and the position error it sees in the observer row.
+const OBSERVER_GAIN: f64 = 200.0;
+const OBSERVER_ERROR: f32 = 1e-5;
+
+/// Steps of the average.
+const SWEEP_STEPS: usize = 1024;
+/// Repetitions of a replayed step (one SysTick tick is 40 instructions, so
+/// the worst case is resolved to better than one instruction).
+const REPS: u32 = 64;
+/// Magnitudes (rad/s) of the stress sequence; 1e7 is clamped to 1e6.
+const STRESS: [f64; 14] = [
+    1e-4, 1e-3, 3e-3, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0, 50.0, 1e3, 1e6, 1e7,
+];
+/// Signs of the stress sequence at each magnitude: reversing every step,
+/// then held.
+const PATTERN: [f64; 6] = [1.0, -1.0, 1.0, 1.0, -1.0, -1.0];
+
+/// The core label from the target the binary was built for.
+const CORE: &str = match env!("COST_TARGET").as_bytes() {
+    b"thumbv7em-none-eabihf" => "cortex-m4f",
+    b"thumbv6m-none-eabi" => "cortex-m0",
+    _ => "unknown-core",
+};
+
+/// SysTick ticks spent by `f`, `n` times (counting down, 24 bits).
+fn ticks(n: u32, mut f: impl FnMut()) -> u32 {
+    let start = SYST::get_current();
+    for _ in 0..n {
+        f();
+    }
+    start.wrapping_sub(SYST::get_current()) & 0x00FF_FFFF
+}
+
+/// Instructions per SysTick tick, from 16 x 16384 NOPs against the same
+/// empty loop (40 under `-icount shift=0`: SysTick runs at the 25 MHz
+/// system clock and each instruction takes 1 ns of virtual time).
+fn calibrate() -> Option<f32> {
+    const N: u32 = 16_384;
+    let empty = ticks(N, || {
+        for _ in 0..16 {
+            black_box(());
+        }
+    });
+    let nops = ticks(N, || {
+        for _ in 0..16 {
+            cortex_m::asm::nop();
+        }
+    });
+    let t = nops.checked_sub(empty).filter(|&t| t > 0)?;
+    let per_tick = (16 * N) as f32 / t as f32;
+    // the calibration itself is quantised to a tick: snap to the integer
+    let rounded = (per_tick + 0.5) as u32 as f32;
+    Some(if (per_tick - rounded).abs() < 0.01 * rounded {
+        rounded
+    } else {
+        per_tick
+    })
+}
+
+/// The form of a step: `step(&mut state, v, h)` (variable) or, once the
+/// core has it, `build_at(h)` then `step(&mut state, v)` (fixed).
+#[derive(Clone, Copy)]
+enum Form {
+    Variable,
+    #[allow(dead_code)] // the fixed-step rows come with `build_at(h)`
+    Fixed,
+}
+
+impl Form {
+    fn name(self) -> &'static str {
+        match self {
+            Form::Variable => "variable",
+            Form::Fixed => "fixed",
+        }
+    }
+
+    /// Appended to the row's name in the `cost` and `cost-worst` lines, so
+    /// both forms of a model have their own line (the detail line and the
+    /// budgets name the model and the form separately).
+    fn suffix(self) -> &'static str {
+        match self {
+            Form::Variable => "",
+            Form::Fixed => "-fixed",
+        }
+    }
+}
+
+/// An empty step with the same signature: the measurement overhead.
+#[inline(never)]
+fn step_none<M, St, I>(_: &M, state: &mut St, input: I) -> I {
+    black_box(state);
+    input
+}
+
+/// Instructions per call of `step` over `reps` calls from a copy of `start`
+/// with input `input`, less the same with the empty step.
+fn replay<M, St: Copy, I: Copy, O>(
+    per_tick: f32,
+    model: &M,
+    step: impl Fn(&M, &mut St, I) -> O,
+    start: St,
+    input: I,
+) -> f32 {
+    let t = ticks(REPS, || {
+        let mut s = black_box(start);
+        black_box(step(black_box(model), &mut s, black_box(input)));
+        black_box(&s);
+    });
+    let base = ticks(REPS, || {
+        let mut s = black_box(start);
+        black_box(step_none(black_box(model), &mut s, black_box(input)));
+        black_box(&s);
+    });
+    (t as f32 - base as f32) * per_tick / REPS as f32
+}
+
+/// Bytes of stack below the caller's that `step` uses over `n` inputs from
+/// `start`, less the same for the empty step: the stack is painted below
+/// the stack pointer, the steps run, and the lowest overwritten word marks
+/// the depth. No interrupt is enabled, so only these calls touch it.
+fn stack_use<M, St: Copy, I: Copy, O>(
+    model: &M,
+    step: impl Fn(&M, &mut St, I) -> O + Copy,
+    start: St,
+    input: impl Fn(usize) -> I + Copy,
+    n: usize,
+) -> u32 {
+    let used = stack_depth(model, step, start, input, n);
+    let empty = stack_depth(model, step_none, start, input, n);
+    used.saturating_sub(empty)
+}
+
+#[inline(never)]
+#[allow(unsafe_code)]
+fn stack_depth<M, St: Copy, I: Copy, O>(
+    model: &M,
+    step: impl Fn(&M, &mut St, I) -> O,
+    start: St,
+    input: impl Fn(usize) -> I,
+    n: usize,
+) -> u32 {
+    const SPAN: u32 = 16 * 1024;
+    const PAINT: u32 = 0xC057_C057;
+    let sp = cortex_m::register::msp::read() & !3;
+    let low = sp - SPAN;
+    let mut a = low;
+    while a < sp {
+        // SAFETY: [low, sp) is free stack inside the 4 MiB RAM (the stack
+        // starts at its top and nothing else lives within 16 KiB of it);
+        // nothing below the stack pointer is live, and no interrupt runs.
+        unsafe { core::ptr::write_volatile(a as *mut u32, PAINT) };
+        a += 4;
+    }
+    let mut s = start;
+    for k in 0..n {
+        black_box(step(black_box(model), &mut s, black_box(input(k))));
+    }
+    let mut a = low;
+    // SAFETY: as above, reading the words just painted.
+    while a < sp && unsafe { core::ptr::read_volatile(a as *const u32) } == PAINT {
+        a += 4;
+    }
+    sp - a
+}
+
+/// Where the worst step was found.
+#[derive(Clone, Copy)]
+enum Where {
+    Sweep(usize),
+    Stress(usize),
+}
+
+/// Measures one row and prints its lines.
+#[allow(clippy::too_many_arguments)]
+fn row<M, St: Copy + Default, I: Copy, O>(
+    per_tick: f32,
+    name: &str,
+    function: &str,
+    scalar: &str,
+    form: Form,
+    model: &M,
+    step: impl Fn(&M, &mut St, I) -> O + Copy,
+    sweep: impl Fn(usize) -> I + Copy,
+    stress: impl Fn(usize) -> I + Copy,
+    stress_len: usize,
+) -> Row {
+    // every step of the sweep (from rest) and of the stress sequence (from
+    // rest), replayed from its own starting state: the average is over the
+    // sweep, the worst over both
+    let (mut sum, mut worst, mut at) = (0.0f32, f32::MIN, Where::Sweep(0));
+    let mut s = St::default();
+    for k in 0..SWEEP_STEPS {
+        let v = sweep(k);
+        let c = replay(per_tick, model, step, s, v);
+        sum += c;
+        if c > worst {
+            (worst, at) = (c, Where::Sweep(k));
+        }
+        step(model, &mut s, v);
+    }
+    let avg = sum / SWEEP_STEPS as f32;
+    let mut s = St::default();
+    for k in 0..stress_len {
+        let v = stress(k);
+        let c = replay(per_tick, model, step, s, v);
+        if c > worst {
+            (worst, at) = (c, Where::Stress(k));
+        }
+        step(model, &mut s, v);
+    }
+    // cross-check: the sweep run straight through (no replay, no copy)
+    let mut s = St::default();
+    let mut k = 0;
+    let t = ticks(SWEEP_STEPS as u32, || {
+        let v = sweep(k);
+        k += 1;
+        black_box(step(black_box(model), &mut s, black_box(v)));
+    });
+    let mut s = St::default();
+    k = 0;
+    let base = ticks(SWEEP_STEPS as u32, || {
+        let v = sweep(k);
+        k += 1;
+        black_box(step_none(black_box(model), &mut s, black_box(v)));
+    });
+    let straight = (t as f32 - base as f32) * per_tick / SWEEP_STEPS as f32;
+    let stack = stack_use(model, step, St::default(), sweep, SWEEP_STEPS).max(stack_use(
+        model,
+        step,
+        St::default(),
+        stress,
+        stress_len,
+    ));
+    let (model_bytes, state_bytes) = (core::mem::size_of::<M>(), core::mem::size_of::<St>());
+    let suffix = form.suffix();
+    hprintln!("cost {}{} {} {} {}", name, suffix, scalar, CORE, round(avg));
+    hprintln!(
+        "cost-worst {}{} {} {} {}",
+        name,
+        suffix,
+        scalar,
+        CORE,
+        round(worst)
+    );
+    let (what, index) = match at {
+        Where::Sweep(k) => ("sweep", k),
+        Where::Stress(k) => ("stress", k),
+    };
+    hprintln!(
+        "cost-detail {} {} {} {} avg={} worst={} ratio={} worst-at={}:{} straight-avg={} model-bytes={} state-bytes={} stack-bytes={} fn={}",
+        name,
+        scalar,
+        CORE,
+        form.name(),
+        tenths(avg),
+        tenths(worst),
+        hundredths(worst / avg),
+        what,
+        index,
+        tenths(straight),
+        model_bytes,
+        state_bytes,
+        stack,
+        function
+    );
+    Row { avg, worst }
+}
+
+/// What a row measured.
+struct Row {
+    avg: f32,
+    worst: f32,
+}
+
+fn round(x: f32) -> i32 {
+    if x < 0.0 {
+        (x - 0.5) as i32
+    } else {
+        (x + 0.5) as i32
+    }
+}
+
+/// `x` with one decimal, without float formatting (smaller on Thumb-1).
+struct Fixed(i32, u32);
+
+impl core::fmt::Display for Fixed {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let (v, d) = (self.0, self.1);
+        let p = 10i32.pow(d);
+        let sign = if v < 0 { "-" } else { "" };
+        let a = v.unsigned_abs();
+        write!(
+            f,
+            "{}{}.{:0w$}",
+            sign,
+            a / p as u32,
+            a % p as u32,
+            w = d as usize
+        )
+    }
+}
+
+fn tenths(x: f32) -> Fixed {
+    Fixed(round(10.0 * x), 1)
+}
+
+fn hundredths(x: f32) -> Fixed {
+    Fixed(round(100.0 * x), 2)
+}
+
+/// The sweep: `0.01 sin(0.1963 k)` rad/s, two periods in 64 steps, repeated.
+fn sweep_velocity(k: usize) -> f64 {
+    0.01 * libm::sin((k % 64) as f64 * 0.1963)
+}
+
+/// Step `k` of the stress sequence.
+fn stress_velocity(k: usize) -> f64 {
+    let m = STRESS.get(k / PATTERN.len()).copied().unwrap_or(0.0);
+    let s = PATTERN.get(k % PATTERN.len()).copied().unwrap_or(1.0);
+    m * s
+}
+
+const STRESS_LEN: usize = STRESS.len() * PATTERN.len();
+
+/// One non-inlined step function per row: `step_fn!(name, Model, State, Input
+/// => Output, |model, state, input| body)`.
+macro_rules! step_fn {
+    ($name:ident, $model:ty, $state:ty, $input:ty => $output:ty, |$m:ident, $s:ident, $v:ident| $body:expr) => {
+        #[inline(never)]
+        fn $name($m: &$model, $s: &mut $state, $v: $input) -> $output {
+            $body
+        }
+    };
+}
+
+/// A model row stepped with a scalar velocity: `row!(per_tick, "name",
+/// "scalar", Form, &model, step_fn, Scalar)`.
+macro_rules! row {
+    ($pt:expr, $name:expr, $scalar:expr, $form:expr, $model:expr, $step:expr, $S:ty) => {
+        row(
+            $pt,
+            $name,
+            stringify!($step),
+            $scalar,
+            $form,
+            $model,
+            $step,
+            |k| <$S as Scalar>::from_f64(sweep_velocity(k)),
+            |k| <$S as Scalar>::from_f64(stress_velocity(k)),
+            STRESS_LEN,
+        )
+    };
+}
+
+type LuGreObserver = Observer<LuGre<f32>, f32>;
+type Servo = Compensator<f32, LuGreObserver>;
+type ServoState = CompensatorState<f32, LuGreState<f32>>;
+
+step_fn!(step_coulomb_f32, CoulombViscous<f32>, (), f32 => f32, |m, s, v| m.step(s, v, black_box(H)));
+step_fn!(step_stribeck_f32, StribeckMap<f32>, (), f32 => f32, |m, s, v| m.step(s, v, black_box(H)));
+step_fn!(step_lugre_f32, LuGre<f32>, LuGreState<f32>, f32 => f32, |m, s, v| m.step(s, v, black_box(H)));
+step_fn!(step_lugre_observer_f32, LuGreObserver, LuGreState<f32>, f32 => f32,
+    |m, s, v| m.step(s, v, black_box(OBSERVER_ERROR), black_box(H)));
+step_fn!(step_dahl_f32, Dahl<f32>, DahlState<f32>, f32 => f32, |m, s, v| m.step(s, v, black_box(H)));
+step_fn!(step_elasto_plastic_f32, ElastoPlastic<f32>, LuGreState<f32>, f32 => f32,
+    |m, s, v| m.step(s, v, black_box(H)));
+step_fn!(step_reset_integrator_f32, ResetIntegrator<f32>, ResetIntegratorState<f32>, f32 => f32,
+    |m, s, v| m.step(s, v, black_box(H)));
+step_fn!(step_bristle8_f32, Bristle<f32, 8>, BristleState<f32, 8>, f32 => f32,
+    |m, s, v| m.step(s, v, black_box(H)));
+step_fn!(step_gms1_f32, Gms<f32, 1>, GmsState<f32, 1>, f32 => f32, |m, s, v| m.step(s, v, black_box(H)));
+step_fn!(step_gms4_f32, Gms<f32, 4>, GmsState<f32, 4>, f32 => f32, |m, s, v| m.step(s, v, black_box(H)));
+step_fn!(step_gms16_f32, Gms<f32, 16>, GmsState<f32, 16>, f32 => f32, |m, s, v| m.step(s, v, black_box(H)));
+step_fn!(step_xiong1_f32, Xiong<f32, 1>, XiongState<f32, 1>, f32 => f32, |m, s, v| m.step(s, v, black_box(H)));
+step_fn!(step_xiong4_f32, Xiong<f32, 4>, XiongState<f32, 4>, f32 => f32, |m, s, v| m.step(s, v, black_box(H)));
+step_fn!(step_xiong16_f32, Xiong<f32, 16>, XiongState<f32, 16>, f32 => f32,
+    |m, s, v| m.step(s, v, black_box(H)));
+// the parts the steps spend most on (libm): arguments as in LuGre's step
+step_fn!(step_libm_expf_f32, (), (), f32 => f32, |_m, _s, v| libm::expf(v));
+step_fn!(step_libm_expm1f_f32, (), (), f32 => f32, |_m, _s, v| libm::expm1f(v));
+step_fn!(step_servo_lugre_f32, Servo, ServoState, (f32, Setpoint<f32>) => f32,
+    |m, s, input| m.tick(s, input.0, input.1).command);
+
+/// GMS and Xiong elements for `N`: stiffnesses spread geometrically over a
+/// factor 8 and summing to sigma0 = 260 N m/rad, weights falling linearly
+/// with stiffness, damping (Xiong: viscosity) sharing sigma1 = 0.6 in
+/// proportion to stiffness.
+fn element(i: usize, n: usize) -> (f64, f64, f64) {
+    let spread = |j: usize| {
+        if n > 1 {
+            libm::pow(8.0, j as f64 / (n - 1) as f64)
+        } else {
+            1.0
+        }
+    };
+    let total: f64 = (0..n).map(spread).sum();
+    let k = NOMINAL.sigma0 * spread(i) / total;
+    let weight = (n - i) as f64 / (n * (n + 1) / 2) as f64;
+    (k, weight, NOMINAL.sigma1 * k / NOMINAL.sigma0)
+}
+
+fn gms<const N: usize>() -> Gms<f32, N> {
+    let mut elements = [GmsElement::default(); N];
+    for (i, e) in elements.iter_mut().enumerate() {
+        let (k, alpha, sigma1) = element(i, N);
+        *e = GmsElement { k, alpha, sigma1 };
+    }
+    let p = GmsParams {
+        curve: NOMINAL.curve,
+        sigma2: NOMINAL.sigma2,
+        c: 20.0,
+        elements,
+    };
+    p.build().unwrap_or_else(|_| fail("GMS parameters"))
+}
+
+fn xiong<const N: usize>() -> Xiong<f32, N> {
+    let mut elements = [XiongElement::default(); N];
+    for (i, e) in elements.iter_mut().enumerate() {
+        let (k, lambda, sigma) = element(i, N);
+        *e = XiongElement { k, sigma, lambda };
+    }
+    let p = XiongParams {
+        curve: NOMINAL.curve,
+        tau: 0.01,
+        sigma2: NOMINAL.sigma2,
+        elements,
+    };
+    p.build().unwrap_or_else(|_| fail("Xiong parameters"))
+}
+
+/// The servo tick's input: positions 1 mrad around a sine whose differences
+/// sweep the velocity through zero, reference 10 µrad off.
+fn servo_sweep(k: usize) -> (f32, Setpoint<f32>) {
+    let x = 1e-3 * libm::sinf((k % 64) as f32 * 0.1963);
+    let r = Setpoint {
+        x: x + 1e-5,
+        v: sweep_velocity(k) as f32,
+        a: 0.0,
+    };
+    (x, r)
+}
+
+/// The servo tick's stress: position errors and reference velocities from
+/// the stress magnitudes (mrad, rad/s), saturating the command.
+fn servo_stress(k: usize) -> (f32, Setpoint<f32>) {
+    let v = stress_velocity(k) as f32;
+    let r = Setpoint { x: 0.0, v, a: 0.0 };
+    (1e-3 * v, r)
+}
+
+fn fail(what: &str) -> ! {
+    hprintln!("cost: failed: {}", what);
+    debug::exit(EXIT_FAILURE);
+    loop {
+        cortex_m::asm::nop();
+    }
+}
+
+#[entry]
+fn main() -> ! {
+    let Some(mut cp) = cortex_m::Peripherals::take() else {
+        fail("peripherals")
+    };
+    cp.SYST.set_clock_source(SystClkSource::Core);
+    cp.SYST.set_reload(0x00FF_FFFF);
+    cp.SYST.clear_current();
+    cp.SYST.enable_counter();
+    let Some(pt) = calibrate() else {
+        fail("SysTick does not advance with instructions (run QEMU with -icount shift=0)")
+    };
+    hprintln!(
+        "cost-calibration {} instructions per SysTick tick",
+        tenths(pt)
+    );
+
+    let curve = NOMINAL.curve;
+    let coulomb = CoulombViscousParams {
+        fc: curve.fc,
+        sigma2: NOMINAL.sigma2,
+    }
+    .build::<f32>()
+    .unwrap_or_else(|_| fail("Coulomb parameters"));
+    let stribeck = StribeckMapParams {
+        curve,
+        sigma2: NOMINAL.sigma2,
+    }
+    .build::<f32>()
+    .unwrap_or_else(|_| fail("Stribeck parameters"));
+    let lugre = NOMINAL
+        .build::<f32>()
+        .unwrap_or_else(|_| fail("LuGre parameters"));
+    let observer = Observer::new(lugre, OBSERVER_GAIN).unwrap_or_else(|_| fail("observer gain"));
+    let dahl = DahlParams {
+        sigma: NOMINAL.sigma0,
+        fc: curve.fc,
+        delta: 1.0,
+        sigma2: NOMINAL.sigma2,
+    }
+    .build::<f32>()
+    .unwrap_or_else(|_| fail("Dahl parameters"));
+    let elasto_plastic = ElastoPlasticParams {
+        lugre: NOMINAL,
+        z_ba: 0.5 * curve.fc / NOMINAL.sigma0,
+    }
+    .build::<f32>()
+    .unwrap_or_else(|_| fail("elasto-plastic parameters"));
+    // the narrowest transition zone of the former worst case (z_ba = 0.99
+    // Fc/sigma0): same step, the parameter set at the edge of its range
+    let elasto_plastic_z99 = ElastoPlasticParams {
+        lugre: NOMINAL,
+        z_ba: 0.99 * curve.fc / NOMINAL.sigma0,
+    }
+    .build::<f32>()
+    .unwrap_or_else(|_| fail("elasto-plastic parameters"));
+    let reset = ResetIntegratorParams {
+        sigma0: NOMINAL.sigma0,
+        sigma1: NOMINAL.sigma1,
+        z0: curve.fc / NOMINAL.sigma0,
+        stiction: 0.2,
+        curve: None,
+    }
+    .build::<f32>()
+    .unwrap_or_else(|_| fail("reset integrator parameters"));
+    let bristle = BristleParams {
+        sigma0: NOMINAL.sigma0 / 8.0,
+        delta_s: 3.0 * curve.fc / NOMINAL.sigma0,
+        seed: 1,
+    }
+    .build::<f32, 8>()
+    .unwrap_or_else(|_| fail("bristle parameters"));
+    // PD (bandwidth 2 pi 10 Hz, damping 1) + acceleration feed-forward at
+    // 1 kHz on J = 0.0023 kg m^2, as in the firmware's servo
+    let w = 2.0 * core::f64::consts::PI * 10.0;
+    let j = 0.0023;
+    let servo = CompensatorParams {
+        h: H as f64,
+        kp: j * w * w,
+        ki: 0.0,
+        kd: 2.0 * j * w,
+        inertia: j,
+        torque_constant: 1.0,
+        limit: 5.0,
+    }
+    .build::<f32, _>(observer)
+    .unwrap_or_else(|_| fail("servo gains"));
+
+    // One line per row. Still to come, one `step_fn!` and one `row!` each:
+    // - the fixed-step form, once the core has `build_at(h)`:
+    //     step_fn!(step_lugre_fixed_f32, LuGreAt<f32>, LuGreState<f32>, f32 => f32,
+    //         |m, s, v| m.step(s, v));
+    //     row!(pt, "lugre", "f32", Form::Fixed, &NOMINAL.build_at::<f32>(1e-3)..,
+    //         step_lugre_fixed_f32, f32);
+    //   (the `cost` line reads `lugre-fixed`; budgets.txt keys it as `lugre
+    //   f32 cortex-m4f fixed`);
+    // - a fixed-point scalar `Q`: the same with `Q` for `f32` and its label
+    //   (budgets.txt holds `fixed` as a stand-in for that label).
+    let v = Form::Variable;
+    row!(pt, "coulomb", "f32", v, &coulomb, step_coulomb_f32, f32);
+    row!(pt, "stribeck", "f32", v, &stribeck, step_stribeck_f32, f32);
+    row!(pt, "lugre", "f32", v, &lugre, step_lugre_f32, f32);
+    row!(
+        pt,
+        "lugre-observer",
+        "f32",
+        v,
+        &observer,
+        step_lugre_observer_f32,
+        f32
+    );
+    row!(pt, "dahl", "f32", v, &dahl, step_dahl_f32, f32);
+    row!(
+        pt,
+        "elasto-plastic",
+        "f32",
+        v,
+        &elasto_plastic,
+        step_elasto_plastic_f32,
+        f32
+    );
+    row!(
+        pt,
+        "elasto-plastic-z99",
+        "f32",
+        v,
+        &elasto_plastic_z99,
+        step_elasto_plastic_f32,
+        f32
+    );
+    row!(
+        pt,
+        "reset-integrator",
+        "f32",
+        v,
+        &reset,
+        step_reset_integrator_f32,
+        f32
+    );
+    row!(pt, "bristle8", "f32", v, &bristle, step_bristle8_f32, f32);
+    row!(pt, "gms1", "f32", v, &gms::<1>(), step_gms1_f32, f32);
+    row!(pt, "gms4", "f32", v, &gms::<4>(), step_gms4_f32, f32);
+    row!(pt, "gms16", "f32", v, &gms::<16>(), step_gms16_f32, f32);
+    row!(pt, "xiong1", "f32", v, &xiong::<1>(), step_xiong1_f32, f32);
+    row!(pt, "xiong4", "f32", v, &xiong::<4>(), step_xiong4_f32, f32);
+    row!(
+        pt,
+        "xiong16",
+        "f32",
+        v,
+        &xiong::<16>(),
+        step_xiong16_f32,
+        f32
+    );
+    let tick = row(
+        pt,
+        "servo-lugre",
+        "step_servo_lugre_f32",
+        "f32",
+        v,
+        &servo,
+        step_servo_lugre_f32,
+        servo_sweep,
+        servo_stress,
+        STRESS_LEN,
+    );
+    if !(tick.avg > 0.0 && tick.worst >= tick.avg) {
+        fail("implausible servo tick count");
+    }
+    // the parts: e^(-(v/vs)^2) of the Stribeck curve and e^(-a h) - 1 of the
+    // relaxation (a h = sigma0 |v| h / g, about 0.01 on the sweep)
+    let stribeck_arg = |v: f64| -(v / curve.vs) * (v / curve.vs);
+    let relax_arg = |v: f64| -(NOMINAL.sigma0 * libm::fabs(v) * H as f64 / curve.fc).min(1.0);
+    row(
+        pt,
+        "libm-expf",
+        "step_libm_expf_f32",
+        "f32",
+        v,
+        &(),
+        step_libm_expf_f32,
+        |k| stribeck_arg(sweep_velocity(k)) as f32,
+        |k| stribeck_arg(stress_velocity(k)) as f32,
+        STRESS_LEN,
+    );
+    row(
+        pt,
+        "libm-expm1f",
+        "step_libm_expm1f_f32",
+        "f32",
+        v,
+        &(),
+        step_libm_expm1f_f32,
+        |k| relax_arg(sweep_velocity(k)) as f32,
+        |k| relax_arg(stress_velocity(k)) as f32,
+        STRESS_LEN,
+    );
+    hprintln!("cost-done");
+    debug::exit(EXIT_SUCCESS);
+    loop {
+        cortex_m::asm::nop();
+    }
+}
+
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    fail("panic")
+}
