@@ -45,6 +45,10 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::hprintln;
 use friction_core::{
+    AtPeriod, DahlAt, ElastoPlasticAt, Fixed32, FixedStepModel, GmsAt, LuGreAt, LuGreAtState,
+    XiongAt, XiongAtState,
+};
+use friction_core::{
     Bristle, BristleParams, BristleState, Compensator, CompensatorParams, CompensatorState,
     CoulombViscous, CoulombViscousParams, Dahl, DahlParams, DahlState, ElastoPlastic,
     ElastoPlasticParams, FrictionModel, Gms, GmsElement, GmsParams, GmsState, LuGre, LuGreParams,
@@ -120,7 +124,6 @@ fn calibrate() -> Option<f32> {
 #[derive(Clone, Copy)]
 enum Form {
     Variable,
-    #[allow(dead_code)] // the fixed-step rows come with `build_at(h)`
     Fixed,
 }
 
@@ -132,14 +135,12 @@ impl Form {
         }
     }
 
-    /// Appended to the row's name in the `cost` and `cost-worst` lines, so
-    /// both forms of a model have their own line (the detail line and the
-    /// budgets name the model and the form separately).
+    /// Appended to the row's name in the `cost` and `cost-worst` lines:
+    /// nothing, since a model with both forms names its variable-step row
+    /// `<model>-var` (the plain name is the fixed-step form, the one the
+    /// issue's budgets are for).
     fn suffix(self) -> &'static str {
-        match self {
-            Form::Variable => "",
-            Form::Fixed => "-fixed",
-        }
+        ""
     }
 }
 
@@ -439,6 +440,109 @@ step_fn!(step_libm_expm1f_f32, (), (), f32 => f32, |_m, _s, v| libm::expm1f(v));
 step_fn!(step_servo_lugre_f32, Servo, ServoState, (f32, Setpoint<f32>) => f32,
     |m, s, input| m.tick(s, input.0, input.1).command);
 
+// the fixed-step forms (`build_at(H)`, step without `h`), f32 and Q16.16
+type LuGreAtObserver<S> = Observer<LuGreAt<S>, S>;
+type ServoAt = Compensator<f32, AtPeriod<LuGreAtObserver<f32>>>;
+type ServoAtState = CompensatorState<f32, LuGreAtState<f32>>;
+macro_rules! fixed_step_fns {
+    ($S:ty, $error:expr, $lugre:ident, $observer:ident, $dahl:ident, $ep:ident, $gms1:ident,
+     $gms4:ident, $gms16:ident, $xiong1:ident, $xiong4:ident, $xiong16:ident) => {
+        step_fn!($lugre, LuGreAt<$S>, LuGreAtState<$S>, $S => $S, |m, s, v| m.step(s, v));
+        step_fn!($observer, LuGreAtObserver<$S>, LuGreAtState<$S>, $S => $S,
+            |m, s, v| m.step_at(s, v, black_box($error)));
+        step_fn!($dahl, DahlAt<$S>, DahlState<$S>, $S => $S, |m, s, v| m.step(s, v));
+        step_fn!($ep, ElastoPlasticAt<$S>, LuGreAtState<$S>, $S => $S, |m, s, v| m.step(s, v));
+        step_fn!($gms1, GmsAt<$S, 1>, GmsState<$S, 1>, $S => $S, |m, s, v| m.step(s, v));
+        step_fn!($gms4, GmsAt<$S, 4>, GmsState<$S, 4>, $S => $S, |m, s, v| m.step(s, v));
+        step_fn!($gms16, GmsAt<$S, 16>, GmsState<$S, 16>, $S => $S, |m, s, v| m.step(s, v));
+        step_fn!($xiong1, XiongAt<$S, 1>, XiongAtState<$S, 1>, $S => $S, |m, s, v| m.step(s, v));
+        step_fn!($xiong4, XiongAt<$S, 4>, XiongAtState<$S, 4>, $S => $S, |m, s, v| m.step(s, v));
+        step_fn!($xiong16, XiongAt<$S, 16>, XiongAtState<$S, 16>, $S => $S, |m, s, v| m.step(s, v));
+    };
+}
+fixed_step_fns!(
+    f32,
+    OBSERVER_ERROR,
+    step_lugre_at_f32,
+    step_lugre_at_observer_f32,
+    step_dahl_at_f32,
+    step_elasto_plastic_at_f32,
+    step_gms1_at_f32,
+    step_gms4_at_f32,
+    step_gms16_at_f32,
+    step_xiong1_at_f32,
+    step_xiong4_at_f32,
+    step_xiong16_at_f32
+);
+fixed_step_fns!(
+    Fixed32,
+    Fixed32::from_bits(1),
+    step_lugre_at_q16,
+    step_lugre_at_observer_q16,
+    step_dahl_at_q16,
+    step_elasto_plastic_at_q16,
+    step_gms1_at_q16,
+    step_gms4_at_q16,
+    step_gms16_at_q16,
+    step_xiong1_at_q16,
+    step_xiong4_at_q16,
+    step_xiong16_at_q16
+);
+step_fn!(step_servo_lugre_at_f32, ServoAt, ServoAtState, (f32, Setpoint<f32>) => f32,
+    |m, s, input| m.tick(s, input.0, input.1).command);
+
+/// One row per fixed-step form in scalar `$S` (label `$label`).
+macro_rules! fixed_step_rows {
+    ($pt:expr, $S:ty, $label:expr, $lugre:ident, $observer:ident, $dahl:ident, $ep:ident,
+     $gms1:ident, $gms4:ident, $gms16:ident, $xiong1:ident, $xiong4:ident, $xiong16:ident) => {{
+        let f = Form::Fixed;
+        let h = f64::from(H);
+        let lugre = NOMINAL
+            .build_at::<$S>(h)
+            .unwrap_or_else(|_| fail("fixed-step LuGre parameters"));
+        row!($pt, "lugre", $label, f, &lugre, $lugre, $S);
+        let observer =
+            Observer::new(lugre, OBSERVER_GAIN).unwrap_or_else(|_| fail("observer gain"));
+        row!($pt, "lugre-observer", $label, f, &observer, $observer, $S);
+        let dahl = DahlParams {
+            sigma: NOMINAL.sigma0,
+            fc: NOMINAL.curve.fc,
+            delta: 1.0,
+            sigma2: NOMINAL.sigma2,
+        }
+        .build_at::<$S>(h)
+        .unwrap_or_else(|_| fail("fixed-step Dahl parameters"));
+        row!($pt, "dahl", $label, f, &dahl, $dahl, $S);
+        for (name, frac) in [("elasto-plastic", 0.5), ("elasto-plastic-z99", 0.99)] {
+            let ep = ElastoPlasticParams {
+                lugre: NOMINAL,
+                z_ba: frac * NOMINAL.curve.fc / NOMINAL.sigma0,
+            }
+            .build_at::<$S>(h)
+            .unwrap_or_else(|_| fail("fixed-step elasto-plastic parameters"));
+            row!($pt, name, $label, f, &ep, $ep, $S);
+        }
+        if let Some(m) = gms_at::<$S, 1>($label) {
+            row!($pt, "gms1", $label, f, &m, $gms1, $S);
+        }
+        if let Some(m) = gms_at::<$S, 4>($label) {
+            row!($pt, "gms4", $label, f, &m, $gms4, $S);
+        }
+        if let Some(m) = gms_at::<$S, 16>($label) {
+            row!($pt, "gms16", $label, f, &m, $gms16, $S);
+        }
+        if let Some(m) = xiong_at::<$S, 1>($label) {
+            row!($pt, "xiong1", $label, f, &m, $xiong1, $S);
+        }
+        if let Some(m) = xiong_at::<$S, 4>($label) {
+            row!($pt, "xiong4", $label, f, &m, $xiong4, $S);
+        }
+        if let Some(m) = xiong_at::<$S, 16>($label) {
+            row!($pt, "xiong16", $label, f, &m, $xiong16, $S);
+        }
+    }};
+}
+
 /// GMS and Xiong elements for `N`: stiffnesses spread geometrically over a
 /// factor 8 and summing to sigma0 = 260 N m/rad, weights falling linearly
 /// with stiffness, damping (Xiong: viscosity) sharing sigma1 = 0.6 in
@@ -457,34 +561,72 @@ fn element(i: usize, n: usize) -> (f64, f64, f64) {
     (k, weight, NOMINAL.sigma1 * k / NOMINAL.sigma0)
 }
 
-fn gms<const N: usize>() -> Gms<f32, N> {
+fn gms_params<const N: usize>() -> GmsParams<N> {
     let mut elements = [GmsElement::default(); N];
     for (i, e) in elements.iter_mut().enumerate() {
         let (k, alpha, sigma1) = element(i, N);
         *e = GmsElement { k, alpha, sigma1 };
     }
-    let p = GmsParams {
+    GmsParams {
         curve: NOMINAL.curve,
         sigma2: NOMINAL.sigma2,
         c: 20.0,
         elements,
-    };
-    p.build().unwrap_or_else(|_| fail("GMS parameters"))
+    }
 }
 
-fn xiong<const N: usize>() -> Xiong<f32, N> {
+fn gms<const N: usize>() -> Gms<f32, N> {
+    gms_params::<N>()
+        .build()
+        .unwrap_or_else(|_| fail("GMS parameters"))
+}
+
+/// The fixed-step GMS in scalar `S`, built for `H`; `None` (and a
+/// `cost-skip` line) where the scalar cannot carry the parameter set.
+fn gms_at<S: Scalar, const N: usize>(label: &str) -> Option<GmsAt<S, N>> {
+    built(gms_params::<N>().build_at(f64::from(H)), "gms", N, label)
+}
+
+/// `Some(model)`, or `None` with a `cost-skip MODEL SCALAR CORE reason` line.
+fn built<M>(
+    model: Result<M, friction_core::ParamError>,
+    name: &str,
+    n: usize,
+    label: &str,
+) -> Option<M> {
+    model
+        .map_err(|e| hprintln!("cost-skip {}{} {} {} {}", name, n, label, CORE, e))
+        .ok()
+}
+
+fn xiong_params<const N: usize>() -> XiongParams<N> {
     let mut elements = [XiongElement::default(); N];
     for (i, e) in elements.iter_mut().enumerate() {
         let (k, lambda, sigma) = element(i, N);
         *e = XiongElement { k, sigma, lambda };
     }
-    let p = XiongParams {
+    XiongParams {
         curve: NOMINAL.curve,
         tau: 0.01,
         sigma2: NOMINAL.sigma2,
         elements,
-    };
-    p.build().unwrap_or_else(|_| fail("Xiong parameters"))
+    }
+}
+
+fn xiong<const N: usize>() -> Xiong<f32, N> {
+    xiong_params::<N>()
+        .build()
+        .unwrap_or_else(|_| fail("Xiong parameters"))
+}
+
+/// The fixed-step Xiong in scalar `S`, built for `H` (see [`gms_at`]).
+fn xiong_at<S: Scalar, const N: usize>(label: &str) -> Option<XiongAt<S, N>> {
+    built(
+        xiong_params::<N>().build_at(f64::from(H)),
+        "xiong",
+        N,
+        label,
+    )
 }
 
 /// The servo tick's input: positions 1 mrad around a sine whose differences
@@ -591,7 +733,7 @@ fn main() -> ! {
     // 1 kHz on J = 0.0023 kg m^2, as in the firmware's servo
     let w = 2.0 * core::f64::consts::PI * 10.0;
     let j = 0.0023;
-    let servo = CompensatorParams {
+    let controller = CompensatorParams {
         h: H as f64,
         kp: j * w * w,
         ki: 0.0,
@@ -599,37 +741,30 @@ fn main() -> ! {
         inertia: j,
         torque_constant: 1.0,
         limit: 5.0,
-    }
-    .build::<f32, _>(observer)
-    .unwrap_or_else(|_| fail("servo gains"));
+    };
+    let servo = controller
+        .build::<f32, _>(observer)
+        .unwrap_or_else(|_| fail("servo gains"));
 
-    // One line per row. Still to come, one `step_fn!` and one `row!` each:
-    // - the fixed-step form, once the core has `build_at(h)`:
-    //     step_fn!(step_lugre_fixed_f32, LuGreAt<f32>, LuGreState<f32>, f32 => f32,
-    //         |m, s, v| m.step(s, v));
-    //     row!(pt, "lugre", "f32", Form::Fixed, &NOMINAL.build_at::<f32>(1e-3)..,
-    //         step_lugre_fixed_f32, f32);
-    //   (the `cost` line reads `lugre-fixed`; budgets.txt keys it as `lugre
-    //   f32 cortex-m4f fixed`);
-    // - a fixed-point scalar `Q`: the same with `Q` for `f32` and its label
-    //   (budgets.txt holds `fixed` as a stand-in for that label).
+    // One line per row: a new row is one `step_fn!` and one `row!`. A model
+    // with a fixed-step form names its variable-step rows `<model>-var`.
     let v = Form::Variable;
     row!(pt, "coulomb", "f32", v, &coulomb, step_coulomb_f32, f32);
     row!(pt, "stribeck", "f32", v, &stribeck, step_stribeck_f32, f32);
-    row!(pt, "lugre", "f32", v, &lugre, step_lugre_f32, f32);
+    row!(pt, "lugre-var", "f32", v, &lugre, step_lugre_f32, f32);
     row!(
         pt,
-        "lugre-observer",
+        "lugre-observer-var",
         "f32",
         v,
         &observer,
         step_lugre_observer_f32,
         f32
     );
-    row!(pt, "dahl", "f32", v, &dahl, step_dahl_f32, f32);
+    row!(pt, "dahl-var", "f32", v, &dahl, step_dahl_f32, f32);
     row!(
         pt,
-        "elasto-plastic",
+        "elasto-plastic-var",
         "f32",
         v,
         &elasto_plastic,
@@ -638,7 +773,7 @@ fn main() -> ! {
     );
     row!(
         pt,
-        "elasto-plastic-z99",
+        "elasto-plastic-z99-var",
         "f32",
         v,
         &elasto_plastic_z99,
@@ -655,14 +790,30 @@ fn main() -> ! {
         f32
     );
     row!(pt, "bristle8", "f32", v, &bristle, step_bristle8_f32, f32);
-    row!(pt, "gms1", "f32", v, &gms::<1>(), step_gms1_f32, f32);
-    row!(pt, "gms4", "f32", v, &gms::<4>(), step_gms4_f32, f32);
-    row!(pt, "gms16", "f32", v, &gms::<16>(), step_gms16_f32, f32);
-    row!(pt, "xiong1", "f32", v, &xiong::<1>(), step_xiong1_f32, f32);
-    row!(pt, "xiong4", "f32", v, &xiong::<4>(), step_xiong4_f32, f32);
+    row!(pt, "gms1-var", "f32", v, &gms::<1>(), step_gms1_f32, f32);
+    row!(pt, "gms4-var", "f32", v, &gms::<4>(), step_gms4_f32, f32);
+    row!(pt, "gms16-var", "f32", v, &gms::<16>(), step_gms16_f32, f32);
     row!(
         pt,
-        "xiong16",
+        "xiong1-var",
+        "f32",
+        v,
+        &xiong::<1>(),
+        step_xiong1_f32,
+        f32
+    );
+    row!(
+        pt,
+        "xiong4-var",
+        "f32",
+        v,
+        &xiong::<4>(),
+        step_xiong4_f32,
+        f32
+    );
+    row!(
+        pt,
+        "xiong16-var",
         "f32",
         v,
         &xiong::<16>(),
@@ -671,7 +822,7 @@ fn main() -> ! {
     );
     let tick = row(
         pt,
-        "servo-lugre",
+        "servo-lugre-var",
         "step_servo_lugre_f32",
         "f32",
         v,
@@ -683,6 +834,61 @@ fn main() -> ! {
     );
     if !(tick.avg > 0.0 && tick.worst >= tick.avg) {
         fail("implausible servo tick count");
+    }
+    // the fixed-step forms, f32 and Q16.16 fixed point, and the servo tick on
+    // the fixed-step observer (what the firmware's servo runs)
+    fixed_step_rows!(
+        pt,
+        f32,
+        "f32",
+        step_lugre_at_f32,
+        step_lugre_at_observer_f32,
+        step_dahl_at_f32,
+        step_elasto_plastic_at_f32,
+        step_gms1_at_f32,
+        step_gms4_at_f32,
+        step_gms16_at_f32,
+        step_xiong1_at_f32,
+        step_xiong4_at_f32,
+        step_xiong16_at_f32
+    );
+    fixed_step_rows!(
+        pt,
+        Fixed32,
+        "fixed",
+        step_lugre_at_q16,
+        step_lugre_at_observer_q16,
+        step_dahl_at_q16,
+        step_elasto_plastic_at_q16,
+        step_gms1_at_q16,
+        step_gms4_at_q16,
+        step_gms16_at_q16,
+        step_xiong1_at_q16,
+        step_xiong4_at_q16,
+        step_xiong16_at_q16
+    );
+    let lugre_at = NOMINAL
+        .build_at::<f32>(f64::from(H))
+        .unwrap_or_else(|_| fail("fixed-step LuGre parameters"));
+    let servo_at = controller
+        .build(AtPeriod(
+            Observer::new(lugre_at, OBSERVER_GAIN).unwrap_or_else(|_| fail("observer gain")),
+        ))
+        .unwrap_or_else(|_| fail("servo gains"));
+    let tick_at = row(
+        pt,
+        "servo-lugre",
+        "step_servo_lugre_at_f32",
+        "f32",
+        Form::Fixed,
+        &servo_at,
+        step_servo_lugre_at_f32,
+        servo_sweep,
+        servo_stress,
+        STRESS_LEN,
+    );
+    if !(tick_at.avg > 0.0 && tick_at.worst >= tick_at.avg) {
+        fail("implausible fixed-step servo tick count");
     }
     // the parts: e^(-(v/vs)^2) of the Stribeck curve and e^(-a h) - 1 of the
     // relaxation (a h = sigma0 |v| h / g, about 0.01 on the sweep)
