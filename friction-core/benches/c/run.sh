@@ -37,6 +37,20 @@ if command -v valgrind >/dev/null && command -v callgrind_annotate >/dev/null; t
         printf "  of which exp + expm1: rust (libm crate) %.1f, c (glibc) %.1f\n", (re + rm) / steps, (ce + cm) / steps
         printf "  rust input checks (src/model.rs)     %7.1f\n", chk / steps
         printf "  the rest of the step: rust %.1f, c %.1f\n", (r - re - rm - chk) / steps, (c - ce - cm) / steps
+        print c / steps > "'"$out"'.c"
+      }'
+  # the fixed-step form (build_at(h), no h checks), in a run of its own
+  valgrind --tool=callgrind --callgrind-out-file="$out.fixed" "$CARGO_TARGET_DIR/release/callgrind" fixed >/dev/null 2>&1
+  callgrind_annotate --inclusive=yes "$out.fixed" 2>/dev/null |
+    awk -v steps="$steps" -v c="$(cat "$out.c")" '
+      function n(s) { gsub(/,/, "", s); return s + 0 }
+      function most(old) { return n($1) > old ? n($1) : old }
+      index($0, "friction_bench_c::rust_fixed_step") > 0 { f = most(f) }
+      index($0, "libm::math::exp::exp") > 0 { e = most(e) }
+      END {
+        if (!f) { print "callgrind: fixed-step function not found"; exit 1 }
+        printf "  rust fixed-step (LuGreAt::step)      %7.1f (exp %.1f)\n", f / steps, e / steps
+        printf "  ratio rust fixed-step / c            %7.3f\n", f / steps / c
       }'
 else
   echo "callgrind: valgrind not installed, skipped"

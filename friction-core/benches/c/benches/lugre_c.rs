@@ -2,8 +2,8 @@
 //! criterion run: the same canudas1995 parameters and 10 mm/s sine sweep as
 //! the core's `step` benchmark, both called out of line.
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use friction_bench_c::{c_step, rust_step, velocities, CLuGre, H, PARAMS};
-use friction_core::LuGreState;
+use friction_bench_c::{c_step, rust_fixed_step, rust_step, velocities, CLuGre, H, PARAMS};
+use friction_core::{LuGreAtState, LuGreState};
 
 fn compare(c: &mut Criterion) {
     let rust = PARAMS.build::<f64>().expect("canudas1995 builds");
@@ -16,6 +16,15 @@ fn compare(c: &mut Criterion) {
         b.iter(|| {
             i = (i + 1) & 1023;
             black_box(rust_step(&rust, &mut s, black_box(vs[i]), black_box(H)))
+        })
+    });
+    let fixed = PARAMS.build_at::<f64>(H).expect("canudas1995 builds");
+    group.bench_function("rust-fixed-step", |b| {
+        let mut w = LuGreAtState::default();
+        let mut i = 0;
+        b.iter(|| {
+            i = (i + 1) & 1023;
+            black_box(rust_fixed_step(&fixed, &mut w, black_box(vs[i])))
         })
     });
     group.bench_function("c", |b| {

@@ -8,7 +8,9 @@
 
 #![deny(unsafe_code)]
 
-use friction_core::{FrictionModel, LuGre, LuGreParams, LuGreState};
+use friction_core::{
+    FixedStepModel, FrictionModel, LuGre, LuGreAt, LuGreAtState, LuGreParams, LuGreState,
+};
 
 /// The C step's parameters, laid out as `struct lugre_c` in `lugre.h`.
 #[repr(C)]
@@ -65,6 +67,12 @@ pub fn c_step(m: &CLuGre, z: &mut f64, v: f64, h: f64) -> f64 {
 #[inline(never)]
 pub fn rust_step(m: &LuGre<f64>, s: &mut LuGreState<f64>, v: f64, h: f64) -> f64 {
     m.step(s, v, h)
+}
+
+/// One step of friction-core's fixed-step LuGre (`build_at(H)`), out of line.
+#[inline(never)]
+pub fn rust_fixed_step(m: &LuGreAt<f64>, s: &mut LuGreAtState<f64>, v: f64) -> f64 {
+    m.step(s, v)
 }
 
 /// The velocities of the core's step benchmark: a 10 mm/s sine through
