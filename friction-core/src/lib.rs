@@ -30,6 +30,7 @@ pub use models::bristle::{Bristle, BristleParams, BristleState};
 pub use models::dahl::{Dahl, DahlParams, DahlState};
 pub use models::elasto_plastic::{ElastoPlastic, ElastoPlasticParams};
 pub use models::gms::{Gms, GmsElement, GmsParams, GmsState, SlipMode};
+pub use models::leuven::{Leuven, LeuvenParams, LeuvenState, Reversal};
 pub use models::lugre::{LuGre, LuGreParams, LuGreState};
 pub use models::reset_integrator::{ResetIntegrator, ResetIntegratorParams, ResetIntegratorState};
 pub use models::xiong::{Xiong, XiongElement, XiongParams, XiongState};
