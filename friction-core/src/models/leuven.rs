@@ -6,15 +6,20 @@
 //! dz/dt = v - v rho^n,        rho = max(0, sign(v) Fh(z) / s(v))        (Lampaert 2002)
 //! F     = Fh(z) + sigma1 dz/dt + sigma2 v
 //! Fh(z) = Fb + T(z - zb)                                  (zb, Fb): the last reversal point
-//! T(u)  = 2 Fv(u / 2) = 2 Fs sign(u) (1 - exp(-|u| / (2 xs)))          (Masing's rule)
-//! Fv(x) = Fs sign(x) (1 - exp(-|x| / xs))                 (virgin curve)
+//! T(u)  = 2 Fv(u / 2) = 4 Fs sign(u) (1 - exp(-|u| / (4 xs)))          (Masing's rule)
+//! Fv(x) = 2 Fs sign(x) (1 - exp(-|x| / (2 xs)))           (virgin curve)
 //! ```
 //!
 //! `s(v) = g(v)` is the unsigned Stribeck curve. The virgin curve is the
-//! exponential one of Dahl's model with exponent 1 (`dF/dx = (Fs/xs)(1 - F/Fs)`),
-//! with one parameter: the characteristic pre-sliding displacement `xs`
-//! (the initial stiffness is `Fs / xs`). Transition curves follow Masing's
-//! rule: the branch from a reversal point is the virgin curve scaled by 2.
+//! exponential one of Dahl's model with exponent 1 (`dF/dx = k0 (1 - F/Fm)`)
+//! with initial stiffness `k0 = Fs / xs` and asymptote `Fm = 2 Fs`; its one
+//! parameter is the characteristic pre-sliding displacement `xs` (`Fv`
+//! reaches `Fs` at `2 ln 2 xs = 1.39 xs`). The asymptote lies above `Fs` so
+//! that every branch reaches the sliding level `s(v) <= Fs` at a finite
+//! displacement: with `Fm = Fs` the approach to the static level at creeping
+//! speed is only algebraic (measured: still 0.25 % of `Fs` short after 200
+//! `xs` at 1 µm/s). Transition curves follow Masing's rule: the branch from
+//! a reversal point is the virgin curve scaled by 2.
 //!
 //! **Memory.** The reversal points form a stack. When `z` reverses, the
 //! current point `(z, Fh)` is pushed and a new branch starts from it. When
@@ -64,8 +69,9 @@
 //! are popped at their exact position (at most `M - 1` pops per step);
 //! inside the last branch a safeguarded Newton iteration (at most 30
 //! evaluations, bisection when Newton leaves the bracket) finds the root.
-//! `z` never moves more than `27.6 xs` beyond a reversal point (the branch
-//! is within `2e-6 Fs` of its asymptote there), so the state stays bounded.
+//! `|Fh|` never passes `Fs` (an observer's correction is held there), so
+//! `z` stays within `4 ln 2 xs = 2.8 xs` beyond a reversal point on a
+//! branch (`1.4 xs` on the virgin curve): the state is bounded.
 //!
 //! Valid for velocities whose step displacement `h |v|` is of the order of
 //! `xs` or more at the sliding transition (the implicit step is first order
@@ -122,7 +128,8 @@ pub struct LeuvenParams {
     /// Shape exponent `n >= 1` of the transition to sliding.
     pub n: f64,
     /// Characteristic pre-sliding displacement `xs > 0` (m) of the virgin
-    /// curve `Fv(x) = Fs (1 - exp(-|x|/xs)) sign(x)`.
+    /// curve `Fv(x) = 2 Fs (1 - exp(-|x| / (2 xs))) sign(x)` (initial
+    /// stiffness `Fs / xs`).
     pub xs: f64,
 }
 
@@ -188,9 +195,9 @@ impl LeuvenParams {
             n: convert("n", self.n)?,
             shape,
             fs: convert("fs", fs)?,
-            two_fs: convert("fs", 2.0 * fs)?,
-            xs: convert("xs", xs)?,
-            inv_xs: convert("xs", 1.0 / xs)?,
+            fm: convert("fs", 2.0 * fs)?,
+            width: convert("xs", 2.0 * xs)?,
+            inv_width: convert("xs", 0.5 / xs)?,
             keep: convert("fs", 1.0 - CAP)?,
             stiffness: convert("xs", fs / xs)?,
             tol: convert("xs", eps * xs)?,
@@ -220,9 +227,11 @@ pub struct Leuven<S, const M: usize> {
     n: S,
     shape: Power<S>,
     fs: S,
-    two_fs: S,
-    xs: S,
-    inv_xs: S,
+    /// `Fm = 2 Fs`: the asymptote of the virgin curve.
+    fm: S,
+    /// `2 xs`: the width of the virgin curve.
+    width: S,
+    inv_width: S,
     /// `1 - CAP`: a branch goes no farther than this fraction of its asymptote.
     keep: S,
     /// `Fs / xs`: the slope of every branch at its reversal point.
@@ -403,22 +412,23 @@ impl<S: Scalar, const M: usize> Leuven<S, M> {
         self.curve.eval(v) * v.sign() + self.sigma2 * v
     }
 
-    /// `(k Fs, k xs)` of a branch: `k = 1` for the virgin curve, 2 else.
+    /// `(k Fm, k 2 xs, 1 / (k 2 xs))` of a branch: `k = 1` for the virgin
+    /// curve, 2 else.
     #[inline]
     fn scale(&self, b: Branch<S>) -> (S, S, S) {
         if b.virgin {
-            (self.fs, self.xs, self.inv_xs)
+            (self.fm, self.width, self.inv_width)
         } else {
             (
-                self.two_fs,
-                self.xs + self.xs,
-                self.inv_xs * S::from_f64(0.5),
+                self.fm + self.fm,
+                self.width + self.width,
+                self.inv_width * S::from_f64(0.5),
             )
         }
     }
 
-    /// `Fh` on branch `b` at `z`, `Fb + k Fs sign(u) (1 - exp(-|u| / (k xs)))`
-    /// with `u = z - zb`, and its slope `(Fs/xs) exp(-|u| / (k xs))`.
+    /// `Fh` on branch `b` at `z`, `Fb + k Fm sign(u) (1 - exp(-|u| / (k 2 xs)))`
+    /// with `u = z - zb`, and its slope `(Fs/xs) exp(-|u| / (k 2 xs))`.
     #[inline]
     fn curve_at(&self, b: Branch<S>, z: S) -> (S, S) {
         let (kf, _, inv_w) = self.scale(b);
@@ -653,7 +663,7 @@ mod tests {
 
     /// The virgin curve `Fv(x)` written out (test oracle).
     fn fv(x: f64, p: &LeuvenParams) -> f64 {
-        p.curve.fs * x.signum() * (1.0 - (-x.abs() / p.xs).exp())
+        2.0 * p.curve.fs * x.signum() * (1.0 - (-x.abs() / (2.0 * p.xs)).exp())
     }
 
     /// Drives the model along displacement waypoints (the first is where it
@@ -776,7 +786,7 @@ mod tests {
         assert!(plain.memory().is_empty());
         let f = plain.hysteresis_force();
         assert!((f - fv(plain.z(), &p)).abs() < 1e-12, "{f}");
-        assert!((plain.z() - 1.05 * a).abs() < 1e-3 * a);
+        assert!((plain.z() - 1.05 * a).abs() < 2e-2 * a);
     }
 
     #[test]
@@ -795,8 +805,10 @@ mod tests {
         for _ in 0..2000 {
             f = m.step(&mut s, 1e-2, 1e-4);
         }
-        // the slide passed every point: back on the virgin curve
-        assert!(s.memory().is_empty() && s.on_virgin_curve());
+        // the slide passed or cleared every point below the current branch
+        // (the first, 1.18 N, lies above g = 1 N: it is cleared)
+        assert_eq!(s.memory().len(), 1);
+        assert!(!s.on_virgin_curve());
         let expect = m.steady_state(1e-2);
         assert!((f - expect).abs() < 1e-6 * expect, "{f} vs {expect}");
         // a point above the sliding level at speed is cleared by the slide:
@@ -1000,9 +1012,9 @@ mod tests {
         for _ in 0..200 {
             f = o.step(&mut s, 0.0, 1.0, 1e-3);
         }
-        // held where the virgin curve is within CAP of its asymptote -Fs
+        // held at -Fs
         let held = s;
-        assert!((s.hysteresis_force() + 1.5).abs() <= 1.5 * CAP * 1.01);
+        assert_eq!(s.hysteresis_force(), -1.5);
         assert!((f - s.hysteresis_force()).abs() < 1e-12, "{f}");
         o.step(&mut s, 0.0, 1.0, 1e-3);
         assert_eq!(s, held);
@@ -1068,8 +1080,8 @@ mod tests {
                 prop_assert!(s.hysteresis_force().abs() <= fs);
                 prop_assert!(s32.hysteresis_force().abs() <= fs as f32);
                 prop_assert!(s.memory().len() <= 3 && s32.memory().len() <= 3);
-                // z within the reach of every remembered branch: 3 x 2 x 14 xs
-                prop_assert!(s.z().abs() <= 100.0 * p.xs, "{:?}", s);
+                // z within the reach of every remembered branch: 3 x 2.8 xs
+                prop_assert!(s.z().abs() <= 10.0 * p.xs, "{:?}", s);
                 prop_assert!(s32.z().is_finite());
             }
         }
@@ -1079,16 +1091,14 @@ mod tests {
             let m = p.build::<f64, 4>().unwrap();
             let mut s = LeuvenState::default();
             let mut f = 0.0;
-            // relaxation rate about n |v| Fs / (xs g): five long implicit
-            // steps (with fc = fs the approach is only algebraic, 1 - rho ~
-            // xs / (v t): these steps are long enough for that too)
-            let h = 1e8 * p.xs / v.abs();
+            // relaxation rate at least n |v| (Fm - Fs) / (2 xs g): five long
+            // implicit steps
+            let h = 1e4 * p.xs / v.abs();
             for _ in 0..5 {
                 f = m.step(&mut s, v, h);
             }
             let expected = m.steady_state(v);
-            // the branch stops within 2e-6 Fs of its asymptote (CAP)
-            let tol = 1e-9 * expected.abs() + 2.0 * CAP * 2.0 * p.curve.fs;
+            let tol = 1e-9 * expected.abs();
             prop_assert!((f - expected).abs() <= tol, "{} vs {}", f, expected);
         }
 
