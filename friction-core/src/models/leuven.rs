@@ -21,8 +21,11 @@
 //! `xs` at 1 µm/s). Transition curves follow Masing's rule: the branch from
 //! a reversal point is the virgin curve scaled by 2.
 //!
-//! **Memory.** The reversal points form a stack. When `z` reverses, the
-//! current point `(z, Fh)` is pushed and a new branch starts from it. When
+//! **Memory.** The reversal points form a stack. When the elastic input
+//! `v` (an observer's `v - c`) reverses, the current point `(z, Fh)` is
+//! pushed and a new branch starts from it. When `s(v)` falls below `|Fh|`
+//! (speeding up through the Stribeck zone, `rho > 1`) `z` relaxes back
+//! along the current branch: no reversal, no push. When
 //! the branch reaches the point below the top (an inner loop closes; by
 //! Masing's rule it arrives exactly at that point's `z` and `F`), both are
 //! popped and the branch that led to that point continues through it
@@ -509,15 +512,25 @@ impl<S: Scalar, const M: usize> Leuven<S, M> {
             return S::ZERO;
         }
         let d = w0.sign();
-        // a reversal of z: push the point (or undo a push not yet left)
-        if state.dir != S::ZERO && d != state.dir {
+        // a reversal of the elastic input v - c: push the point (or undo a
+        // push not yet left). z may also move against v - c when s(v) falls
+        // below |Fh| (rho > 1): it then relaxes back along the current
+        // branch, which is no reversal (else every acceleration through the
+        // Stribeck zone would start a stiff new branch at the sliding level,
+        // a knife-edge decision that f32 and f64 take differently)
+        let e = if elastic != S::ZERO {
+            elastic.sign()
+        } else {
+            d
+        };
+        if state.dir != S::ZERO && e != state.dir {
             if state.len == 0 || state.z != state.branch().origin.z {
                 state.push();
             } else if state.len >= 2 || state.virgin {
                 state.len -= 1; // back at the last point: undo its push
             }
         }
-        state.dir = d;
+        state.dir = e;
         let z0 = state.z;
         // E(s) = s - h d f(z0 + d s), increasing in s; E(0) < 0
         let e_at = |s: S, fh: S| s - h * d * self.rate(fh, v, elastic, inv_g);
@@ -527,7 +540,7 @@ impl<S: Scalar, const M: usize> Leuven<S, M> {
             let top = state.branch();
             let (zb, fb) = self.bound_point(top, d);
             let (z_lim, f_lim, wipe) = match state.below() {
-                Some(p) if d * (p.z - zb) < S::ZERO => (p.z, p.f, true),
+                Some(p) if d == e && d * (p.z - zb) < S::ZERO => (p.z, p.f, true),
                 _ => (zb, fb, false),
             };
             let s_now = d * (state.z - z0);

@@ -191,9 +191,16 @@ impl HostModel for LeuvenSpec {
     fn steady_force(&self, v: f64) -> f64 {
         curve_g(&self.params.curve, v) * super::sign(v) + self.params.sigma2 * v
     }
-    /// Measured with `friction validate` (see the README).
+    /// Measured (`friction validate`, README): stribeck, presliding, lag,
+    /// break-away, stick-slip yes; drift yes (`z` lags `x` by `∫ rho^n dx`,
+    /// so a cycled force below break-away creeps, 6e-7 m per cycle at
+    /// `Fs/2`); rate independence no. Non-local memory is not judged: the
+    /// memory is exact in `z` (wiping-out restores the outer branch, core
+    /// unit tests), but the experiment compares at equal `x`, and with
+    /// `n = 2` at 0.8 x the pre-sliding scale the lag of `z` leaves the
+    /// force 2.6 % of its range off the outer branch (with `n = 20`: 6e-7).
     fn expectations(&self) -> [Expect; 8] {
-        [Y, Y, Y, Y, Y, U, N, Y]
+        [Y, Y, Y, Y, Y, Y, N, U]
     }
     /// 3 % at 1 kHz, 1 % at 10 kHz.
     fn accuracy_bound(&self, h: f64) -> Option<f64> {
@@ -261,8 +268,8 @@ impl Memory {
 
 /// The Leuven equations of the model sheet along the continuous signal,
 /// RK4 with sub-step `dt`, `Fh(z)` from an unbounded reversal memory:
-/// each sub-step starts by checking the direction of `dz/dt` (a change
-/// pushes the current point), the RK4 stages read `Fh` on the composite
+/// each sub-step starts by checking the sign of `v` (a change pushes the
+/// current point; `z` relaxing against `v` stays on its branch), the RK4 stages read `Fh` on the composite
 /// branch ahead (so a wiping-out point passed inside the sub-step changes
 /// the branch exactly where it is passed), and the passed points are
 /// popped at the end. Sliding (`z` moving with `v`, `rho >= 1 - 1e-4`)
@@ -291,15 +298,16 @@ pub fn leuven_reference(p: &LeuvenParams, signal: &Signal, t: &[f64], dt: f64) -
             let a = t[k - 1] + j as f64 * hs;
             let b = if j + 1 == n { t[k] } else { a + hs };
             let (va, vm, vb) = (signal.v(a), signal.v(0.5 * (a + b)), signal.v(b));
-            let mut w = rate(fh, va);
-            if w == 0.0 {
-                w = rate(fh, vm);
-            }
-            if w == 0.0 {
+            // the direction of the elastic input: a change is a reversal
+            let e = if va != 0.0 {
+                va.signum()
+            } else {
+                super::sign(vm)
+            };
+            if e == 0.0 {
                 continue;
             }
-            let d = w.signum();
-            if dir != 0.0 && d != dir {
+            if dir != 0.0 && e != dir {
                 match mem.points.last() {
                     Some(top) if top.z == z => {
                         if mem.points.len() >= 2 || mem.virgin {
@@ -309,7 +317,8 @@ pub fn leuven_reference(p: &LeuvenParams, signal: &Signal, t: &[f64], dt: f64) -
                     _ => mem.points.push(Point { z, f: fh }),
                 }
             }
-            dir = d;
+            dir = e;
+            let d = e;
             let f_at = |zz: f64| mem.lookup(p, zz, d).0;
             let hh = b - a;
             let k1 = rate(f_at(z), va);
@@ -317,15 +326,13 @@ pub fn leuven_reference(p: &LeuvenParams, signal: &Signal, t: &[f64], dt: f64) -
             let k3 = rate(f_at(z + 0.5 * hh * k2), vm);
             let k4 = rate(f_at(z + hh * k3), vb);
             let z1 = z + hh / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
-            // never back past where the sub-step started: a reversal inside
-            // it is taken at the next sub-step
-            z = if d * (z1 - z) >= 0.0 { z1 } else { z };
+            z = z1;
             let (f1, popped) = mem.lookup(p, z, d);
             for _ in 0..popped {
                 mem.points.pop();
             }
             fh = f1.clamp(-p.curve.fs, p.curve.fs);
-            if d == super::sign(vb)
+            if super::sign(rate(fh, vb)) == super::sign(vb)
                 && super::sign(vb) * fh / g(vb) >= 1.0 - 1e-4
                 && (mem.points.len() > 1 || (mem.virgin && !mem.points.is_empty()))
             {
