@@ -83,7 +83,7 @@ pub(super) fn parse(text: &str, origin: &str) -> Result<LeuvenSpec> {
     })
 }
 
-const TOO_LARGE: ParamError = ParamError::NotBelow {
+pub(crate) const TOO_LARGE: ParamError = ParamError::NotBelow {
     name: "memory",
     limit: "33",
 };
@@ -144,7 +144,7 @@ macro_rules! with_memory {
             30 => $f::<$($s,)? 30>($($arg),*),
             31 => $f::<$($s,)? 31>($($arg),*),
             32 => $f::<$($s,)? 32>($($arg),*),
-            _ => Err(TOO_LARGE.into()),
+            _ => Err($crate::models::leuven::TOO_LARGE.into()),
         }
     };
 }

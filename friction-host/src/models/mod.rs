@@ -19,7 +19,7 @@ mod bristle;
 mod dahl;
 mod elasto_plastic;
 mod gms;
-mod leuven;
+pub(crate) mod leuven;
 mod lugre;
 mod reset_integrator;
 mod static_maps;
