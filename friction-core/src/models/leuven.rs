@@ -29,11 +29,13 @@
 //! the branch reaches the point below the top (an inner loop closes; by
 //! Masing's rule it arrives exactly at that point's `z` and `F`), both are
 //! popped and the branch that led to that point continues through it
-//! (wiping-out): the force is continuous. The bottom point is never
-//! popped: passing it pops only the top, and the branch from the bottom
-//! point continues (its formula is odd about that point). The rest state
-//! is one reversal point at `(0, 0)`, so the first loading follows `T`
-//! (slope `Fs/xs` at the origin, like `Fv`) rather than `Fv` itself.
+//! (wiping-out): the force is continuous. The rest state has an empty
+//! memory on the virgin curve; below the first point pushed from it lies
+//! the virgin curve, so that point's mirror `(-z1, -F1)` is where its
+//! branch closes and the state returns to the virgin curve. Once the virgin
+//! curve is forgotten (a slide or a full memory), the oldest point is never
+//! popped: passing it pops only the top, and the branch from the oldest
+//! point continues (its formula is odd about that point).
 //!
 //! **Sliding** clears the memory: when `z` moves with `v` and `rho`
 //! reaches `1 - 1e-4` (the force within 0.01 % of `s(v)`: `rho = 1` is
@@ -76,9 +78,11 @@
 //! `z` stays within `4 ln 2 xs = 2.8 xs` beyond a reversal point on a
 //! branch (`1.4 xs` on the virgin curve): the state is bounded.
 //!
-//! Valid for velocities whose step displacement `h |v|` is of the order of
-//! `xs` or more at the sliding transition (the implicit step is first order
-//! there); pre-sliding (`rho = 0`) and steady sliding are exact.
+//! Pre-sliding with `rho = 0` (`z1 = z0 + h v`) and steady sliding are
+//! exact; the transition to sliding is first order in `h`: measured 2.1 %
+//! of `Fs` RMS at 1 kHz and 0.22 % at 10 kHz against an independent
+//! reference on a 20 mm/s sine with `xs = 10 µm` (two `xs` a 1 kHz step).
+//! Any `h` is stable.
 //!
 //! `M` must be at least 1:
 //!
