@@ -5,7 +5,9 @@
 //! (inertia + LuGre friction whose parameters differ from the controller's
 //! model): without compensation, with a static Coulomb + viscous
 //! feed-forward on the measured velocity, and with the LuGre observer with
-//! and without its `sigma1 dz^/dt` term. `servo.rs` is only the embedded-hal
+//! and without its `sigma1 dz^/dt` term; then the Leuven observer on the
+//! same plant, and a Leuven plant without compensation and with the
+//! Leuven observer. `servo.rs` is only the embedded-hal
 //! glue around it. It logs the RMS tracking errors through defmt, counts
 //! the instructions of the core's steps and of one full compensated servo
 //! tick with SysTick (QEMU `-icount shift=0`), and exits non-zero if the
@@ -84,10 +86,18 @@ fn run<C: Compensation<f32>>(compensator: Compensator<f32, C>) -> Errors {
     let Ok(friction) = ACTUAL.build::<f32>() else {
         fail("plant parameters")
     };
+    run_on(friction, compensator)
+}
+
+/// The tracking run against a plant whose friction is `friction`.
+fn run_on<M: FrictionModel<f32>, C: Compensation<f32>>(
+    friction: M,
+    compensator: Compensator<f32, C>,
+) -> Errors {
     let plant = RefCell::new(Plant {
         inertia: INERTIA,
         friction,
-        z: LuGreState::default(),
+        z: M::State::default(),
         x: 0.0,
         v: 0.0,
         torque: 0.0,
@@ -455,12 +465,33 @@ fn main() -> ! {
     let obs_damped = run(c_obs);
     let obs_plain = run(c_plain);
     let obs_leuven = run(c_leuven);
+    // a Leuven plant (M = 8) on the plant's LuGre curve, xs = Fs / sigma0,
+    // against no compensation and the nominal Leuven observer
+    let Ok(leuven_plant) = LeuvenParams {
+        curve: ACTUAL.curve,
+        sigma1: ACTUAL.sigma1,
+        sigma2: ACTUAL.sigma2,
+        n: 2.0,
+        xs: ACTUAL.curve.fs / ACTUAL.sigma0,
+    }
+    .build::<f32, 8>() else {
+        fail("Leuven plant parameters")
+    };
+    let (Ok(c_none2), Ok(c_leuven2)) =
+        (p.build::<f32, _>(NoCompensation), p.build(leuven_observer))
+    else {
+        fail("controller gains")
+    };
+    let leuven_none = run_on(leuven_plant, c_none2);
+    let leuven_obs = run_on(leuven_plant, c_leuven2);
     for (name, e) in [
         ("no compensation", &none),
         ("Coulomb + viscous feed-forward (measured v)", &coul),
         ("LuGre observer", &obs_damped),
         ("LuGre observer without sigma1 dz/dt", &obs_plain),
         ("Leuven observer (M = 8) on the LuGre plant", &obs_leuven),
+        ("Leuven plant: no compensation", &leuven_none),
+        ("Leuven plant: Leuven observer (M = 8)", &leuven_obs),
     ] {
         defmt::info!(
             "{=str}: rms error {=f32} mrad, max {=f32} mrad",
@@ -474,7 +505,7 @@ fn main() -> ! {
         "observer / uncompensated rms ratio: {=f32}",
         best / none.rms
     );
-    if obs_leuven.rms >= none.rms {
+    if obs_leuven.rms >= none.rms || leuven_obs.rms >= leuven_none.rms {
         defmt::error!("the Leuven observer did not reduce the tracking error");
         debug::exit(EXIT_FAILURE);
     }
