@@ -5,8 +5,8 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use friction_core::{
     BristleParams, DahlParams, ElastoPlasticParams, FrictionModel, GmsElement, GmsParams, GmsState,
-    LuGreParams, LuGreState, Observer, ResetIntegratorParams, Scalar, SlipMode, StribeckMapParams,
-    StribeckParams, XiongElement, XiongParams,
+    LeuvenParams, LeuvenState, LuGreParams, LuGreState, Observer, ResetIntegratorParams, Scalar,
+    SlipMode, StribeckMapParams, StribeckParams, XiongElement, XiongParams,
 };
 
 /// The Stribeck curve of canudas1995 (and of gms-typical, xiong-typical).
@@ -234,7 +234,47 @@ fn bench_scalar<S: Scalar + 'static>(c: &mut Criterion, name: &str) {
         "xiong-16",
         &xiong_params::<16>().build::<S>().unwrap(),
     );
+    // Leuven as params/leuven-typical.toml, memory of 8 points
+    let leuven = LeuvenParams {
+        curve: CURVE,
+        sigma1: 10.0,
+        sigma2: 0.4,
+        n: 2.0,
+        xs: 1e-5,
+    }
+    .build::<S, 8>()
+    .unwrap();
+    bench_model(&mut group, "leuven-8", &leuven);
+    // worst case: a full memory of 8 nested reversal points; the step
+    // reverses (a push into the full memory: drop the oldest, O(M) shift),
+    // then passes every remaining point (6 pops) and solves in the last branch
+    let nested = leuven_nested(&leuven);
+    let mut check = nested;
+    leuven.step(&mut check, S::from_f64(-1e-2), h);
+    assert_eq!(nested.memory().len(), 8);
+    assert!(check.memory().len() <= 1, "{:?}", check.memory());
+    group.bench_function("leuven-8-worst", |b| {
+        let mut s = nested;
+        b.iter(|| {
+            s = black_box(nested);
+            black_box(leuven.step(&mut s, black_box(S::from_f64(-1e-2)), h))
+        })
+    });
     group.finish();
+}
+
+/// A Leuven state whose memory is full of nested reversals.
+fn leuven_nested<S: Scalar, const M: usize>(m: &friction_core::Leuven<S, M>) -> LeuvenState<S, M> {
+    let mut s = LeuvenState::default();
+    let mut amp = 8e-6;
+    m.step(&mut s, S::ONE, S::from_f64(amp));
+    for _ in 0..M {
+        amp *= 0.8;
+        m.step(&mut s, -S::ONE, S::from_f64(amp));
+        amp *= 0.8;
+        m.step(&mut s, S::ONE, S::from_f64(amp));
+    }
+    s
 }
 
 fn benches(c: &mut Criterion) {

@@ -36,6 +36,7 @@ pub use models::bristle::{Bristle, BristleParams, BristleState};
 pub use models::dahl::{Dahl, DahlAt, DahlParams, DahlState};
 pub use models::elasto_plastic::{ElastoPlastic, ElastoPlasticAt, ElastoPlasticParams};
 pub use models::gms::{Gms, GmsAt, GmsElement, GmsParams, GmsState, SlipMode};
+pub use models::leuven::{Leuven, LeuvenParams, LeuvenState, Reversal};
 pub use models::lugre::{LuGre, LuGreAt, LuGreAtState, LuGreParams, LuGreState};
 pub use models::reset_integrator::{ResetIntegrator, ResetIntegratorParams, ResetIntegratorState};
 pub use models::xiong::{Xiong, XiongAt, XiongAtState, XiongElement, XiongParams, XiongState};

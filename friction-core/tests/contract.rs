@@ -93,6 +93,33 @@ fn xiong_params() -> XiongParams<4> {
     }
 }
 
+fn leuven_params() -> LeuvenParams {
+    LeuvenParams {
+        curve: lugre_params().curve,
+        sigma1: 10.0,
+        sigma2: 0.4,
+        n: 2.0,
+        xs: 1e-5,
+    }
+}
+
+/// A Leuven state with a memory of up to 4 points: reversals of the given
+/// depths (fractions of `xs`), alternating, each followed by a rest.
+fn leuven_state<S: Scalar>(fractions: &[f64; 8]) -> LeuvenState<S, 4> {
+    let m = leuven_params().build::<S, 4>().unwrap();
+    let mut s = LeuvenState::default();
+    for (i, x) in fractions.iter().enumerate() {
+        let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
+        m.step(
+            &mut s,
+            S::from_f64(sign * x.abs() * 1e-2),
+            S::from_f64(1e-3),
+        );
+        m.step(&mut s, S::ZERO, S::from_f64(1e-3));
+    }
+    s
+}
+
 /// A GMS state from fractions of each element's bound and mode choices.
 fn gms_state<S: Scalar>(fractions: &[f64; 8], modes: [u32; 8]) -> GmsState<S, 4> {
     let p = gms_params();
@@ -191,6 +218,8 @@ fn zero_step_all<S: Scalar>(z: f64, v: f64, e: f64, strains: &[f64; 8], bonds: [
     zero_step_keeps(&gms, gms_state::<S>(strains, bonds), v, e);
     let xiong = xiong_params().build::<S>().unwrap();
     zero_step_keeps(&xiong, xiong_state::<S>(strains), v, e);
+    let leuven = leuven_params().build::<S, 4>().unwrap();
+    zero_step_keeps(&leuven, leuven_state::<S>(strains), v, e);
 }
 
 #[test]
@@ -313,6 +342,11 @@ fn all_observers<S: Scalar>(k: f64, inputs: &[(f64, f64, f64)]) {
             .zip(&bounds)
             .all(|(f, b)| f.is_finite() && f.abs() <= *b)
     });
+    let leuven = leuven_params().build::<S, 4>().unwrap();
+    let fs = S::from_f64(lugre.curve.fs);
+    observer_stays_bounded(leuven, k, inputs, |s: &LeuvenState<S, 4>| {
+        s.z().is_finite() && s.hysteresis_force().abs() <= fs && s.memory().len() <= 4
+    });
     let xiong = xiong_params().build::<S>().unwrap();
     let fc = S::from_f64(lugre.curve.fc);
     let eps = S::from_f64(1e-6);
@@ -406,6 +440,7 @@ fn observer_without_error_is_the_model() {
     same(BRISTLE.build::<f64, 8>().unwrap());
     same(gms_params().build::<f64>().unwrap());
     same(xiong_params().build::<f64>().unwrap());
+    same(leuven_params().build::<f64, 4>().unwrap());
 }
 
 #[test]
@@ -428,6 +463,7 @@ fn correction_acts_on_every_model() {
     pulls(BRISTLE.build::<f64, 8>().unwrap());
     pulls(gms_params().build::<f64>().unwrap());
     pulls(xiong_params().build::<f64>().unwrap());
+    pulls(leuven_params().build::<f64, 4>().unwrap());
 }
 
 #[test]
@@ -471,6 +507,15 @@ fn builds_reject_what_the_scalar_cannot_carry() {
     assert_eq!(
         b.build::<f32, 8>(),
         Err(ParamError::ForceOverflow("sigma0"))
+    );
+    let mut l = leuven_params();
+    l.xs = 1e-40;
+    assert_eq!(l.build::<f32, 2>(), Err(ParamError::Underflow("xs")));
+    l.xs = 1e-5;
+    l.sigma2 = 1e33;
+    assert_eq!(
+        l.build::<f32, 2>(),
+        Err(ParamError::ForceOverflow("sigma2"))
     );
 }
 
@@ -553,5 +598,7 @@ proptest! {
             curve: lugre.curve, tau: vs, sigma2,
             elements: [xe(sigma0, 0.5), xe(sigma0 * ratio, 0.25), xe(sigma0 / ratio, 0.25)],
         }.build::<f32>(), &inputs);
+        run(LeuvenParams { curve: lugre.curve, sigma1, sigma2, n: delta, xs: fc / sigma0 }
+            .build::<f32, 3>(), &inputs);
     }
 }

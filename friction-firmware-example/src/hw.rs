@@ -6,7 +6,7 @@
 use core::cell::RefCell;
 use core::convert::Infallible;
 use embedded_hal::pwm::{ErrorType, SetDutyCycle};
-use friction_core::{FrictionModel, LuGre, LuGreState};
+use friction_core::{FrictionModel, LuGre};
 
 /// Reads an encoder position in counts.
 pub trait Encoder {
@@ -17,18 +17,19 @@ pub trait Encoder {
 }
 
 /// The mechanics: `J dv/dt = tau - F_friction`, integrated at `substeps`
-/// per control tick with the core's LuGre step (semi-implicit Euler).
-pub struct Plant {
+/// per control tick with the core's step of the friction model `M` (LuGre
+/// by default; semi-implicit Euler).
+pub struct Plant<M: FrictionModel<f32> = LuGre<f32>> {
     pub inertia: f32,
-    pub friction: LuGre<f32>,
-    pub z: LuGreState<f32>,
+    pub friction: M,
+    pub z: M::State,
     pub x: f32,
     pub v: f32,
     /// Motor torque (N m) commanded through the drive.
     pub torque: f32,
 }
 
-impl Plant {
+impl<M: FrictionModel<f32>> Plant<M> {
     /// Lets `h` seconds pass in `substeps` steps.
     pub fn advance(&mut self, h: f32, substeps: u32) {
         let hs = h / substeps as f32;
@@ -42,17 +43,17 @@ impl Plant {
 
 /// A half-bridge PWM drive in centre-aligned convention: duty `max/2` is zero
 /// torque, 0 and `max` are `-torque_max` and `+torque_max`.
-pub struct SimDrive<'a> {
-    pub plant: &'a RefCell<Plant>,
+pub struct SimDrive<'a, M: FrictionModel<f32> = LuGre<f32>> {
+    pub plant: &'a RefCell<Plant<M>>,
     pub max_duty: u16,
     pub torque_max: f32,
 }
 
-impl ErrorType for SimDrive<'_> {
+impl<M: FrictionModel<f32>> ErrorType for SimDrive<'_, M> {
     type Error = Infallible;
 }
 
-impl SetDutyCycle for SimDrive<'_> {
+impl<M: FrictionModel<f32>> SetDutyCycle for SimDrive<'_, M> {
     fn max_duty_cycle(&self) -> u16 {
         self.max_duty
     }
@@ -64,12 +65,12 @@ impl SetDutyCycle for SimDrive<'_> {
 }
 
 /// An absolute encoder: the plant's angle quantised to `counts_per_rad`.
-pub struct SimEncoder<'a> {
-    pub plant: &'a RefCell<Plant>,
+pub struct SimEncoder<'a, M: FrictionModel<f32> = LuGre<f32>> {
+    pub plant: &'a RefCell<Plant<M>>,
     pub counts_per_rad: f32,
 }
 
-impl Encoder for SimEncoder<'_> {
+impl<M: FrictionModel<f32>> Encoder for SimEncoder<'_, M> {
     type Error = Infallible;
     fn read_counts(&mut self) -> Result<i32, Infallible> {
         Ok(libm::floorf(self.plant.borrow().x * self.counts_per_rad) as i32)

@@ -6,7 +6,9 @@
 //! model): without compensation, with a static Coulomb + viscous
 //! feed-forward on the measured velocity, and with the LuGre observer (the
 //! fixed-step form built for the loop's 1 kHz) with and without its
-//! `sigma1 dz^/dt` term. `servo.rs` is only the embedded-hal
+//! `sigma1 dz^/dt` term; then the Leuven observer on the same plant, and a
+//! Leuven plant without compensation and with the Leuven observer.
+//! `servo.rs` is only the embedded-hal
 //! glue around it. It logs the RMS tracking errors through defmt, counts
 //! the instructions of the core's steps and of one full compensated servo
 //! tick with SysTick (QEMU `-icount shift=0`), and exits non-zero if the
@@ -27,9 +29,9 @@ use defmt_semihosting as _;
 use friction_core::{
     AtPeriod, BristleParams, Compensation, Compensator, CompensatorParams, CompensatorState,
     CoulombViscousParams, DahlParams, ElastoPlasticParams, FeedForward, FixedStepModel,
-    FrictionModel, GmsElement, GmsParams, GmsState, LuGre, LuGreAt, LuGreAtState, LuGreParams,
-    LuGreState, NoCompensation, Observer, ResetIntegratorParams, Setpoint, SlipMode,
-    StribeckParams, XiongElement, XiongParams,
+    FrictionModel, GmsElement, GmsParams, GmsState, LeuvenParams, LeuvenState, LuGre, LuGreAt,
+    LuGreAtState, LuGreParams, LuGreState, NoCompensation, Observer, ResetIntegratorParams,
+    Setpoint, SlipMode, StribeckParams, XiongElement, XiongParams,
 };
 use hw::{Plant, SimDrive, SimEncoder};
 use servo::Servo;
@@ -86,10 +88,18 @@ fn run<C: Compensation<f32>>(compensator: Compensator<f32, C>) -> Errors {
     let Ok(friction) = ACTUAL.build::<f32>() else {
         fail("plant parameters")
     };
+    run_on(friction, compensator)
+}
+
+/// The tracking run against a plant whose friction is `friction`.
+fn run_on<M: FrictionModel<f32>, C: Compensation<f32>>(
+    friction: M,
+    compensator: Compensator<f32, C>,
+) -> Errors {
     let plant = RefCell::new(Plant {
         inertia: INERTIA,
         friction,
-        z: LuGreState::default(),
+        z: M::State::default(),
         x: 0.0,
         v: 0.0,
         torque: 0.0,
@@ -337,6 +347,41 @@ fn count_instructions(
         zw.z = black_box(z_ba as f32);
         black_box(narrow.step(&mut zw, black_box(1.0), black_box(1e-3)));
     });
+    // Leuven with a memory of 8 on the nominal curve (initial stiffness
+    // Fs/xs = sigma0); worst case: a full memory of nested reversals, and a
+    // step that reverses (a push into the full memory: drop the oldest,
+    // O(M) shift) and passes every remaining point (6 pops) before solving
+    let Ok(leuven) = leuven_nominal().build::<f32, 8>() else {
+        fail("Leuven parameters")
+    };
+    let xs = leuven_nominal().xs as f32;
+    let mut nested = LeuvenState::<f32, 8>::default();
+    let mut amp = 0.8 * xs;
+    leuven.step(&mut nested, 1.0, amp);
+    for _ in 0..8 {
+        amp *= 0.8;
+        leuven.step(&mut nested, -1.0, amp);
+        amp *= 0.8;
+        leuven.step(&mut nested, 1.0, amp);
+    }
+    let mut check = nested;
+    leuven.step(&mut check, -xs / 1e-3, 1e-3);
+    if nested.memory().len() != 8 || check.memory().len() > 1 {
+        fail("Leuven worst case: memory not full, or not wiped in one step");
+    }
+    let mut sl = nested;
+    let leuven_worst = ticks(N, || {
+        i = (i + 1) & 63;
+        black_box(vs.get(i));
+        sl = black_box(nested);
+        black_box(leuven.step(&mut sl, black_box(-xs / 1e-3), black_box(1e-3)));
+    });
+    let copy_only = ticks(N, || {
+        i = (i + 1) & 63;
+        black_box(vs.get(i));
+        sl = black_box(nested);
+        black_box(&sl);
+    });
     defmt::info!("SysTick ticks per instruction: {=f32}", per_insn);
     for (name, t) in [
         ("LuGre", measure(model, &vs)),
@@ -352,12 +397,29 @@ fn count_instructions(
         ("GMS N=4", measure(&gms, &vs)),
         ("GMS N=4 worst case", gms_worst),
         ("Xiong N=4", measure(&xiong, &vs)),
+        ("Leuven M=8", measure(&leuven, &vs)),
+        (
+            "Leuven M=8 worst case (state copy excluded)",
+            leuven_worst.saturating_sub(copy_only.saturating_sub(empty)),
+        ),
     ] {
         defmt::info!(
             "instructions per step (f32, QEMU icount): {=str} {=f32}",
             name,
             per_call(t)
         );
+    }
+}
+
+/// Leuven on the nominal curve: `xs = Fs / sigma0` (initial stiffness
+/// `sigma0`), `sigma1`, `sigma2` of the nominal LuGre model, `n = 2`.
+fn leuven_nominal() -> LeuvenParams {
+    LeuvenParams {
+        curve: NOMINAL.curve,
+        sigma1: NOMINAL.sigma1,
+        sigma2: NOMINAL.sigma2,
+        n: 2.0,
+        xs: NOMINAL.curve.fs / NOMINAL.sigma0,
     }
 }
 
@@ -409,15 +471,48 @@ fn main() -> ! {
 
     count_instructions(&model, &observer, &model_at, &observer_at, &c_obs);
 
+    let Ok(leuven) = leuven_nominal().build::<f32, 8>() else {
+        fail("Leuven parameters")
+    };
+    let Ok(leuven_observer) = Observer::new(leuven, OBSERVER_GAIN) else {
+        fail("observer gain")
+    };
+    let Ok(c_leuven) = p.build(leuven_observer) else {
+        fail("controller gains")
+    };
+
     let none = run(c_none);
     let coul = run(c_coul);
     let obs_damped = run(c_obs);
     let obs_plain = run(c_plain);
+    let obs_leuven = run(c_leuven);
+    // a Leuven plant (M = 8) on the plant's LuGre curve, xs = Fs / sigma0,
+    // against no compensation and the nominal Leuven observer
+    let Ok(leuven_plant) = LeuvenParams {
+        curve: ACTUAL.curve,
+        sigma1: ACTUAL.sigma1,
+        sigma2: ACTUAL.sigma2,
+        n: 2.0,
+        xs: ACTUAL.curve.fs / ACTUAL.sigma0,
+    }
+    .build::<f32, 8>() else {
+        fail("Leuven plant parameters")
+    };
+    let (Ok(c_none2), Ok(c_leuven2)) =
+        (p.build::<f32, _>(NoCompensation), p.build(leuven_observer))
+    else {
+        fail("controller gains")
+    };
+    let leuven_none = run_on(leuven_plant, c_none2);
+    let leuven_obs = run_on(leuven_plant, c_leuven2);
     for (name, e) in [
         ("no compensation", &none),
         ("Coulomb + viscous feed-forward (measured v)", &coul),
         ("LuGre observer", &obs_damped),
         ("LuGre observer without sigma1 dz/dt", &obs_plain),
+        ("Leuven observer (M = 8) on the LuGre plant", &obs_leuven),
+        ("Leuven plant: no compensation", &leuven_none),
+        ("Leuven plant: Leuven observer (M = 8)", &leuven_obs),
     ] {
         defmt::info!(
             "{=str}: rms error {=f32} mrad, max {=f32} mrad",
@@ -431,6 +526,10 @@ fn main() -> ! {
         "observer / uncompensated rms ratio: {=f32}",
         best / none.rms
     );
+    if obs_leuven.rms >= none.rms || leuven_obs.rms >= leuven_none.rms {
+        defmt::error!("the Leuven observer did not reduce the tracking error");
+        debug::exit(EXIT_FAILURE);
+    }
     if best < none.rms {
         debug::exit(EXIT_SUCCESS);
     } else {

@@ -14,7 +14,7 @@
 //! and 0.5, and `z_ba` with them for elasto-plastic: the robustness check of
 //! Olsson et al. 1998) and `observer-nodamping` (without `sigma1 dz^/dt`).
 //! The observer rows need an observable model (`lugre`, `elasto-plastic`,
-//! `gms`, `xiong`); for the others they are skipped with a note.
+//! `gms`, `xiong`, `leuven`); for the others they are skipped with a note.
 //!
 //! Defaults reproduce Olsson et al. 1998 (Table 2 LuGre, `J = 0.0023`,
 //! `kc = 1.02`, reference `0.5 sin(2 pi 0.2 t)` rad for 20 s, PID at 1 kHz
@@ -23,7 +23,7 @@
 //! tracking errors are taken over the last 90 % of the run.
 
 use crate::io::write_columns;
-use crate::models::{GmsSpec, XiongSpec};
+use crate::models::{GmsSpec, LeuvenSpec, XiongSpec};
 use crate::params::{ModelSpec, ParamFile};
 use crate::plot::{line_plot, Axis, Series};
 use anyhow::{Context, Result};
@@ -461,6 +461,20 @@ fn xiong_observer_runs<const K: usize>(
     })
 }
 
+/// The four observer rows of a Leuven model with memory `M` (`fc`, `fs` scaled).
+fn leuven_observer_runs<const M: usize>(
+    cfg: &ServoConfig,
+    spec: &ModelSpec,
+    l: &LeuvenSpec,
+) -> Result<Vec<ServoRun>> {
+    observer_runs(cfg, spec, |s| {
+        let mut q = l.params;
+        q.curve.fc *= s;
+        q.curve.fs *= s;
+        q.build::<f64, M>()
+    })
+}
+
 /// Calls `$f::<K>(args)` with the element count `K` (1 to 16, as the host
 /// dispatches GMS and Xiong).
 macro_rules! with_elements {
@@ -519,9 +533,16 @@ pub fn benchmark(file: &ParamFile, origin: &str) -> Result<ServoBenchmark> {
             x.elements.len(),
             xiong_observer_runs(&cfg, spec, x)
         )?),
+        ModelSpec::Leuven(l) => runs.extend(crate::models::leuven::with_memory!(
+            l.memory,
+            leuven_observer_runs;
+            &cfg,
+            spec,
+            l
+        )?),
         other => {
             note = Some(format!(
-                "observer rows skipped: `{}` has no observer form (observable models: lugre, elasto-plastic, gms, xiong)",
+                "observer rows skipped: `{}` has no observer form (observable models: lugre, elasto-plastic, gms, xiong, leuven)",
                 other.name()
             ))
         }

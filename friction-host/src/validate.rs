@@ -51,6 +51,10 @@ pub const PARAM_SETS: &[(&str, &str)] = &[
         "xiong-typical",
         include_str!("../../params/xiong-typical.toml"),
     ),
+    (
+        "leuven-typical",
+        include_str!("../../params/leuven-typical.toml"),
+    ),
 ];
 
 /// A shipped parameter set by name.
@@ -324,7 +328,7 @@ pub fn run(dir: &Path) -> Result<bool> {
         true,
     ));
     // the multistate family, N = 4, bounded like elasto-plastic (3 % / 1 %)
-    for set in ["gms-typical", "xiong-typical"] {
+    for set in ["gms-typical", "xiong-typical", "leuven-typical"] {
         models.push((set.into(), param_set(set)?.model, true, true));
     }
     // switching models: figures stated, no bound (see the report)
@@ -373,6 +377,7 @@ pub fn run(dir: &Path) -> Result<bool> {
         ("haessig1991-bristle", experiments::NAMES),
         ("gms-typical", experiments::NAMES),
         ("xiong-typical", experiments::NAMES),
+        ("leuven-typical", experiments::NAMES),
     ];
     let experiments: usize = plan.iter().map(|(_, names)| names.len()).sum();
     let mut progress = Progress::new(models.len() + experiments + 1);

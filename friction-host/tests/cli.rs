@@ -214,6 +214,61 @@ fn simulate_every_state_model() {
     }
 }
 
+#[test]
+fn leuven_simulates_and_rejects_a_bad_capacity() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sine_input(dir.path(), 1001);
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../params");
+    let good = root.join("leuven-typical.toml");
+    for scalar in ["f32", "f64"] {
+        let output = dir.path().join(format!("leuven-{scalar}.csv"));
+        let out = friction(&[
+            "simulate",
+            "--params",
+            good.to_str().unwrap(),
+            "--input",
+            input.to_str().unwrap(),
+            "--output",
+            output.to_str().unwrap(),
+            "--scalar",
+            scalar,
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let csv = std::fs::read_to_string(&output).unwrap();
+        assert!(csv.starts_with("t,v,f,z,fh,memory"), "{csv:.80}");
+        assert_eq!(csv.lines().count(), 1002);
+        // 0.01 m/s peaks: it slides both ways, |F| <= Fs + sigma1 |v| + sigma2 |v|
+        let mut peak: f64 = 0.0;
+        for line in csv.lines().skip(1) {
+            let cells: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
+            assert!(cells[2].abs() <= 1.5 + 15.4 * 0.01 + 1e-9, "{line}");
+            assert!(
+                (1.0..=16.0).contains(&cells[5]) || cells[5] == 0.0,
+                "{line}"
+            );
+            peak = peak.max(cells[2].abs());
+        }
+        assert!(peak > 1.0, "{peak}");
+    }
+    let text = std::fs::read_to_string(&good).unwrap();
+    for bad in ["memory = 0", "memory = 33"] {
+        let p = dir.path().join("bad.toml");
+        std::fs::write(&p, text.replace("memory = 16", bad)).unwrap();
+        let out = friction(&[
+            "simulate",
+            "--params",
+            p.to_str().unwrap(),
+            "--input",
+            input.to_str().unwrap(),
+            "--output",
+            dir.path().join("bad.csv").to_str().unwrap(),
+        ]);
+        assert_eq!(out.status.code(), Some(2), "{bad}: {}", stderr(&out));
+        let e = stderr(&out);
+        assert!(e.contains("memory") && e.contains("1 to 32"), "{bad}: {e}");
+    }
+}
+
 fn stderr(out: &std::process::Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
@@ -576,7 +631,12 @@ fn servo_params_from(dir: &Path, name: &str, servo: &str) -> String {
 
 #[test]
 fn servo_gms_and_xiong_plants_get_observer_rows_that_beat_none() {
-    for name in ["gms-typical.toml", "gms-servo.toml", "xiong-typical.toml"] {
+    for name in [
+        "gms-typical.toml",
+        "gms-servo.toml",
+        "xiong-typical.toml",
+        "leuven-typical.toml",
+    ] {
         let dir = tempfile::tempdir().unwrap();
         let p = servo_params_from(dir.path(), name, "duration = 5");
         let out = friction(&[

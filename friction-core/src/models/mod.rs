@@ -4,6 +4,7 @@ pub mod bristle;
 pub mod dahl;
 pub mod elasto_plastic;
 pub mod gms;
+pub mod leuven;
 pub mod lugre;
 pub mod reset_integrator;
 pub mod xiong;

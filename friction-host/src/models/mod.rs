@@ -22,6 +22,7 @@ mod bristle;
 mod dahl;
 mod elasto_plastic;
 mod gms;
+pub(crate) mod leuven;
 mod lugre;
 mod reset_integrator;
 mod static_maps;
@@ -29,6 +30,7 @@ mod xiong;
 
 pub use bristle::{bristle_reference, BristleSpec, MAX_BRISTLES};
 pub use gms::{gms_reference, GmsSpec, GMS_REFERENCE_STEP, MAX_ELEMENTS};
+pub use leuven::{leuven_reference, LeuvenSpec, DEFAULT_MEMORY, LEUVEN_REFERENCE_STEP, MAX_MEMORY};
 pub use lugre::lugre_force;
 pub use xiong::XiongSpec;
 
@@ -306,6 +308,8 @@ registry! {
     Gms(GmsSpec) = "gms" => gms::parse,
     /// `xiong`: Stribeck keys, `tau`, `sigma2`, `[[elements]]` with `k`, `sigma`, `lambda` (1 to 16).
     Xiong(XiongSpec) = "xiong" => xiong::parse,
+    /// `leuven`: Stribeck keys, `sigma1`, `sigma2`, `n`, `xs`, `memory` (1 to 32, default 16).
+    Leuven(LeuvenSpec) = "leuven" => leuven::parse,
 }
 
 impl ModelSpec {
