@@ -55,6 +55,7 @@ use friction_core::{
     LuGreState, Observer, ResetIntegrator, ResetIntegratorParams, ResetIntegratorState, Scalar,
     Setpoint, StribeckMap, StribeckMapParams, Xiong, XiongElement, XiongParams, XiongState,
 };
+use friction_core::{Leuven, LeuvenParams, LeuvenState};
 
 /// The controller's model: Olsson et al. 1998, Table 2 (N m, rad).
 const NOMINAL: LuGreParams = LuGreParams::OLSSON_1998;
@@ -440,6 +441,9 @@ step_fn!(step_libm_expm1f_f32, (), (), f32 => f32, |_m, _s, v| libm::expm1f(v));
 step_fn!(step_servo_lugre_f32, Servo, ServoState, (f32, Setpoint<f32>) => f32,
     |m, s, input| m.tick(s, input.0, input.1).command);
 
+step_fn!(step_leuven8_f32, Leuven<f32, 8>, LeuvenState<f32, 8>, f32 => f32,
+    |m, s, v| m.step(s, v, black_box(H)));
+
 // the fixed-step forms (`build_at(H)`, step without `h`), f32 and Q16.16
 type LuGreAtObserver<S> = Observer<LuGreAt<S>, S>;
 type ServoAt = Compensator<f32, AtPeriod<LuGreAtObserver<f32>>>;
@@ -790,6 +794,18 @@ fn main() -> ! {
         f32
     );
     row!(pt, "bristle8", "f32", v, &bristle, step_bristle8_f32, f32);
+    // Leuven (variable step only), memory of 8 reversal points, n = 2 and
+    // the virgin curve's xs = Fs / sigma0, as in the firmware's servo
+    let leuven = LeuvenParams {
+        curve,
+        sigma1: NOMINAL.sigma1,
+        sigma2: NOMINAL.sigma2,
+        n: 2.0,
+        xs: curve.fs / NOMINAL.sigma0,
+    }
+    .build::<f32, 8>()
+    .unwrap_or_else(|_| fail("Leuven parameters"));
+    row!(pt, "leuven8", "f32", v, &leuven, step_leuven8_f32, f32);
     row!(pt, "gms1-var", "f32", v, &gms::<1>(), step_gms1_f32, f32);
     row!(pt, "gms4-var", "f32", v, &gms::<4>(), step_gms4_f32, f32);
     row!(pt, "gms16-var", "f32", v, &gms::<16>(), step_gms16_f32, f32);
