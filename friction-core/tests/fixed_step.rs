@@ -687,6 +687,56 @@ mod fixed_point {
         }
     }
 
+    /// RMS |F_at(Fixed32) - F_var(f64)| / Fs over the standard program at `h`.
+    fn fixed_gap<V, A>(var: V, at: A, h: f64, fs: f64) -> f64
+    where
+        V: FrictionModel<f64>,
+        A: FixedStepModel<Fixed32>,
+    {
+        let (mut sv, mut sa) = (V::State::default(), A::State::default());
+        let mut sum = 0.0;
+        let n = (4.0 / h) as usize;
+        for k in 0..n {
+            let v = signal(k, h);
+            let fv = var.step(&mut sv, v, h);
+            let fa = at.step(&mut sa, Fixed32::from_f64(v)).to_f64();
+            sum += (fv - fa).powi(2);
+        }
+        (sum / n as f64).sqrt() / fs
+    }
+
+    #[test]
+    fn measure_all() {
+        for h in [1e-3, 1e-4] {
+            for p in dahl_sets() {
+                let g = fixed_gap(p.build::<f64>().unwrap(), p.build_at::<Fixed32>(h).unwrap(), h, p.fc);
+                std::println!("dahl delta {} sigma {:e} h {h}: {g:.2e}", p.delta, p.sigma);
+            }
+            for p in ep_sets() {
+                let g = fixed_gap(p.build::<f64>().unwrap(), p.build_at::<Fixed32>(h).unwrap(), h, p.lugre.curve.fs);
+                std::println!("ep {:e} h {h}: {g:.2e}", p.z_ba);
+            }
+            for p in gms_sets::<4>() {
+                match p.build_at::<Fixed32>(h) {
+                    Ok(at) => { let g = fixed_gap(p.build::<f64>().unwrap(), at, h, p.curve.fs); std::println!("gms4 h {h}: {g:.2e}"); }
+                    Err(e) => std::println!("gms4 h {h}: {e:?}"),
+                }
+            }
+            for p in gms_sets::<1>() {
+                match p.build_at::<Fixed32>(h) {
+                    Ok(at) => { let g = fixed_gap(p.build::<f64>().unwrap(), at, h, p.curve.fs); std::println!("gms1 h {h}: {g:.2e}"); }
+                    Err(e) => std::println!("gms1 h {h}: {e:?}"),
+                }
+            }
+            for p in xiong_sets::<4>() {
+                match p.build_at::<Fixed32>(h) {
+                    Ok(at) => { let g = fixed_gap(p.build::<f64>().unwrap(), at, h, p.curve.fs); std::println!("xiong4 h {h}: {g:.2e}"); }
+                    Err(e) => std::println!("xiong4 h {h}: {e:?}"),
+                }
+            }
+        }
+    }
+
     #[test]
     fn variable_step_lugre_is_refused_in_fixed_point() {
         assert_eq!(

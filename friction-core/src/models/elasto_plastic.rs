@@ -118,9 +118,10 @@ impl ElastoPlasticParams {
     /// ```
     pub fn build_at<S: Scalar>(&self, h: f64) -> Result<ElastoPlasticAt<S>, ParamError> {
         self.validate()?;
+        let lugre: LuGreAt<S> = self.lugre.build_at(h)?;
         Ok(ElastoPlasticAt {
-            lugre: self.lugre.build_at(h)?,
-            w_ba: convert("z_ba", self.lugre.sigma0 * self.z_ba)?,
+            w_ba: convert("z_ba", lugre.force_scale() * self.lugre.sigma0 * self.z_ba)?,
+            lugre,
         })
     }
 }
@@ -339,32 +340,44 @@ fn zone_step_at<S: Scalar>(mut u: S, mut left: S, eps: S) -> S {
 /// with the variable-step form's discretisation ([`ElastoPlastic`]): exact
 /// below `W_ba` and above `g(v)`, RK4 sub-steps then the exact Riccati
 /// tail in the zone, so the two agree to rounding. `c` is an observer's
-/// correction, 0 for the model.
+/// correction, 0 for the model. As in [`LuGreAt`], forces (the state `w`
+/// and `W_ba` included) are carried times its force scale (1 in floating
+/// point), ratios of forces are formed from the unscaled `1/g` or as
+/// quotients, and the force is returned in newtons.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ElastoPlasticAt<S> {
     lugre: LuGreAt<S>,
-    /// `sigma0 z_ba` (N).
+    /// `sigma0 z_ba` (N), times the LuGre part's force scale.
     w_ba: S,
 }
 
 impl<S: Scalar> ElastoPlasticAt<S> {
-    /// The break-away force `sigma0 z_ba`.
+    /// The break-away force `sigma0 z_ba` (N).
     pub fn w_ba(&self) -> S {
-        self.w_ba
+        self.w_ba * self.lugre.inv_scale()
     }
 
-    /// `dW/dX` at the force along the motion `w`, with `w_max = g(v)`.
+    /// `a / w_max` for `0 <= a <= w_max` (scaled forces), from the unscaled
+    /// `1 / g`: `(a / g) k <= k` fits, and no factor is a tiny number.
+    #[inline]
+    fn ratio(&self, a: S, inv_w_max: S) -> S {
+        a * inv_w_max * self.lugre.inv_scale()
+    }
+
+    /// `dW/dX` at the force along the motion `w`, with `w_max = g(v)`
+    /// (scaled) and `inv_w_max = 1/g` (unscaled).
     #[inline]
     fn slip(&self, w: S, w_max: S, inv_w_max: S) -> S {
         if w <= self.w_ba {
             S::ONE
         } else if w >= w_max {
-            S::ONE - w * inv_w_max
+            // 1 - w / w_max, with w - w_max <= Fs - Fc (scaled) in the product
+            -((w - w_max) * inv_w_max * self.lugre.inv_scale())
         } else {
             let width = w_max - self.w_ba;
             let u = ((w_max - w) / width).min(S::ONE);
-            let (r, _) = zone_rate(u, width * inv_w_max);
+            let (r, _) = zone_rate(u, self.ratio(width, inv_w_max));
             u * r
         }
     }
@@ -383,20 +396,22 @@ impl<S: Scalar> ElastoPlasticAt<S> {
         }
         xi = xi.min(S::from_f64(XI_CAP) * w_max);
         if w >= w_max {
-            return w_max + (w - w_max) * (xi * inv_w_max).exp_neg();
+            // xi / w_max as a quotient of two scaled forces: any product
+            // form would saturate (k xi / g) or use a tiny 1/(k g)
+            return w_max + (w - w_max) * (xi / w_max).exp_neg();
         }
         let width = w_max - self.w_ba;
-        let inv_width = S::ONE / width;
-        let eps = width * inv_w_max;
-        let u = ((w_max - w) * inv_width).min(S::ONE);
-        w_max - zone_step_at(u, xi * inv_width, eps) * width
+        let eps = self.ratio(width, inv_w_max);
+        // quotients of scaled forces: 1/width in scaled units is tiny in fixed point
+        let u = ((w_max - w) / width).min(S::ONE);
+        w_max - zone_step_at(u, xi / width, eps) * width
     }
 
     #[inline]
     fn advance(&self, state: &mut LuGreAtState<S>, v: S, c: S, damping: bool) -> S {
         let lugre = &self.lugre;
-        let w_max = lugre.curve().eval_fast(v);
-        let inv_w_max = S::ONE / w_max; // g >= Fc > 0
+        let w_max = lugre.curve().eval_fast(v); // scaled
+        let inv_w_max = lugre.scale_s() / w_max; // 1/g unscaled, g >= Fc > 0
         let mut w = state.w;
         if v != S::ZERO {
             let along = self.advance_w(signed(v, w), lugre.sigma0_h() * v.abs(), w_max, inv_w_max);
@@ -430,14 +445,14 @@ impl<S: Scalar> FixedStepModel<S> for ElastoPlasticAt<S> {
     #[inline]
     fn step(&self, state: &mut LuGreAtState<S>, v: S) -> S {
         match checked_velocity(v) {
-            Some(v) => self.advance(state, v, S::ZERO, true),
-            None => state.w,
+            Some(v) => self.advance(state, v, S::ZERO, true) * self.lugre.inv_scale(),
+            None => self.hold_force(state),
         }
     }
 
     /// `w = sigma0 z`.
     fn hold_force(&self, state: &LuGreAtState<S>) -> S {
-        state.w
+        state.w * self.lugre.inv_scale()
     }
 }
 
@@ -445,7 +460,7 @@ impl<S: Scalar> FixedStepModel<S> for ElastoPlasticAt<S> {
 /// after the model's step, `w <- w - sigma0 h c`, then `|w| <= Fs`.
 impl<S: Scalar> FixedStepObservable<S> for ElastoPlasticAt<S> {
     fn step_corrected(&self, state: &mut LuGreAtState<S>, v: S, correction: S, damping: bool) -> S {
-        self.advance(state, v, correction, damping)
+        self.advance(state, v, correction, damping) * self.lugre.inv_scale()
     }
 
     /// As LuGre's.

@@ -415,6 +415,16 @@ impl<S: Scalar> LuGreAt<S> {
         &self.curve
     }
 
+    /// The force scale `k` as a scalar.
+    pub(crate) fn scale_s(&self) -> S {
+        self.scale_s
+    }
+
+    /// `1 / k`: turns a scaled force back into newtons (exact, a power of two).
+    pub(crate) fn inv_scale(&self) -> S {
+        self.inv_scale
+    }
+
     /// `sigma0 h`, times the force scale.
     pub(crate) fn sigma0_h(&self) -> S {
         self.sigma0_h
