@@ -745,3 +745,20 @@ mod fixed_point {
         );
     }
 }
+#[cfg(feature = "fixed")]
+#[test]
+fn dbg_gms() {
+    let p = gms_sets::<4>()[0];
+    let h = 1e-3;
+    let var = p.build::<f64>().unwrap();
+    let at = p.build_at::<Fixed32>(h).unwrap();
+    let at64 = p.build_at::<f64>(h).unwrap();
+    let (mut sv, mut sa, mut s6) = (GmsState::default(), GmsState::default(), GmsState::default());
+    for k in 0..4000 {
+        let v = signal(k, h);
+        let fv = var.step(&mut sv, v, h);
+        let f6 = at64.step(&mut s6, v);
+        let fa = at.step(&mut sa, Fixed32::from_f64(v)).to_f64();
+        if (fv - fa).abs() > 5e-3 { std::println!("{k} v {v:.5} fv {fv:.5} f6 {f6:.5} fa {fa:.5} {:?} {:?}", sv.mode, sa.mode); }
+    }
+}
