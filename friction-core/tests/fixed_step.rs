@@ -709,28 +709,47 @@ mod fixed_point {
     fn measure_all() {
         for h in [1e-3, 1e-4] {
             for p in dahl_sets() {
-                let g = fixed_gap(p.build::<f64>().unwrap(), p.build_at::<Fixed32>(h).unwrap(), h, p.fc);
+                let g = fixed_gap(
+                    p.build::<f64>().unwrap(),
+                    p.build_at::<Fixed32>(h).unwrap(),
+                    h,
+                    p.fc,
+                );
                 std::println!("dahl delta {} sigma {:e} h {h}: {g:.2e}", p.delta, p.sigma);
             }
             for p in ep_sets() {
-                let g = fixed_gap(p.build::<f64>().unwrap(), p.build_at::<Fixed32>(h).unwrap(), h, p.lugre.curve.fs);
+                let g = fixed_gap(
+                    p.build::<f64>().unwrap(),
+                    p.build_at::<Fixed32>(h).unwrap(),
+                    h,
+                    p.lugre.curve.fs,
+                );
                 std::println!("ep {:e} h {h}: {g:.2e}", p.z_ba);
             }
             for p in gms_sets::<4>() {
                 match p.build_at::<Fixed32>(h) {
-                    Ok(at) => { let g = fixed_gap(p.build::<f64>().unwrap(), at, h, p.curve.fs); std::println!("gms4 h {h}: {g:.2e}"); }
+                    Ok(at) => {
+                        let g = fixed_gap(p.build::<f64>().unwrap(), at, h, p.curve.fs);
+                        std::println!("gms4 h {h}: {g:.2e}");
+                    }
                     Err(e) => std::println!("gms4 h {h}: {e:?}"),
                 }
             }
             for p in gms_sets::<1>() {
                 match p.build_at::<Fixed32>(h) {
-                    Ok(at) => { let g = fixed_gap(p.build::<f64>().unwrap(), at, h, p.curve.fs); std::println!("gms1 h {h}: {g:.2e}"); }
+                    Ok(at) => {
+                        let g = fixed_gap(p.build::<f64>().unwrap(), at, h, p.curve.fs);
+                        std::println!("gms1 h {h}: {g:.2e}");
+                    }
                     Err(e) => std::println!("gms1 h {h}: {e:?}"),
                 }
             }
             for p in xiong_sets::<4>() {
                 match p.build_at::<Fixed32>(h) {
-                    Ok(at) => { let g = fixed_gap(p.build::<f64>().unwrap(), at, h, p.curve.fs); std::println!("xiong4 h {h}: {g:.2e}"); }
+                    Ok(at) => {
+                        let g = fixed_gap(p.build::<f64>().unwrap(), at, h, p.curve.fs);
+                        std::println!("xiong4 h {h}: {g:.2e}");
+                    }
                     Err(e) => std::println!("xiong4 h {h}: {e:?}"),
                 }
             }
@@ -753,12 +772,22 @@ fn dbg_gms() {
     let var = p.build::<f64>().unwrap();
     let at = p.build_at::<Fixed32>(h).unwrap();
     let at64 = p.build_at::<f64>(h).unwrap();
-    let (mut sv, mut sa, mut s6) = (GmsState::default(), GmsState::default(), GmsState::default());
+    let (mut sv, mut sa, mut s6) = (
+        GmsState::default(),
+        GmsState::default(),
+        GmsState::default(),
+    );
     for k in 0..4000 {
         let v = signal(k, h);
         let fv = var.step(&mut sv, v, h);
         let f6 = at64.step(&mut s6, v);
         let fa = at.step(&mut sa, Fixed32::from_f64(v)).to_f64();
-        if (fv - fa).abs() > 5e-3 { std::println!("{k} v {v:.5} fv {fv:.5} f6 {f6:.5} fa {fa:.5} {:?} {:?}", sv.mode, sa.mode); }
+        if (fv - fa).abs() > 5e-3 {
+            std::println!(
+                "{k} v {v:.5} fv {fv:.5} f6 {f6:.5} fa {fa:.5} {:?} {:?}",
+                sv.mode,
+                sa.mode
+            );
+        }
     }
 }

@@ -256,8 +256,7 @@ fn ln_1p_ratio<S: Scalar>(q: S) -> S {
     if coarse && q < S::from_f64(0.1) {
         let c = |n: f64| S::from_f64(1.0 / n);
         S::ONE
-            - q * (c(2.0)
-                - q * (c(3.0) - q * (c(4.0) - q * (c(5.0) - q * (c(6.0) - q * c(7.0))))))
+            - q * (c(2.0) - q * (c(3.0) - q * (c(4.0) - q * (c(5.0) - q * (c(6.0) - q * c(7.0))))))
     } else {
         q.ln_1p() / q
     }

@@ -38,10 +38,10 @@
 //! ```
 
 use crate::fixed_step::{checked_velocity, period, signed, FixedStepModel, FixedStepObservable};
-use crate::models::lugre::phi_series;
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
 };
+use crate::models::lugre::phi_series;
 use crate::observer::Observable;
 use crate::stribeck::{StribeckCurve, StribeckParams};
 use crate::Scalar;
@@ -564,8 +564,9 @@ impl<S: Scalar, const N: usize> GmsAt<S, N> {
 
     #[inline]
     fn advance(&self, state: &mut GmsState<S, N>, v: S, c: S, damping: bool) -> S {
-        let g = self.curve.eval_fast(v); // scaled, >= Fc scaled > 0
-        // 1/g unscaled: in fixed point the reciprocal of a scaled g is a few steps
+        // g scaled (>= Fc scaled > 0); 1/g unscaled: in fixed point the
+        // reciprocal of a scaled g would be a few steps
+        let g = self.curve.eval_fast(v);
         let inv_g = self.scale_s / g;
         let u = v - c;
         let mut total = self.sigma2 * v;
