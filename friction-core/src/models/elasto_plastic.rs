@@ -293,16 +293,32 @@ fn sin_over_x<S: Scalar>(x: S) -> S {
     S::ONE + acc
 }
 
-/// [`zone_step`] with the tail's exponentials from [`relax`] (the fixed-step
-/// forms' [`Scalar::exp_neg`], or a series for small arguments).
-fn zone_step_at<S: Scalar>(mut u: S, mut left: S, eps: S) -> S {
+/// [`zone_step`] for the fixed-step form, over the distance `xi` (force
+/// units, scaled) in a zone of width `width`: returns the rise of the force
+/// `w` (scaled), `(u - u+) width`, accumulated in force units (each sub-step
+/// as `h width (k1 + 2 k2 + 2 k3 + k4) / 6`, the small tail step as
+/// `u xi (1 - e^-x) / x (eps + b u) / (1 + b u left (1 - e^-x) / x)` with
+/// `x = eps left`), so that in fixed point a short step is not rounded away
+/// in the normalised `u`. The caller clamps `w + rise` to `w_max`. The
+/// tail's exponentials come from [`relax`].
+fn zone_step_at<S: Scalar>(mut u: S, mut xi: S, width: S, eps: S) -> S {
+    // zone widths left (a quotient of scaled forces)
+    let mut left = xi / width;
     let (mut r, mut b) = zone_rate(u, eps);
     let (c, tail) = (S::from_f64(RK_REACH), S::from_f64(TAIL));
     let half = S::from_f64(0.5);
     let sixth = S::from_f64(1.0 / 6.0);
+    let two = S::from_f64(2.0);
+    let mut rise = S::ZERO;
     let mut taken = 0;
     while taken < MAX_SUBSTEPS && u > tail {
-        let h = (c / (r + S::from_f64(Q) * u)).min(left);
+        let reach = c / (r + S::from_f64(Q) * u);
+        // the sub-step in zone widths and in force units
+        let (h, h_w) = if reach < left {
+            (reach, reach * width)
+        } else {
+            (left, xi)
+        };
         let k1 = u * r;
         let u2 = u - half * h * k1;
         let k2 = u2 * zone_rate(u2, eps).0;
@@ -310,18 +326,27 @@ fn zone_step_at<S: Scalar>(mut u: S, mut left: S, eps: S) -> S {
         let k3 = u3 * zone_rate(u3, eps).0;
         let u4 = u - h * k3;
         let k4 = u4 * zone_rate(u4, eps).0;
-        u = (u - sixth * h * (k1 + S::from_f64(2.0) * (k2 + k3) + k4)).max(S::ZERO);
+        let slope = k1 + two * (k2 + k3) + k4;
+        u = (u - sixth * h * slope).max(S::ZERO);
+        rise = rise + h_w * slope * sixth;
         left = left - h;
+        xi = xi - h_w;
         taken += 1;
         if left <= S::ZERO {
-            return u;
+            return rise;
         }
         (r, b) = zone_rate(u, eps);
     }
-    // the Riccati tail of `zone_step`, with 1 - e^(-x) and (1 - e^(-x)) / x
-    // (x = eps left) from `relax`
-    let (one_minus_e, phi) = relax(eps * left);
-    u * (S::ONE - one_minus_e) / (S::ONE + b * u * (phi * left))
+    let x = eps * left;
+    let (one_minus_e, phi) = relax(x);
+    let grown = b * u * (phi * left);
+    if x < S::from_f64(0.1) {
+        // u - u+ = u left phi (eps + b u) / (1 + b u phi left), times width
+        // (xi = left width): the force-unit distance first
+        rise + xi * (eps + b * u) * u * phi / (S::ONE + grown)
+    } else {
+        rise + (u - u * (S::ONE - one_minus_e) / (S::ONE + grown)) * width
+    }
 }
 
 /// The elasto-plastic model built for one sample period `h`
@@ -404,7 +429,7 @@ impl<S: Scalar> ElastoPlasticAt<S> {
         let eps = self.ratio(width, inv_w_max);
         // quotients of scaled forces: 1/width in scaled units is tiny in fixed point
         let u = ((w_max - w) / width).min(S::ONE);
-        w_max - zone_step_at(u, xi / width, eps) * width
+        (w + zone_step_at(u, xi, width, eps)).min(w_max)
     }
 
     #[inline]
@@ -425,11 +450,15 @@ impl<S: Scalar> ElastoPlasticAt<S> {
         let mut f = w + lugre.sigma2() * v;
         if damping {
             // at v = 0 the slip is multiplied by 0: its argument's sign is moot
-            let mut dz = v * self.slip(signed(v, w), w_max, inv_w_max) - c;
-            if w.abs() >= lugre.fs() && dz * w > S::ZERO {
-                dz = S::ZERO;
+            let slip = self.slip(signed(v, w), w_max, inv_w_max);
+            let dz = v * slip - c;
+            if !(w.abs() >= lugre.fs() && dz * w > S::ZERO) {
+                // sigma1 dz/dt as (sigma1 v) slip - sigma1 c: a rounding of
+                // v slip is not multiplied by sigma1 (1.5e-5 m/s x 316 N s/m
+                // in canudas1995 is 5e-3 N in fixed point)
+                let d = lugre.damping(v);
+                f = f + (d * v) * slip - d * c;
             }
-            f = f + lugre.damping(v) * dz;
         }
         f
     }
