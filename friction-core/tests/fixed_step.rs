@@ -747,7 +747,7 @@ mod fixed_point {
                     &std::format!("dahl delta {}", p.delta),
                     h,
                     gaps,
-                    (2e-3, 5e-4),
+                    (2e-3, 2e-4),
                 );
             }
         }
@@ -767,7 +767,7 @@ mod fixed_point {
                     &std::format!("elasto-plastic z_ba {:.1e}", p.z_ba),
                     h,
                     gaps,
-                    (1e-2, 1e-2),
+                    (2e-3, 2e-4),
                 );
             }
         }
