@@ -407,6 +407,33 @@ impl<S: Scalar> ElastoPlasticAt<S> {
         }
     }
 
+    /// `dv dW/dX` (`dv = sigma1 v`, scaled) given `slip = dW/dX`: where
+    /// `dW/dX = (w_max - w) r / width` (`r = 1/w_max` above `w_max`, the zone
+    /// rate in it) as `(dv / width) (w_max - w) r`, the small difference of
+    /// two scaled forces times a quotient; `dv slip` if the quotient could
+    /// saturate.
+    #[inline]
+    fn damped_slip(&self, dv: S, w: S, w_max: S, slip: S) -> S {
+        if w <= self.w_ba {
+            return dv;
+        }
+        let (width, r) = if w >= w_max {
+            (w_max, S::ONE)
+        } else {
+            let width = w_max - self.w_ba;
+            let u = ((w_max - w) / width).min(S::ONE);
+            (
+                width,
+                zone_rate(u, self.ratio(width, self.lugre.scale_s() / w_max)).0,
+            )
+        };
+        if dv.abs() < width * S::from_f64(8192.0) {
+            (dv / width) * (w_max - w) * r
+        } else {
+            dv * slip
+        }
+    }
+
     /// The force along the motion `w` over the distance `xi` (in force
     /// units, `sigma0 |v| h`), as [`ElastoPlastic`]'s `advance_w`.
     #[inline]
@@ -453,11 +480,11 @@ impl<S: Scalar> ElastoPlasticAt<S> {
             let slip = self.slip(signed(v, w), w_max, inv_w_max);
             let dz = v * slip - c;
             if !(w.abs() >= lugre.fs() && dz * w > S::ZERO) {
-                // sigma1 dz/dt as (sigma1 v) slip - sigma1 c: a rounding of
-                // v slip is not multiplied by sigma1 (1.5e-5 m/s x 316 N s/m
-                // in canudas1995 is 5e-3 N in fixed point)
+                // sigma1 dz/dt = (sigma1 v) dW/dX - sigma1 c, with the
+                // product formed so that no rounding of a ratio (1.5e-5 in
+                // fixed point) is multiplied by sigma1 v
                 let d = lugre.damping(v);
-                f = f + (d * v) * slip - d * c;
+                f = f + self.damped_slip(d * v, signed(v, w), w_max, slip) - d * c;
             }
         }
         f

@@ -403,6 +403,13 @@ pub(crate) fn relax<S: Scalar>(x: S) -> (S, S) {
     }
 }
 
+/// `sign(v) g - w`, the distance of `w` to its target (any sign at `v = 0`,
+/// where it is multiplied by `|v| = 0`).
+#[inline]
+fn gap_end<S: Scalar>(v: S, g: S, w: S) -> S {
+    signed(v, g) - w
+}
+
 impl<S: Scalar> LuGreAt<S> {
     /// The power of two the forces inside (the state `w` included) are
     /// carried times: 1 in floating point.
@@ -482,11 +489,16 @@ impl<S: Scalar> LuGreAt<S> {
         let mut f = w + self.sigma2 * v;
         if damping {
             // dz/dt = (v - c) - |v| w / g, zero while held at the bound
-            let mut dz = (v - c) - speed * (w * inv_g * self.inv_scale);
-            if w.abs() >= self.fs && dz * w > S::ZERO {
-                dz = S::ZERO;
+            let ratio = w * inv_g * self.inv_scale;
+            let dz = (v - c) - speed * ratio;
+            if !(w.abs() >= self.fs && dz * w > S::ZERO) {
+                // sigma1 dz/dt = (sigma1 |v| / g) (sign(v) g - w) - sigma1 c:
+                // the small difference of two scaled forces times a
+                // quotient, so that no rounding of a ratio (1.5e-5 in fixed
+                // point) is multiplied by sigma1 |v|
+                let d = self.damping(v);
+                f = f + ((d * speed) / g * gap_end(v, g, w) - d * c);
             }
-            f = f + self.damping(v) * dz;
         }
         f
     }
