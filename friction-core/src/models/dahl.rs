@@ -246,14 +246,16 @@ pub struct DahlAt<S> {
     h: f64,
 }
 
-/// `ln(1 + q) / q` for `q > 0`: in a coarse scalar (`f32`, fixed point)
+/// `ln(1 + q) / q` for `q >= 0` (1 at 0): in a coarse scalar (`f32`, fixed point)
 /// below `q = 0.1` from the series `sum_n (-q)^n / (n + 1)` to `n = 6`
 /// (truncation under `q^7 / 8 < 1.3e-8`), so that a small `q` is not
 /// rounded before the logarithm; else `ln_1p(q) / q`.
 #[inline]
 fn ln_1p_ratio<S: Scalar>(q: S) -> S {
     let coarse = S::from_f64(1.0 + 1e-9) == S::ONE;
-    if coarse && q < S::from_f64(0.1) {
+    if q <= S::ZERO {
+        S::ONE // the limit; q = 0 when k rounds to 0
+    } else if coarse && q < S::from_f64(0.1) {
         let c = |n: f64| S::from_f64(1.0 / n);
         S::ONE
             - q * (c(2.0) - q * (c(3.0) - q * (c(4.0) - q * (c(5.0) - q * (c(6.0) - q * c(7.0))))))
@@ -268,8 +270,10 @@ impl<S: Scalar> DahlAt<S> {
         let mut f = state.f;
         let speed = v.abs();
         let k = self.sigma_h_over_fc * speed; // sigma h |v| / Fc
-        if k > S::ZERO {
-            // k > 0: v != 0, so sign(v) is the sign `signed` applies
+        // not `k > 0`: in fixed point k rounds to 0 below 7.6e-6 while the
+        // scaled increment sigma h |v| y is still thousands of steps
+        if speed > S::ZERO {
+            // v != 0, so sign(v) is the sign `signed` applies
             // Fc y (scaled), and y = 1 - sign(v) F / Fc from the unscaled 1/Fc
             let gap = self.fc - signed(v, f);
             if gap > S::ZERO {
