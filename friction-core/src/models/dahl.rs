@@ -269,9 +269,10 @@ impl<S: Scalar> DahlAt<S> {
     fn advance(&self, state: &mut DahlState<S>, v: S, c: S) -> S {
         let mut f = state.f;
         let speed = v.abs();
-        let k = self.sigma_h_over_fc * speed; // sigma h |v| / Fc
-        // not `k > 0`: in fixed point k rounds to 0 below 7.6e-6 while the
-        // scaled increment sigma h |v| y is still thousands of steps
+        // k = sigma h |v| / Fc; the test is not `k > 0`: in fixed point k
+        // rounds to 0 below 7.6e-6 while the scaled increment sigma h |v| y
+        // is still thousands of steps
+        let k = self.sigma_h_over_fc * speed;
         if speed > S::ZERO {
             // v != 0, so sign(v) is the sign `signed` applies
             // Fc y (scaled), and y = 1 - sign(v) F / Fc from the unscaled 1/Fc
