@@ -1035,6 +1035,70 @@ mod fixed_point {
         }
     }
 
+    /// Beyond Q16.16's range a set is refused when built, naming the term.
+    #[test]
+    fn out_of_range_sets_are_refused_in_fixed_point() {
+        let h = 1e-3;
+        // sigma2 v at 4 m/s beyond the headroom at the smallest force scale
+        // (4 x 4 sigma2 2^-14 > 32768)
+        let viscous = 1e9;
+        let lugre = LuGreParams {
+            sigma2: viscous,
+            ..LuGreParams::CANUDAS_1995
+        };
+        let over = Some(ParamError::ForceOverflow("sigma2"));
+        assert_eq!(lugre.build_at::<Fixed32>(h).err(), over);
+        let ep = ElastoPlasticParams { lugre, z_ba: 1e-6 };
+        assert_eq!(ep.build_at::<Fixed32>(h).err(), over);
+        let dahl = DahlParams {
+            sigma2: viscous,
+            ..dahl_sets()[0]
+        };
+        assert_eq!(dahl.build_at::<Fixed32>(h).err(), over);
+        let mut gms = gms_sets::<4>()[0];
+        gms.sigma2 = viscous;
+        assert_eq!(gms.build_at::<Fixed32>(h).err(), over);
+        let mut xiong = xiong_sets::<4>()[0];
+        xiong.sigma2 = viscous;
+        assert_eq!(xiong.build_at::<Fixed32>(h).err(), over);
+        // a Coulomb level below Q16.16's step (1.5e-5 N) after the largest
+        // force scale (2^14): it underflows
+        let tiny = StribeckParams {
+            fc: 1e-10,
+            fs: 1e-10,
+            ..CURVE
+        };
+        let err = DahlParams {
+            fc: 1e-10,
+            ..dahl_sets()[0]
+        }
+        .build_at::<Fixed32>(h)
+        .err();
+        assert!(
+            matches!(
+                err,
+                Some(ParamError::Underflow(_) | ParamError::NotRepresentable(_))
+            ),
+            "{err:?}"
+        );
+        let err = gms_set::<2>(tiny, 1e5, 100.0).build_at::<Fixed32>(h).err();
+        assert!(
+            matches!(
+                err,
+                Some(ParamError::Underflow(_) | ParamError::NotRepresentable(_))
+            ),
+            "{err:?}"
+        );
+        let err = xiong_set::<2>(tiny, 1e5, 1e-2).build_at::<Fixed32>(h).err();
+        assert!(
+            matches!(
+                err,
+                Some(ParamError::Underflow(_) | ParamError::NotRepresentable(_))
+            ),
+            "{err:?}"
+        );
+    }
+
     #[test]
     fn variable_step_lugre_is_refused_in_fixed_point() {
         assert_eq!(
