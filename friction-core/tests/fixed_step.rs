@@ -738,7 +738,7 @@ mod fixed_point {
     #[test]
     fn dahl_fixed_point_tracks_f64() {
         // measured total 2.8e-4, 3.4e-4, 5.6e-5 of Fc at 1 kHz,
-        // 2.4e-5, 3.7e-5, 4.3e-5 at 10 kHz (the three sets)
+        // 2.4e-5, 3.7e-5, 1.8e-5 at 10 kHz (the three sets)
         for h in [1e-3, 1e-4] {
             for p in dahl_sets() {
                 let at = p.build_at::<Fixed32>(h).unwrap();
