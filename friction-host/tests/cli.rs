@@ -819,3 +819,68 @@ fn review_findings_exit_2_with_a_clear_error() {
         stderr(&out)
     );
 }
+
+#[test]
+fn simulate_runs_gms_in_fixed_point() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.csv");
+    let mut text = String::from("t,v\n");
+    for k in 0..=2000 {
+        let t = k as f64 * 1e-3;
+        // a slow sine, then 0.1 m/s
+        let v = if k < 1000 {
+            5e-3 * (2.0 * std::f64::consts::PI * t).sin()
+        } else {
+            0.1
+        };
+        text.push_str(&format!("{t},{v}\n"));
+    }
+    std::fs::write(&input, text).unwrap();
+    let gms = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../params/gms-typical.toml")
+        .display()
+        .to_string();
+    let mut last = Vec::new();
+    for scalar in ["fixed", "f64"] {
+        let output = dir.path().join(format!("out-{scalar}.csv"));
+        let out = friction(&[
+            "simulate",
+            "--params",
+            &gms,
+            "--input",
+            input.to_str().unwrap(),
+            "--output",
+            output.to_str().unwrap(),
+            "--scalar",
+            scalar,
+        ]);
+        assert!(out.status.success(), "{scalar}: {}", stderr(&out));
+        let csv = std::fs::read_to_string(&output).unwrap();
+        assert!(
+            csv.lines()
+                .next()
+                .unwrap()
+                .starts_with("t,v,f,F0,F1,F2,F3,mode0"),
+            "{csv:.80}"
+        );
+        assert_eq!(csv.lines().count(), 2002);
+        let f: Vec<f64> = csv
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').nth(2).unwrap().parse().unwrap())
+            .collect();
+        last.push(f);
+    }
+    // steady sliding at 0.1 m/s: g(0.1) + sigma2 v = 1 + 0.04
+    let (fixed, float) = (&last[0], &last[1]);
+    assert!((fixed[2000] - 1.04).abs() < 1e-3, "{}", fixed[2000]);
+    // the whole run within 1 % of Fs = 1.5 N of the f64 run (RMS)
+    let rms = (fixed
+        .iter()
+        .zip(float)
+        .map(|(a, b)| (a - b).powi(2))
+        .sum::<f64>()
+        / fixed.len() as f64)
+        .sqrt();
+    assert!(rms < 1e-2 * 1.5, "rms {rms}");
+}

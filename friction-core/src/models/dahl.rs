@@ -24,7 +24,7 @@ use crate::fixed_step::{checked_velocity, period, signed, FixedStepModel, FixedS
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
 };
-use crate::models::lugre::relax;
+use crate::models::lugre::{phi_series, relax};
 use crate::observer::Observable;
 use crate::Scalar;
 
@@ -102,16 +102,20 @@ impl DahlParams {
     pub fn build_at<S: Scalar>(&self, h: f64) -> Result<DahlAt<S>, ParamError> {
         self.validate()?;
         let h = period(h)?;
-        check_force::<S>("sigma2", self.sigma2 * S::VELOCITY_LIMIT.to_f64())?;
+        let v_max = S::VELOCITY_LIMIT.to_f64();
         let sigma_h = self.sigma * h;
-        check_force::<S>("sigma", sigma_h * S::VELOCITY_LIMIT.to_f64())?;
+        // forces carried times k, as in LuGreAt
+        let k = S::force_scale(self.fc.max(sigma_h * v_max).max(self.sigma2 * v_max));
+        check_force::<S>("sigma2", k * self.sigma2 * v_max)?;
+        check_force::<S>("sigma", k * sigma_h * v_max)?;
         Ok(DahlAt {
-            fc: convert("fc", self.fc)?,
+            fc: convert("fc", k * self.fc)?,
             inv_fc: convert("fc", 1.0 / self.fc)?,
-            sigma_h: convert("sigma", sigma_h)?,
+            sigma_h: convert("sigma", k * sigma_h)?,
             sigma_h_over_fc: convert("sigma", sigma_h / self.fc)?,
             delta_minus_one: convert("delta", self.delta - 1.0)?,
-            sigma2: convert("sigma2", self.sigma2)?,
+            sigma2: convert("sigma2", k * self.sigma2)?,
+            inv_scale: convert("fc", 1.0 / k)?,
             h,
         })
     }
@@ -203,8 +207,8 @@ impl<S: Scalar> Observable<S> for Dahl<S> {
 }
 
 /// Dahl built for one sample period `h` ([`DahlParams::build_at`]). Its
-/// state is the variable-step one, [`DahlState`] (already a force). With
-/// `k = sigma h |v| / Fc` (`sigma h / Fc` formed at build time),
+/// state is the variable-step one, [`DahlState`] (a force, here times the
+/// force scale). With `k = sigma h |v| / Fc` (`sigma h / Fc` formed at build time),
 /// `y = 1 - sign(v) F / Fc` and `d = delta - 1`:
 ///
 /// ```text
@@ -217,7 +221,18 @@ impl<S: Scalar> Observable<S> for Dahl<S> {
 /// the reference sheet's `dF/dx = sigma sign(y) |y|^delta`), with `c` an
 /// observer's correction (0 for the model). For `delta = 1` it costs one
 /// [`Scalar::exp_neg`] (or a series below `L = 0.1`), no division, no
-/// `powf`; `delta > 1` keeps `powf`, `ln_1p` and `exp_m1`.
+/// `powf`; `delta > 1` keeps `powf`, `ln_1p` and `exp_m1` (in [`Fixed32`]
+/// these go through `f32`, software floating point on a core without an FPU).
+///
+/// Forces (the state `F` included) are carried times a power of two `k`
+/// ([`Scalar::force_scale`]: 1 in floating point), as in
+/// [`LuGreAt`](crate::LuGreAt), and the force is returned in newtons. Below
+/// `L = 0.1` the increment is formed as `Fc y (1 - e^-L) = sigma h |v| y
+/// y^d (ln(1 + q) / q) (1 - e^-L) / L` with `q = d k y^d`: the scaled
+/// `sigma h |v|` first, then factors of order one, so that a small step
+/// keeps its precision in fixed point.
+///
+/// [`Fixed32`]: crate::Fixed32
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct DahlAt<S> {
@@ -227,26 +242,63 @@ pub struct DahlAt<S> {
     sigma_h_over_fc: S,
     delta_minus_one: S,
     sigma2: S,
+    inv_scale: S,
     h: f64,
+}
+
+/// `ln(1 + q) / q` for `q >= 0` (1 at 0): in a coarse scalar (`f32`, fixed point)
+/// below `q = 0.1` from the series `sum_n (-q)^n / (n + 1)` to `n = 6`
+/// (truncation under `q^7 / 8 < 1.3e-8`), so that a small `q` is not
+/// rounded before the logarithm; else `ln_1p(q) / q`.
+#[inline]
+fn ln_1p_ratio<S: Scalar>(q: S) -> S {
+    let coarse = S::from_f64(1.0 + 1e-9) == S::ONE;
+    if q <= S::ZERO {
+        S::ONE // the limit; q = 0 when k rounds to 0
+    } else if coarse && q < S::from_f64(0.1) {
+        let c = |n: f64| S::from_f64(1.0 / n);
+        S::ONE
+            - q * (c(2.0) - q * (c(3.0) - q * (c(4.0) - q * (c(5.0) - q * (c(6.0) - q * c(7.0))))))
+    } else {
+        q.ln_1p() / q
+    }
 }
 
 impl<S: Scalar> DahlAt<S> {
     #[inline]
     fn advance(&self, state: &mut DahlState<S>, v: S, c: S) -> S {
         let mut f = state.f;
-        let k = self.sigma_h_over_fc * v.abs();
-        if k > S::ZERO {
-            // k > 0: v != 0, so sign(v) is the sign `signed` applies
-            let y = S::ONE - signed(v, f) * self.inv_fc;
-            if y > S::ZERO {
+        let speed = v.abs();
+        // k = sigma h |v| / Fc; the test is not `k > 0`: in fixed point k
+        // rounds to 0 below 7.6e-6 while the scaled increment sigma h |v| y
+        // is still thousands of steps
+        let k = self.sigma_h_over_fc * speed;
+        if speed > S::ZERO {
+            // v != 0, so sign(v) is the sign `signed` applies
+            // Fc y (scaled), and y = 1 - sign(v) F / Fc from the unscaled 1/Fc
+            let gap = self.fc - signed(v, f);
+            if gap > S::ZERO {
+                let y = gap * self.inv_fc * self.inv_scale;
+                let p = self.sigma_h * speed; // sigma h |v|, scaled: Fc k
                 let d = self.delta_minus_one;
-                // 1 - e^-L
-                let one_minus_e = if d > S::ZERO {
-                    -(-((d * k * y.powf(d)).ln_1p() / d)).exp_m1()
+                let incr = if d > S::ZERO {
+                    let y_d = y.powf(d);
+                    let q = d * k * y_d;
+                    // L = ln(1 + q) / d = k y^d ln(1 + q) / q
+                    let r = ln_1p_ratio(q);
+                    let l = k * y_d * r;
+                    if l < S::from_f64(0.1) {
+                        p * y * y_d * r * phi_series(l)
+                    } else {
+                        gap * -(-l).exp_m1()
+                    }
+                } else if k < S::from_f64(0.1) {
+                    // Fc y (1 - e^-k) = sigma h |v| y phi(k)
+                    p * y * phi_series(k)
                 } else {
-                    relax(k).0
+                    gap * relax(k).0
                 };
-                f = (f + signed(v, self.fc * y) * one_minus_e).sat(self.fc);
+                f = (f + signed(v, incr)).sat(self.fc);
             }
         }
         if c != S::ZERO {
@@ -267,14 +319,14 @@ impl<S: Scalar> FixedStepModel<S> for DahlAt<S> {
     #[inline]
     fn step(&self, state: &mut DahlState<S>, v: S) -> S {
         match checked_velocity(v) {
-            Some(v) => self.advance(state, v, S::ZERO),
-            None => state.f,
+            Some(v) => self.advance(state, v, S::ZERO) * self.inv_scale,
+            None => self.hold_force(state),
         }
     }
 
     /// `F`.
     fn hold_force(&self, state: &DahlState<S>) -> S {
-        state.f
+        state.f * self.inv_scale
     }
 }
 
@@ -282,12 +334,12 @@ impl<S: Scalar> FixedStepModel<S> for DahlAt<S> {
 /// the exact step; Dahl has no `sigma1`, `damping` has no effect.
 impl<S: Scalar> FixedStepObservable<S> for DahlAt<S> {
     fn step_corrected(&self, state: &mut DahlState<S>, v: S, correction: S, _damping: bool) -> S {
-        self.advance(state, v, correction)
+        self.advance(state, v, correction) * self.inv_scale
     }
 
     /// `Fc + sigma2 |v|`.
     fn force_bound(&self, v: S) -> S {
-        self.fc + self.sigma2 * v.abs()
+        (self.fc + self.sigma2 * v.abs()) * self.inv_scale
     }
 }
 

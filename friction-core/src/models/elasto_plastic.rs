@@ -118,9 +118,10 @@ impl ElastoPlasticParams {
     /// ```
     pub fn build_at<S: Scalar>(&self, h: f64) -> Result<ElastoPlasticAt<S>, ParamError> {
         self.validate()?;
+        let lugre: LuGreAt<S> = self.lugre.build_at(h)?;
         Ok(ElastoPlasticAt {
-            lugre: self.lugre.build_at(h)?,
-            w_ba: convert("z_ba", self.lugre.sigma0 * self.z_ba)?,
+            w_ba: convert("z_ba", lugre.force_scale() * self.lugre.sigma0 * self.z_ba)?,
+            lugre,
         })
     }
 }
@@ -292,16 +293,32 @@ fn sin_over_x<S: Scalar>(x: S) -> S {
     S::ONE + acc
 }
 
-/// [`zone_step`] with the tail's exponentials from [`relax`] (the fixed-step
-/// forms' [`Scalar::exp_neg`], or a series for small arguments).
-fn zone_step_at<S: Scalar>(mut u: S, mut left: S, eps: S) -> S {
+/// [`zone_step`] for the fixed-step form, over the distance `xi` (force
+/// units, scaled) in a zone of width `width`: returns the rise of the force
+/// `w` (scaled), `(u - u+) width`, accumulated in force units (each sub-step
+/// as `h width (k1 + 2 k2 + 2 k3 + k4) / 6`, the small tail step as
+/// `u xi (1 - e^-x) / x (eps + b u) / (1 + b u left (1 - e^-x) / x)` with
+/// `x = eps left`), so that in fixed point a short step is not rounded away
+/// in the normalised `u`. The caller clamps `w + rise` to `w_max`. The
+/// tail's exponentials come from [`relax`].
+fn zone_step_at<S: Scalar>(mut u: S, mut xi: S, width: S, eps: S) -> S {
+    // zone widths left (a quotient of scaled forces)
+    let mut left = xi / width;
     let (mut r, mut b) = zone_rate(u, eps);
     let (c, tail) = (S::from_f64(RK_REACH), S::from_f64(TAIL));
     let half = S::from_f64(0.5);
     let sixth = S::from_f64(1.0 / 6.0);
+    let two = S::from_f64(2.0);
+    let mut rise = S::ZERO;
     let mut taken = 0;
     while taken < MAX_SUBSTEPS && u > tail {
-        let h = (c / (r + S::from_f64(Q) * u)).min(left);
+        let reach = c / (r + S::from_f64(Q) * u);
+        // the sub-step in zone widths and in force units
+        let (h, h_w) = if reach < left {
+            (reach, reach * width)
+        } else {
+            (left, xi)
+        };
         let k1 = u * r;
         let u2 = u - half * h * k1;
         let k2 = u2 * zone_rate(u2, eps).0;
@@ -309,18 +326,27 @@ fn zone_step_at<S: Scalar>(mut u: S, mut left: S, eps: S) -> S {
         let k3 = u3 * zone_rate(u3, eps).0;
         let u4 = u - h * k3;
         let k4 = u4 * zone_rate(u4, eps).0;
-        u = (u - sixth * h * (k1 + S::from_f64(2.0) * (k2 + k3) + k4)).max(S::ZERO);
+        let slope = k1 + two * (k2 + k3) + k4;
+        u = (u - sixth * h * slope).max(S::ZERO);
+        rise = rise + h_w * slope * sixth;
         left = left - h;
+        xi = xi - h_w;
         taken += 1;
         if left <= S::ZERO {
-            return u;
+            return rise;
         }
         (r, b) = zone_rate(u, eps);
     }
-    // the Riccati tail of `zone_step`, with 1 - e^(-x) and (1 - e^(-x)) / x
-    // (x = eps left) from `relax`
-    let (one_minus_e, phi) = relax(eps * left);
-    u * (S::ONE - one_minus_e) / (S::ONE + b * u * (phi * left))
+    let x = eps * left;
+    let (one_minus_e, phi) = relax(x);
+    let grown = b * u * (phi * left);
+    if x < S::from_f64(0.1) {
+        // u - u+ = u left phi (eps + b u) / (1 + b u phi left), times width
+        // (xi = left width): the force-unit distance first
+        rise + xi * (eps + b * u) * u * phi / (S::ONE + grown)
+    } else {
+        rise + (u - u * (S::ONE - one_minus_e) / (S::ONE + grown)) * width
+    }
 }
 
 /// The elasto-plastic model built for one sample period `h`
@@ -339,33 +365,72 @@ fn zone_step_at<S: Scalar>(mut u: S, mut left: S, eps: S) -> S {
 /// with the variable-step form's discretisation ([`ElastoPlastic`]): exact
 /// below `W_ba` and above `g(v)`, RK4 sub-steps then the exact Riccati
 /// tail in the zone, so the two agree to rounding. `c` is an observer's
-/// correction, 0 for the model.
+/// correction, 0 for the model. As in [`LuGreAt`], forces (the state `w`
+/// and `W_ba` included) are carried times its force scale (1 in floating
+/// point), ratios of forces are formed from the unscaled `1/g` or as
+/// quotients, and the force is returned in newtons.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ElastoPlasticAt<S> {
     lugre: LuGreAt<S>,
-    /// `sigma0 z_ba` (N).
+    /// `sigma0 z_ba` (N), times the LuGre part's force scale.
     w_ba: S,
 }
 
 impl<S: Scalar> ElastoPlasticAt<S> {
-    /// The break-away force `sigma0 z_ba`.
+    /// The break-away force `sigma0 z_ba` (N).
     pub fn w_ba(&self) -> S {
-        self.w_ba
+        self.w_ba * self.lugre.inv_scale()
     }
 
-    /// `dW/dX` at the force along the motion `w`, with `w_max = g(v)`.
+    /// `a / w_max` for `0 <= a <= w_max` (scaled forces), from the unscaled
+    /// `1 / g`: `(a / g) k <= k` fits, and no factor is a tiny number.
+    #[inline]
+    fn ratio(&self, a: S, inv_w_max: S) -> S {
+        a * inv_w_max * self.lugre.inv_scale()
+    }
+
+    /// `dW/dX` at the force along the motion `w`, with `w_max = g(v)`
+    /// (scaled) and `inv_w_max = 1/g` (unscaled).
     #[inline]
     fn slip(&self, w: S, w_max: S, inv_w_max: S) -> S {
         if w <= self.w_ba {
             S::ONE
         } else if w >= w_max {
-            S::ONE - w * inv_w_max
+            // 1 - w / w_max, with w - w_max <= Fs - Fc (scaled) in the product
+            -((w - w_max) * inv_w_max * self.lugre.inv_scale())
         } else {
             let width = w_max - self.w_ba;
             let u = ((w_max - w) / width).min(S::ONE);
-            let (r, _) = zone_rate(u, width * inv_w_max);
+            let (r, _) = zone_rate(u, self.ratio(width, inv_w_max));
             u * r
+        }
+    }
+
+    /// `dv dW/dX` (`dv = sigma1 v`, scaled) given `slip = dW/dX`: where
+    /// `dW/dX = (w_max - w) r / width` (`r = 1/w_max` above `w_max`, the zone
+    /// rate in it) as `(dv / width) (w_max - w) r`, the small difference of
+    /// two scaled forces times a quotient; `dv slip` if the quotient could
+    /// saturate.
+    #[inline]
+    fn damped_slip(&self, dv: S, w: S, w_max: S, slip: S) -> S {
+        if w <= self.w_ba {
+            return dv;
+        }
+        let (width, r) = if w >= w_max {
+            (w_max, S::ONE)
+        } else {
+            let width = w_max - self.w_ba;
+            let u = ((w_max - w) / width).min(S::ONE);
+            (
+                width,
+                zone_rate(u, self.ratio(width, self.lugre.scale_s() / w_max)).0,
+            )
+        };
+        if dv.abs() < width * S::from_f64(8192.0) {
+            (dv / width) * (w_max - w) * r
+        } else {
+            dv * slip
         }
     }
 
@@ -383,20 +448,22 @@ impl<S: Scalar> ElastoPlasticAt<S> {
         }
         xi = xi.min(S::from_f64(XI_CAP) * w_max);
         if w >= w_max {
-            return w_max + (w - w_max) * (xi * inv_w_max).exp_neg();
+            // xi / w_max as a quotient of two scaled forces: any product
+            // form would saturate (k xi / g) or use a tiny 1/(k g)
+            return w_max + (w - w_max) * (xi / w_max).exp_neg();
         }
         let width = w_max - self.w_ba;
-        let inv_width = S::ONE / width;
-        let eps = width * inv_w_max;
-        let u = ((w_max - w) * inv_width).min(S::ONE);
-        w_max - zone_step_at(u, xi * inv_width, eps) * width
+        let eps = self.ratio(width, inv_w_max);
+        // quotients of scaled forces: 1/width in scaled units is tiny in fixed point
+        let u = ((w_max - w) / width).min(S::ONE);
+        (w + zone_step_at(u, xi, width, eps)).min(w_max)
     }
 
     #[inline]
     fn advance(&self, state: &mut LuGreAtState<S>, v: S, c: S, damping: bool) -> S {
         let lugre = &self.lugre;
-        let w_max = lugre.curve().eval_fast(v);
-        let inv_w_max = S::ONE / w_max; // g >= Fc > 0
+        let w_max = lugre.curve().eval_fast(v); // scaled
+        let inv_w_max = lugre.scale_s() / w_max; // 1/g unscaled, g >= Fc > 0
         let mut w = state.w;
         if v != S::ZERO {
             let along = self.advance_w(signed(v, w), lugre.sigma0_h() * v.abs(), w_max, inv_w_max);
@@ -410,11 +477,15 @@ impl<S: Scalar> ElastoPlasticAt<S> {
         let mut f = w + lugre.sigma2() * v;
         if damping {
             // at v = 0 the slip is multiplied by 0: its argument's sign is moot
-            let mut dz = v * self.slip(signed(v, w), w_max, inv_w_max) - c;
-            if w.abs() >= lugre.fs() && dz * w > S::ZERO {
-                dz = S::ZERO;
+            let slip = self.slip(signed(v, w), w_max, inv_w_max);
+            let dz = v * slip - c;
+            if !(w.abs() >= lugre.fs() && dz * w > S::ZERO) {
+                // sigma1 dz/dt = (sigma1 v) dW/dX - sigma1 c, with the
+                // product formed so that no rounding of a ratio (1.5e-5 in
+                // fixed point) is multiplied by sigma1 v
+                let d = lugre.damping(v);
+                f = f + self.damped_slip(d * v, signed(v, w), w_max, slip) - d * c;
             }
-            f = f + lugre.damping(v) * dz;
         }
         f
     }
@@ -430,14 +501,14 @@ impl<S: Scalar> FixedStepModel<S> for ElastoPlasticAt<S> {
     #[inline]
     fn step(&self, state: &mut LuGreAtState<S>, v: S) -> S {
         match checked_velocity(v) {
-            Some(v) => self.advance(state, v, S::ZERO, true),
-            None => state.w,
+            Some(v) => self.advance(state, v, S::ZERO, true) * self.lugre.inv_scale(),
+            None => self.hold_force(state),
         }
     }
 
     /// `w = sigma0 z`.
     fn hold_force(&self, state: &LuGreAtState<S>) -> S {
-        state.w
+        state.w * self.lugre.inv_scale()
     }
 }
 
@@ -445,7 +516,7 @@ impl<S: Scalar> FixedStepModel<S> for ElastoPlasticAt<S> {
 /// after the model's step, `w <- w - sigma0 h c`, then `|w| <= Fs`.
 impl<S: Scalar> FixedStepObservable<S> for ElastoPlasticAt<S> {
     fn step_corrected(&self, state: &mut LuGreAtState<S>, v: S, correction: S, damping: bool) -> S {
-        self.advance(state, v, correction, damping)
+        self.advance(state, v, correction, damping) * self.lugre.inv_scale()
     }
 
     /// As LuGre's.

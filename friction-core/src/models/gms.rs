@@ -41,6 +41,7 @@ use crate::fixed_step::{checked_velocity, period, signed, FixedStepModel, FixedS
 use crate::model::{
     check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
 };
+use crate::models::lugre::phi_series;
 use crate::observer::Observable;
 use crate::stribeck::{StribeckCurve, StribeckParams};
 use crate::Scalar;
@@ -179,32 +180,61 @@ impl<const N: usize> GmsParams<N> {
     /// ```
     pub fn build_at<S: Scalar>(&self, h: f64) -> Result<GmsAt<S, N>, ParamError> {
         const { assert!(N > 0, "the GMS model needs at least one element") };
-        let var = self.build::<S>()?;
+        self.validate()?;
         let h = period(h)?;
-        let fc = self.curve.fc;
+        let (fc, fs) = (self.curve.fc, self.curve.fs);
+        let v_max = S::VELOCITY_LIMIT.to_f64();
         let sum: f64 = self.elements.iter().map(|e| e.alpha).sum();
+        // as `build`: |dz_i/dt| <= C (1 + Fs/Fc) / k_i slipping, |v| + |c| sticking
+        let slip_damping: f64 = self
+            .elements
+            .iter()
+            .map(|e| e.sigma1 * self.c * (1.0 + fs / fc) / e.k)
+            .sum();
+        let sigma1_sum: f64 = self.elements.iter().map(|e| e.sigma1).sum();
+        let damping_max = sigma1_sum * v_max * 2.0 + slip_damping;
+        let viscous_max = self.sigma2 * v_max;
+        let travel_max = self
+            .elements
+            .iter()
+            .map(|e| e.k * h * 2.0 * v_max)
+            .fold(0.0, f64::max);
+        // forces carried times k, as in LuGreAt
+        let k = S::force_scale(fs.max(damping_max).max(viscous_max).max(travel_max));
+        check_force::<S>("c", k * slip_damping)?;
+        check_force::<S>("sigma1", k * damping_max)?;
+        check_force::<S>("sigma2", k * viscous_max)?;
+        let curve = StribeckParams {
+            fc: k * fc,
+            fs: k * fs,
+            ..self.curve
+        }
+        .build()?;
         let mut elements = [ElementAt::<S>::default(); N];
         for (out, e) in elements.iter_mut().zip(&self.elements) {
             let alpha = e.alpha / sum;
+            convert::<S>("alpha", k * alpha * fc)?;
             let k_h = e.k * h;
-            check_force::<S>("k", k_h * 2.0 * S::VELOCITY_LIMIT.to_f64())?;
+            check_force::<S>("k", k * k_h * 2.0 * v_max)?;
             let c_over_alpha = self.c / alpha;
             convert::<S>("c", c_over_alpha * h / fc)?;
             *out = ElementAt {
-                k_h: convert("k", k_h)?,
+                k_h: convert("k", k * k_h)?,
                 alpha: convert("alpha", alpha)?,
-                f_max: convert("alpha", alpha * self.curve.fs)?,
+                f_max: convert("alpha", k * alpha * fs)?,
                 c_h_over_alpha: convert("c", c_over_alpha * h)?,
-                c_over_alpha_k: convert("c", c_over_alpha / e.k)?,
-                sigma1: convert("sigma1", e.sigma1)?,
+                slip_sigma1: S::from_f64(e.sigma1 * c_over_alpha / e.k),
+                sigma1: convert("sigma1", k * e.sigma1)?,
             };
         }
         Ok(GmsAt {
-            curve: var.curve,
-            sigma2: var.sigma2,
+            curve,
+            sigma2: convert("sigma2", k * self.sigma2)?,
             elements,
-            sigma1_sum: var.sigma1_sum,
-            slip_damping: var.slip_damping,
+            sigma1_sum: convert("sigma1", k * sigma1_sum)?,
+            slip_damping: convert("c", k * slip_damping)?,
+            inv_scale: convert("fs", 1.0 / k)?,
+            scale_s: convert("fs", k)?,
             h,
         })
     }
@@ -467,8 +497,10 @@ struct ElementAt<S> {
     f_max: S,
     /// `C h / alpha_i`.
     c_h_over_alpha: S,
-    /// `C / (alpha_i k_i)`.
-    c_over_alpha_k: S,
+    /// `sigma1_i C / (alpha_i k_i)` (N, unscaled): the slip damping force
+    /// per unit of `(sign(v) b_i - F_i) / g`.
+    slip_sigma1: S,
+    /// `sigma1_i`, times the force scale.
     sigma1: S,
 }
 
@@ -486,8 +518,12 @@ struct ElementAt<S> {
 ///
 /// the variable-step form's exact held-velocity step (Lampaert, Al-Bender,
 /// Swevers 2003; see [`Gms`]) with `k_i h`, `C h / alpha_i` and
-/// `C / (alpha_i k_i)` formed in `f64` at build time, one reciprocal `1/g`
-/// per step and [`Scalar::exp_neg`] for the relaxation.
+/// `sigma1_i C / (alpha_i k_i)` formed in `f64` at build time, one reciprocal `1/g`
+/// per step and, for the relaxation, a series below `x = 0.1` then
+/// [`Scalar::exp_neg`]. Forces (the element forces of the state included)
+/// are carried times a power of two `k` ([`Scalar::force_scale`]: 1 in
+/// floating point), as in [`LuGreAt`](crate::LuGreAt), and the force is
+/// returned in newtons.
 ///
 /// `N` must be at least 1:
 ///
@@ -505,6 +541,8 @@ pub struct GmsAt<S, const N: usize> {
     elements: [ElementAt<S>; N],
     sigma1_sum: S,
     slip_damping: S,
+    inv_scale: S,
+    scale_s: S,
     h: f64,
 }
 
@@ -514,7 +552,8 @@ impl<S: Scalar, const N: usize> GmsAt<S, N> {
         &self.curve
     }
 
-    /// The bound `alpha_i Fs` on `|F_i|` of each element.
+    /// The bound `alpha_i Fs` on `|F_i|` of each element, times the force
+    /// scale (the units of the state).
     pub fn force_bounds(&self) -> [S; N] {
         let mut out = [S::ZERO; N];
         for (o, e) in out.iter_mut().zip(&self.elements) {
@@ -525,8 +564,10 @@ impl<S: Scalar, const N: usize> GmsAt<S, N> {
 
     #[inline]
     fn advance(&self, state: &mut GmsState<S, N>, v: S, c: S, damping: bool) -> S {
-        let g = self.curve.eval_fast(v); // >= Fc > 0
-        let inv_g = S::ONE / g;
+        // g scaled (>= Fc scaled > 0); 1/g unscaled: in fixed point the
+        // reciprocal of a scaled g would be a few steps
+        let g = self.curve.eval_fast(v);
+        let inv_g = self.scale_s / g;
         let u = v - c;
         let mut total = self.sigma2 * v;
         for ((e, f), mode) in self
@@ -543,14 +584,16 @@ impl<S: Scalar, const N: usize> GmsAt<S, N> {
             *mode = nm;
             total = total + nf;
             if damping {
-                let dz = if nm.slips_with(v) {
-                    e.c_over_alpha_k * inv_g * (target - nf)
-                } else if (u > S::ZERO && nf >= b) || (u < S::ZERO && -nf >= b) {
-                    S::ZERO // held at the bound by a correction against v
-                } else {
-                    u
-                };
-                total = total + e.sigma1 * dz;
+                total = total
+                    + if nm.slips_with(v) {
+                        // sigma1_i dz_i/dt = sigma1_i C / (alpha_i k_i) (target - F_i) / g:
+                        // the scaled force difference times an unscaled ratio
+                        (target - nf) * (e.slip_sigma1 * inv_g)
+                    } else if (u > S::ZERO && nf >= b) || (u < S::ZERO && -nf >= b) {
+                        S::ZERO // held at the bound by a correction against v
+                    } else {
+                        e.sigma1 * u
+                    };
             }
         }
         total
@@ -606,7 +649,15 @@ fn element_step_at<S: Scalar>(
         }
     }
     if mode != SlipMode::Stick && left > S::ZERO {
-        f = target + (f - target) * (e.c_h_over_alpha * inv_g * left).exp_neg();
+        // x = (C h / alpha_i) s / g; below 0.1 the increment
+        // (target - F_i)(1 - e^-x) = ((target - F_i) C h / alpha_i) (s / g) phi(x),
+        // the scaled difference first, so that a slow relaxation is not lost to rounding
+        let x = e.c_h_over_alpha * inv_g * left;
+        f = if x < S::from_f64(0.1) {
+            f + (target - f) * e.c_h_over_alpha * (inv_g * left) * phi_series(x)
+        } else {
+            target + (f - target) * x.exp_neg()
+        };
     }
     (f.sat(e.f_max), mode)
 }
@@ -621,7 +672,7 @@ impl<S: Scalar, const N: usize> FixedStepModel<S> for GmsAt<S, N> {
     #[inline]
     fn step(&self, state: &mut GmsState<S, N>, v: S) -> S {
         match checked_velocity(v) {
-            Some(v) => self.advance(state, v, S::ZERO, true),
+            Some(v) => self.advance(state, v, S::ZERO, true) * self.inv_scale,
             None => self.hold_force(state),
         }
     }
@@ -632,7 +683,7 @@ impl<S: Scalar, const N: usize> FixedStepModel<S> for GmsAt<S, N> {
         for &f in &state.force {
             sum = sum + f;
         }
-        sum.sat(self.curve.fs())
+        sum.sat(self.curve.fs()) * self.inv_scale
     }
 }
 
@@ -640,7 +691,7 @@ impl<S: Scalar, const N: usize> FixedStepModel<S> for GmsAt<S, N> {
 /// slipping follows the measured `v`.
 impl<S: Scalar, const N: usize> FixedStepObservable<S> for GmsAt<S, N> {
     fn step_corrected(&self, state: &mut GmsState<S, N>, v: S, correction: S, damping: bool) -> S {
-        self.advance(state, v, correction, damping)
+        self.advance(state, v, correction, damping) * self.inv_scale
     }
 
     /// As [`Gms`]'s: `Fs + (sum_i sigma1_i + sigma2) |v|`, plus the fastest
@@ -651,7 +702,7 @@ impl<S: Scalar, const N: usize> FixedStepObservable<S> for GmsAt<S, N> {
         } else {
             S::ZERO
         };
-        self.curve.fs() + (self.sigma1_sum + self.sigma2) * v.abs() + slip
+        (self.curve.fs() + (self.sigma1_sum + self.sigma2) * v.abs() + slip) * self.inv_scale
     }
 }
 

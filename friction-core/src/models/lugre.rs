@@ -403,6 +403,13 @@ pub(crate) fn relax<S: Scalar>(x: S) -> (S, S) {
     }
 }
 
+/// `sign(v) g - w`, the distance of `w` to its target (any sign at `v = 0`,
+/// where it is multiplied by `|v| = 0`).
+#[inline]
+fn gap_end<S: Scalar>(v: S, g: S, w: S) -> S {
+    signed(v, g) - w
+}
+
 impl<S: Scalar> LuGreAt<S> {
     /// The power of two the forces inside (the state `w` included) are
     /// carried times: 1 in floating point.
@@ -413,6 +420,16 @@ impl<S: Scalar> LuGreAt<S> {
     /// The Stribeck curve `g`, times the force scale.
     pub(crate) fn curve(&self) -> &StribeckCurve<S> {
         &self.curve
+    }
+
+    /// The force scale `k` as a scalar.
+    pub(crate) fn scale_s(&self) -> S {
+        self.scale_s
+    }
+
+    /// `1 / k`: turns a scaled force back into newtons (exact, a power of two).
+    pub(crate) fn inv_scale(&self) -> S {
+        self.inv_scale
     }
 
     /// `sigma0 h`, times the force scale.
@@ -472,11 +489,18 @@ impl<S: Scalar> LuGreAt<S> {
         let mut f = w + self.sigma2 * v;
         if damping {
             // dz/dt = (v - c) - |v| w / g, zero while held at the bound
-            let mut dz = (v - c) - speed * (w * inv_g).rescale(self.inv_scale);
-            if w.abs() >= self.fs && dz * w > S::ZERO {
-                dz = S::ZERO;
+            let ratio = (w * inv_g).rescale(self.inv_scale);
+            let dz = (v - c) - speed * ratio;
+            if !(w.abs() >= self.fs && dz * w > S::ZERO) {
+                // sigma1 dz/dt = (sigma1 |v| / g) (sign(v) g - w) - sigma1 c:
+                // the small difference of two scaled forces times a
+                // dimensionless factor formed from the unscaled sigma1 and
+                // 1/g, so that no rounding of a ratio (1.5e-5 in fixed
+                // point) is multiplied by sigma1 |v|, and with no division
+                let d = self.damping(v);
+                let factor = d.rescale(self.inv_scale) * speed * inv_g;
+                f = f + (factor * gap_end(v, g, w) - d * c);
             }
-            f = f + self.damping(v) * dz;
         }
         f
     }

@@ -174,30 +174,46 @@ impl<const N: usize> XiongParams<N> {
         const { assert!(N > 0, "the Xiong model needs at least one element") };
         self.validate()?;
         let h = period(h)?;
-        let curve = self.curve.build()?;
-        let fc = self.curve.fc;
+        let (fc, fs) = (self.curve.fc, self.curve.fs);
+        let v_max = S::VELOCITY_LIMIT.to_f64();
         let sum: f64 = self.elements.iter().map(|e| e.lambda).sum();
-        check_force::<S>("sigma2", self.sigma2 * S::VELOCITY_LIMIT.to_f64())?;
+        // forces carried times k (as LuGreAt): the largest is Fs, sigma2 v
+        // or an element's (sigma_i + h K_i) (v - c) at the limit
+        let elastic_max = self
+            .elements
+            .iter()
+            .map(|e| (e.sigma + h * e.k) * 2.0 * v_max)
+            .fold(0.0, f64::max);
+        let viscous_max = self.sigma2 * v_max;
+        let k = S::force_scale(fs.max(elastic_max).max(viscous_max));
+        check_force::<S>("sigma2", k * viscous_max)?;
+        let curve = StribeckParams {
+            fc: k * fc,
+            fs: k * fs,
+            ..self.curve
+        }
+        .build()?;
         let mut elements = [ElementAt::<S>::default(); N];
         for (out, e) in elements.iter_mut().zip(&self.elements) {
             let lambda = e.lambda / sum;
-            convert::<S>("lambda", lambda * fc)?;
+            convert::<S>("lambda", k * lambda * fc)?;
             let scale = e.sigma + h * e.k;
-            check_force::<S>("k", scale * 2.0 * S::VELOCITY_LIMIT.to_f64())?;
-            let r = 1.0 / (1.0 + h * (e.k / e.sigma));
+            check_force::<S>("k", k * scale * 2.0 * v_max)?;
+            // 1 - r_i = (h K_i / sigma_i) / (1 + h K_i / sigma_i)
+            let x = h * (e.k / e.sigma);
             *out = ElementAt {
-                scale: convert("k", scale)?,
-                r: S::from_f64(r),
-                one_minus_r: S::from_f64(1.0 - r),
+                scale: convert("k", k * scale)?,
+                one_minus_r: convert("sigma", x / (1.0 + x))?,
                 lambda: convert("lambda", lambda)?,
             };
         }
         Ok(XiongAt {
             curve,
             decay: S::from_f64(libm::exp(-h / self.tau)),
-            sigma2: convert("sigma2", self.sigma2)?,
-            fs: convert("fs", self.curve.fs)?,
-            fs_minus_fc: convert("fs", self.curve.fs - self.curve.fc)?,
+            sigma2: convert("sigma2", k * self.sigma2)?,
+            fs: convert("fs", k * fs)?,
+            fs_minus_fc: convert("fs", k * (fs - fc))?,
+            inv_scale: convert("fs", 1.0 / k)?,
             elements,
             h,
         })
@@ -361,11 +377,9 @@ impl<S: Scalar, const N: usize> Observable<S> for Xiong<S, N> {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 struct ElementAt<S> {
-    /// `sigma_i + h K_i`.
+    /// `sigma_i + h K_i`, times the force scale.
     scale: S,
-    /// `r_i = 1 / (1 + h K_i / sigma_i)`.
-    r: S,
-    /// `1 - r_i`.
+    /// `1 - r_i`, `r_i = 1 / (1 + h K_i / sigma_i)`.
     one_minus_r: S,
     /// Normalised weight.
     lambda: S,
@@ -385,7 +399,10 @@ struct ElementAt<S> {
 /// elements of Xiong, Kikuuwe and Yamamoto's model; see [`Xiong`]) with
 /// `e^(-h/tau)`, `sigma_i + h K_i`, `r_i` and `1 - r_i` formed in `f64` at
 /// build time: no division, no exponential in the step. `c` is an
-/// observer's correction, 0 for the model.
+/// observer's correction, 0 for the model. Forces (the state included) are
+/// carried times a power of two `k` ([`Scalar::force_scale`]: 1 in floating
+/// point), as in [`LuGreAt`](crate::LuGreAt), and the force is returned in
+/// newtons; `w_i+` is formed as the increment `w_i + (1 - r_i)(f_i - w_i)`.
 ///
 /// `N` must be at least 1:
 ///
@@ -404,6 +421,8 @@ pub struct XiongAt<S, const N: usize> {
     sigma2: S,
     fs: S,
     fs_minus_fc: S,
+    /// `1 / k`, the force scale's inverse (a power of two).
+    inv_scale: S,
     elements: [ElementAt<S>; N],
     h: f64,
 }
@@ -412,9 +431,10 @@ pub struct XiongAt<S, const N: usize> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct XiongAtState<S, const N: usize> {
-    /// `Fs - gamma` (N), within `[0, Fs - Fc]`: 0 at rest.
+    /// `Fs - gamma` (N) times the force scale (1 in floating point), within
+    /// `[0, Fs - Fc]` times it: 0 at rest.
     pub lag: S,
-    /// Element forces `w_i = K_i z_i` (N), `|w_i| <= lambda_i gamma`.
+    /// Element forces `w_i = K_i z_i` (N) times the force scale, `|w_i| <= lambda_i gamma`.
     pub w: [S; N],
 }
 
@@ -434,7 +454,8 @@ impl<S: Scalar, const N: usize> XiongAt<S, N> {
         &self.curve
     }
 
-    /// The frictional-lag level `gamma = Fs - lag` of a state.
+    /// The frictional-lag level `gamma = Fs - lag` of a state, times the
+    /// force scale (the units of the state).
     pub fn gamma(&self, state: &XiongAtState<S, N>) -> S {
         self.fs - state.lag
     }
@@ -452,7 +473,8 @@ impl<S: Scalar, const N: usize> XiongAt<S, N> {
         for (e, w) in self.elements.iter().zip(state.w.iter_mut()) {
             let cap = e.lambda * gamma;
             let f = (*w + e.scale * u).sat(cap);
-            let next = (e.r * *w + e.one_minus_r * f).sat(cap);
+            // r w + (1 - r) f as an increment: no rounding of a large w by r
+            let next = (*w + (f - *w) * e.one_minus_r).sat(cap);
             *w = next;
             total = total + if damping { f } else { next };
         }
@@ -470,7 +492,7 @@ impl<S: Scalar, const N: usize> FixedStepModel<S> for XiongAt<S, N> {
     #[inline]
     fn step(&self, state: &mut XiongAtState<S, N>, v: S) -> S {
         match checked_velocity(v) {
-            Some(v) => self.advance(state, v, S::ZERO, true),
+            Some(v) => self.advance(state, v, S::ZERO, true) * self.inv_scale,
             None => self.hold_force(state),
         }
     }
@@ -481,7 +503,7 @@ impl<S: Scalar, const N: usize> FixedStepModel<S> for XiongAt<S, N> {
         for &w in &state.w {
             sum = sum + w;
         }
-        sum.sat(self.fs)
+        sum.sat(self.fs) * self.inv_scale
     }
 }
 
@@ -496,12 +518,12 @@ impl<S: Scalar, const N: usize> FixedStepObservable<S> for XiongAt<S, N> {
         correction: S,
         damping: bool,
     ) -> S {
-        self.advance(state, v, correction, damping)
+        self.advance(state, v, correction, damping) * self.inv_scale
     }
 
     /// `Fs + sigma2 |v|`.
     fn force_bound(&self, v: S) -> S {
-        self.fs + self.sigma2 * v.abs()
+        (self.fs + self.sigma2 * v.abs()) * self.inv_scale
     }
 }
 

@@ -2,11 +2,11 @@
 //! `dF/dt = sigma v sign(y) |y|^delta`, `y = 1 - F sign(v) / Fc`.
 
 use super::{
-    boxed, from_toml, in_scalar, model_file, sign, Continuous, Expect, HostModel, ScalarKind,
-    Stepper, N, Y,
+    boxed, boxed_fixed, from_toml, in_scalar, model_file, sign, Continuous, Expect, HostModel,
+    ScalarKind, Stepper, N, Y,
 };
 use anyhow::Result;
-use friction_core::{DahlParams, DahlState, ParamError, Scalar};
+use friction_core::{DahlParams, DahlState, Fixed32, ParamError, Scalar};
 
 fn one() -> f64 {
     1.0
@@ -70,6 +70,13 @@ impl HostModel for DahlParams {
     }
     fn stepper(&self, scalar: ScalarKind) -> Result<Box<dyn Stepper>, ParamError> {
         in_scalar!(scalar, build(self))
+    }
+    /// `DahlAt` in Q16.16 (`delta > 1` evaluates `powf`, `ln_1p`, `exp_m1` in `f32`).
+    fn fixed_stepper(&self, h: f64) -> Option<Result<Box<dyn Stepper>, ParamError>> {
+        Some(
+            self.build_at::<Fixed32>(h)
+                .map(|m| boxed_fixed(m, &["fh"], states::<Fixed32>)),
+        )
     }
     fn max_static_force(&self) -> f64 {
         self.fc

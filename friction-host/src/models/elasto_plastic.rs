@@ -3,10 +3,11 @@
 
 use super::lugre::{lugre_force, parse_keys, z_state};
 use super::{
-    boxed, curve_g, in_scalar, sign, Continuous, Expect, HostModel, ScalarKind, Stepper, N, Y,
+    boxed, boxed_fixed, curve_g, in_scalar, sign, Continuous, Expect, HostModel, ScalarKind,
+    Stepper, N, Y,
 };
 use anyhow::{bail, Result};
-use friction_core::{ElastoPlasticParams, ParamError, Scalar};
+use friction_core::{ElastoPlasticParams, Fixed32, LuGreAtState, ParamError, Scalar};
 
 pub(super) fn parse(text: &str, origin: &str) -> Result<ElastoPlasticParams> {
     let (lugre, z_ba) = parse_keys(text, origin, true)?;
@@ -74,6 +75,13 @@ impl HostModel for ElastoPlasticParams {
     }
     fn stepper(&self, scalar: ScalarKind) -> Result<Box<dyn Stepper>, ParamError> {
         in_scalar!(scalar, build(self))
+    }
+    /// `ElastoPlasticAt` in Q16.16 (the state `w = sigma0 z` times its force scale).
+    fn fixed_stepper(&self, h: f64) -> Option<Result<Box<dyn Stepper>, ParamError>> {
+        Some(
+            self.build_at::<Fixed32>(h)
+                .map(|m| boxed_fixed(m, &["w"], |s: &LuGreAtState<Fixed32>| vec![s.w.to_f64()])),
+        )
     }
     fn max_static_force(&self) -> f64 {
         self.lugre.curve.fs

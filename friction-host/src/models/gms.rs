@@ -10,13 +10,15 @@
 //! core's step).
 
 use super::{
-    boxed, curve_g, default_exponent, from_toml, in_scalar, model_file, Expect, HostModel,
-    ScalarKind, Stepper, N, Y,
+    boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, Expect,
+    HostModel, ScalarKind, Stepper, N, Y,
 };
 use crate::signals::Signal;
 use crate::sim::ReferenceRun;
 use anyhow::{bail, Result};
-use friction_core::{Gms, GmsElement, GmsParams, GmsState, ParamError, Scalar, StribeckParams};
+use friction_core::{
+    Fixed32, Gms, GmsElement, GmsParams, GmsState, ParamError, Scalar, StribeckParams,
+};
 
 /// The largest element count the host dispatches onto the core's const
 /// generic `N` (every count from 1 to this; the core takes any `N >= 1`).
@@ -128,26 +130,26 @@ fn build_n<S: Scalar + 'static, const K: usize>(
     ))
 }
 
-/// Calls `$f::<[S,] K>($spec)` with the spec's element count `K` (1 to 16).
+/// Calls `$f::<[S,] K>($spec[, args])` with the spec's element count `K` (1 to 16).
 macro_rules! with_count {
-    ($spec:expr, $f:ident $(, $s:ty)?) => {
+    ($spec:expr, $f:ident $(, $s:ty)? $(; $($arg:expr),+)?) => {
         match $spec.elements.len() {
-            1 => $f::<$($s,)? 1>($spec),
-            2 => $f::<$($s,)? 2>($spec),
-            3 => $f::<$($s,)? 3>($spec),
-            4 => $f::<$($s,)? 4>($spec),
-            5 => $f::<$($s,)? 5>($spec),
-            6 => $f::<$($s,)? 6>($spec),
-            7 => $f::<$($s,)? 7>($spec),
-            8 => $f::<$($s,)? 8>($spec),
-            9 => $f::<$($s,)? 9>($spec),
-            10 => $f::<$($s,)? 10>($spec),
-            11 => $f::<$($s,)? 11>($spec),
-            12 => $f::<$($s,)? 12>($spec),
-            13 => $f::<$($s,)? 13>($spec),
-            14 => $f::<$($s,)? 14>($spec),
-            15 => $f::<$($s,)? 15>($spec),
-            16 => $f::<$($s,)? 16>($spec),
+            1 => $f::<$($s,)? 1>($spec $($(, $arg)+)?),
+            2 => $f::<$($s,)? 2>($spec $($(, $arg)+)?),
+            3 => $f::<$($s,)? 3>($spec $($(, $arg)+)?),
+            4 => $f::<$($s,)? 4>($spec $($(, $arg)+)?),
+            5 => $f::<$($s,)? 5>($spec $($(, $arg)+)?),
+            6 => $f::<$($s,)? 6>($spec $($(, $arg)+)?),
+            7 => $f::<$($s,)? 7>($spec $($(, $arg)+)?),
+            8 => $f::<$($s,)? 8>($spec $($(, $arg)+)?),
+            9 => $f::<$($s,)? 9>($spec $($(, $arg)+)?),
+            10 => $f::<$($s,)? 10>($spec $($(, $arg)+)?),
+            11 => $f::<$($s,)? 11>($spec $($(, $arg)+)?),
+            12 => $f::<$($s,)? 12>($spec $($(, $arg)+)?),
+            13 => $f::<$($s,)? 13>($spec $($(, $arg)+)?),
+            14 => $f::<$($s,)? 14>($spec $($(, $arg)+)?),
+            15 => $f::<$($s,)? 15>($spec $($(, $arg)+)?),
+            16 => $f::<$($s,)? 16>($spec $($(, $arg)+)?),
             _ => Err(ParamError::NotBelow {
                 name: "elements",
                 limit: "17",
@@ -159,6 +161,21 @@ pub(super) use with_count;
 
 fn build<S: Scalar + 'static>(spec: &GmsSpec) -> Result<Box<dyn Stepper>, ParamError> {
     with_count!(spec, build_n, S)
+}
+
+fn build_fixed_n<const K: usize>(spec: &GmsSpec, h: f64) -> Result<Box<dyn Stepper>, ParamError> {
+    let p = spec.params::<K>().ok_or(ParamError::NotBelow {
+        name: "elements",
+        limit: "17",
+    })?;
+    let mut names: Vec<String> = (0..K).map(|i| format!("F{i}")).collect();
+    names.extend((0..K).map(|i| format!("mode{i}")));
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    Ok(boxed_fixed(
+        p.build_at::<Fixed32>(h)?,
+        &names,
+        states::<Fixed32, K>,
+    ))
 }
 
 fn validate_n<const K: usize>(spec: &GmsSpec) -> Result<(), ParamError> {
@@ -179,6 +196,10 @@ impl HostModel for GmsSpec {
     }
     fn stepper(&self, scalar: ScalarKind) -> Result<Box<dyn Stepper>, ParamError> {
         in_scalar!(scalar, build(self))
+    }
+    /// `GmsAt` in Q16.16 (element forces in the state times its force scale).
+    fn fixed_stepper(&self, h: f64) -> Option<Result<Box<dyn Stepper>, ParamError>> {
+        Some(with_count!(self, build_fixed_n; h))
     }
     fn max_static_force(&self) -> f64 {
         self.curve.fs

@@ -16,7 +16,7 @@ use anyhow::Result;
 use friction_core::{Fixed32, FixedStepModel, FrictionModel, ParamError, Scalar};
 
 /// The models with a fixed-point (fixed-step) form.
-pub const FIXED_POINT_MODELS: &[&str] = &["lugre"];
+pub const FIXED_POINT_MODELS: &[&str] = &["lugre", "elasto-plastic", "dahl", "gms", "xiong"];
 
 mod bristle;
 mod dahl;

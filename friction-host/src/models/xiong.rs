@@ -3,12 +3,13 @@
 
 use super::gms::with_count;
 use super::{
-    boxed, curve_g, default_exponent, from_toml, in_scalar, model_file, sign, Continuous, Expect,
-    HostModel, ScalarKind, Stepper, N, Y,
+    boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, sign,
+    Continuous, Expect, HostModel, ScalarKind, Stepper, N, Y,
 };
 use anyhow::{bail, Result};
 use friction_core::{
-    ParamError, Scalar, StribeckParams, Xiong, XiongElement, XiongParams, XiongState,
+    Fixed32, ParamError, Scalar, StribeckParams, Xiong, XiongAtState, XiongElement, XiongParams,
+    XiongState,
 };
 
 /// Xiong parameters with any number of elements (1 to 16 on the host).
@@ -117,6 +118,25 @@ fn build<S: Scalar + 'static>(spec: &XiongSpec) -> Result<Box<dyn Stepper>, Para
     with_count!(spec, build_n, S)
 }
 
+/// `lag`, then the element forces `w_i` (times the model's force scale).
+fn fixed_states<const K: usize>(s: &XiongAtState<Fixed32, K>) -> Vec<f64> {
+    let mut out = vec![s.lag.to_f64()];
+    out.extend(s.w.iter().map(|x| x.to_f64()));
+    out
+}
+
+fn build_fixed_n<const K: usize>(spec: &XiongSpec, h: f64) -> Result<Box<dyn Stepper>, ParamError> {
+    let p = spec.params::<K>().ok_or(TOO_MANY)?;
+    let mut names = vec!["lag".to_string()];
+    names.extend((0..K).map(|i| format!("w{i}")));
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    Ok(boxed_fixed(
+        p.build_at::<Fixed32>(h)?,
+        &names,
+        fixed_states::<K>,
+    ))
+}
+
 fn validate_n<const K: usize>(spec: &XiongSpec) -> Result<(), ParamError> {
     spec.params::<K>().ok_or(TOO_MANY)?.validate()
 }
@@ -175,6 +195,10 @@ impl HostModel for XiongSpec {
     }
     fn stepper(&self, scalar: ScalarKind) -> Result<Box<dyn Stepper>, ParamError> {
         in_scalar!(scalar, build(self))
+    }
+    /// `XiongAt` in Q16.16.
+    fn fixed_stepper(&self, h: f64) -> Option<Result<Box<dyn Stepper>, ParamError>> {
+        Some(with_count!(self, build_fixed_n; h))
     }
     fn max_static_force(&self) -> f64 {
         self.curve.fs
