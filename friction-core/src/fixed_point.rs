@@ -107,27 +107,72 @@ impl Mul for Fixed32 {
     /// accumulated state by half a step per operation.
     #[inline]
     fn mul(self, rhs: Self) -> Self {
-        let p = (i64::from(self.to_bits()) * i64::from(rhs.to_bits()) + 0x8000) >> 16;
+        let p = (wide_product(self.to_bits(), rhs.to_bits()) + 0x8000) >> 16;
         Self::from_bits(p.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32)
     }
 }
 
+/// `a b` exactly, where the core multiplies 32 by 32 bits into 64.
+#[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
+#[inline]
+fn wide_product(a: i32, b: i32) -> i64 {
+    i64::from(a) * i64::from(b)
+}
+
+/// `a b` exactly from four 16 by 16-bit products, on ARMv6-M (Cortex-M0,
+/// M0+; told apart from ARMv7-M by its missing 32-bit atomics), whose
+/// multiplier keeps only the low 32 bits of a product: this avoids a call
+/// to the 64 by 64-bit `__aeabi_lmul`.
+#[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+#[inline]
+fn wide_product(a: i32, b: i32) -> i64 {
+    let (ah, al) = (a >> 16, (a as u32) & 0xffff);
+    let (bh, bl) = (b >> 16, (b as u32) & 0xffff);
+    // each partial product fits in 32 bits: |ah bl| < 2^31, al bl < 2^32
+    (i64::from(ah * bh) << 32)
+        + ((i64::from(ah * bl as i32) + i64::from(al as i32 * bh)) << 16)
+        + i64::from(al * bl)
+}
+
 impl Div for Fixed32 {
     type Output = Self;
-    /// Saturating; `x / 0` is the largest value of the sign of `x` (0 for 0).
+    /// Rounds to nearest and saturates; `x / 0` is the largest value of the
+    /// sign of `x` (0 for 0). In 32-bit integer arithmetic only (one `u32`
+    /// division and a 17-step long division for the fraction): a Cortex-M0
+    /// has no divide instruction, and a 64-bit division costs it about 580
+    /// instructions.
     #[inline]
     fn div(self, rhs: Self) -> Self {
-        if rhs.0 == I16F16::ZERO {
-            if self.0 > I16F16::ZERO {
-                Self::MAX
-            } else if self.0 < I16F16::ZERO {
-                Self::MIN
-            } else {
-                Self::default()
-            }
-        } else {
-            Self(self.0.saturating_div(rhs.0))
+        let (a, b) = (self.to_bits(), rhs.to_bits());
+        if b == 0 {
+            return match a.signum() {
+                1 => Self::MAX,
+                -1 => Self::MIN,
+                _ => Self::ZERO,
+            };
         }
+        let negative = (a < 0) != (b < 0);
+        let (n, d) = (a.unsigned_abs(), b.unsigned_abs());
+        let whole = n / d;
+        // |quotient| >= 2^15 saturates
+        if whole >= 1 << 15 {
+            return if negative { Self::MIN } else { Self::MAX };
+        }
+        // 16 fraction bits and one rounding bit: r < d <= 2^31, so 2 r fits
+        let mut r = n % d;
+        let mut q = whole;
+        for _ in 0..17 {
+            r <<= 1;
+            q <<= 1;
+            if r >= d {
+                r -= d;
+                q |= 1;
+            }
+        }
+        // q has one bit more than the result: round half up, to at most 2^31
+        let q = i64::from((q + 1) >> 1);
+        let q = if negative { -q } else { q };
+        Self::from_bits(q.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32)
     }
 }
 
@@ -287,6 +332,72 @@ mod tests {
         assert_eq!(big / Fixed32::MIN_POSITIVE, Fixed32::MAX);
         assert_eq!(Fixed32::from_f64(f64::NAN), Fixed32::ZERO);
         assert_eq!(Fixed32::from_f64(1e300), Fixed32::MAX);
+    }
+
+    #[test]
+    fn split_product_is_exact() {
+        // the ARMv6-M form, checked on the host against i64
+        fn split(a: i32, b: i32) -> i64 {
+            let (ah, al) = (a >> 16, (a as u32) & 0xffff);
+            let (bh, bl) = (b >> 16, (b as u32) & 0xffff);
+            (i64::from(ah * bh) << 32)
+                + ((i64::from(ah * bl as i32) + i64::from(al as i32 * bh)) << 16)
+                + i64::from(al * bl)
+        }
+        let edges = [
+            i32::MIN,
+            i32::MIN + 1,
+            -65_536,
+            -65_535,
+            -1,
+            0,
+            1,
+            65_535,
+            65_536,
+            i32::MAX,
+        ];
+        for &a in &edges {
+            for &b in &edges {
+                assert_eq!(split(a, b), i64::from(a) * i64::from(b), "{a} * {b}");
+            }
+        }
+        let mut x = 0x9e37_79b9u32;
+        for _ in 0..100_000 {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            let (a, b) = (x as i32, x.rotate_left(11) as i32);
+            assert_eq!(split(a, b), i64::from(a) * i64::from(b), "{a} * {b}");
+        }
+    }
+
+    #[test]
+    fn division_rounds_to_nearest_everywhere() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed as u32 as i32 >> (seed >> 59) as u32 // magnitudes of every size
+        };
+        for _ in 0..200_000 {
+            let (a, b) = (next(), next());
+            if b == 0 {
+                continue;
+            }
+            let exact = f64::from(a) / f64::from(b) * 65_536.0;
+            let got = (Fixed32::from_bits(a) / Fixed32::from_bits(b)).to_bits();
+            if exact >= f64::from(i32::MAX) {
+                assert_eq!(got, i32::MAX, "{a} / {b}");
+            } else if exact <= f64::from(i32::MIN) {
+                assert_eq!(got, i32::MIN, "{a} / {b}");
+            } else {
+                assert!(
+                    (f64::from(got) - exact).abs() <= 0.5,
+                    "{a} / {b}: {got} vs {exact}"
+                );
+            }
+        }
     }
 
     #[test]
