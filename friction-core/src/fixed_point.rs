@@ -170,7 +170,8 @@ impl Div for Fixed32 {
             }
         }
         // q has one bit more than the result: round half up, to at most 2^31
-        let q = i64::from((q + 1) >> 1);
+        // (q may be 2^32 - 1, so not (q + 1) >> 1)
+        let q = i64::from(q >> 1) + i64::from(q & 1);
         let q = if negative { -q } else { q };
         Self::from_bits(q.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32)
     }
@@ -344,6 +345,15 @@ mod tests {
                 + ((i64::from(ah * bl as i32) + i64::from(al as i32 * bh)) << 16)
                 + i64::from(al * bl)
         }
+        // the largest quotient that fits, with every fraction bit set
+        assert_eq!(
+            (Fixed32::from_bits(i32::MAX) / Fixed32::from_bits(65_537)).to_bits(),
+            (f64::from(i32::MAX) / 65_537.0 * 65_536.0).round() as i32
+        );
+        assert_eq!(
+            (Fixed32::from_bits(i32::MAX) / Fixed32::from_bits(65_536)),
+            Fixed32::from_bits(i32::MAX)
+        );
         let edges = [
             i32::MIN,
             i32::MIN + 1,
@@ -395,6 +405,35 @@ mod tests {
                 assert!(
                     (f64::from(got) - exact).abs() <= 0.5,
                     "{a} / {b}: {got} vs {exact}"
+                );
+            }
+        }
+    }
+
+    /// Every operation on any pair of bit patterns (and the edges): no
+    /// panic, with the overflow checks of a debug build on.
+    #[test]
+    fn no_operation_panics_on_any_bits() {
+        let mut x = 0x1234_5678_9abc_def1u64;
+        let mut values = std::vec![i32::MIN, i32::MIN + 1, -1, 0, 1, i32::MAX - 1, i32::MAX];
+        for _ in 0..2000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            values.push((x >> 32) as i32 >> (x & 31) as u32);
+        }
+        for &a in &values {
+            for &b in values.iter().step_by(7) {
+                let (p, q) = (Fixed32::from_bits(a), Fixed32::from_bits(b));
+                let _ = (
+                    p + q,
+                    p - q,
+                    p * q,
+                    p / q,
+                    -p,
+                    p.abs(),
+                    p.exp_neg(),
+                    p.sat(q.abs()),
                 );
             }
         }
