@@ -19,6 +19,7 @@
 
 mod hw;
 mod servo;
+mod setup;
 
 use core::cell::RefCell;
 use core::hint::black_box;
@@ -27,17 +28,15 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use defmt_semihosting as _;
 use friction_core::{
-    AtPeriod, BristleParams, Compensation, Compensator, CompensatorParams, CompensatorState,
-    CoulombViscousParams, DahlParams, ElastoPlasticParams, FeedForward, FixedStepModel,
-    FrictionModel, GmsElement, GmsParams, GmsState, LeuvenParams, LeuvenState, LuGre, LuGreAt,
-    LuGreAtState, LuGreParams, LuGreState, NoCompensation, Observer, ResetIntegratorParams,
-    Setpoint, SlipMode, StribeckParams, XiongElement, XiongParams,
+    AtPeriod, BristleParams, Compensation, Compensator, CompensatorState, CoulombViscousParams,
+    DahlParams, ElastoPlasticParams, FeedForward, FixedStepModel, FrictionModel, GmsElement,
+    GmsParams, GmsState, LeuvenParams, LeuvenState, LuGre, LuGreAt, LuGreAtState, LuGreParams,
+    LuGreState, NoCompensation, Observer, ResetIntegratorParams, Setpoint, SlipMode,
+    StribeckParams, XiongElement, XiongParams,
 };
 use hw::{Plant, SimDrive, SimEncoder};
 use servo::Servo;
-
-/// Olsson et al. 1998, Table 2: the controller's model of the friction.
-const NOMINAL: LuGreParams = LuGreParams::OLSSON_1998;
+use setup::{controller, leuven_nominal, H, INERTIA, NOMINAL, OBSERVER_GAIN, TORQUE_MAX};
 
 /// The plant's "real" friction: 10-20 % away from the nominal model.
 const ACTUAL: LuGreParams = LuGreParams {
@@ -53,31 +52,11 @@ const ACTUAL: LuGreParams = LuGreParams {
     vd: None,
 };
 
-const INERTIA: f32 = 0.0023; // kg m^2
-const H: f32 = 1e-3; // 1 kHz control loop
 const SUBSTEPS: u32 = 10; // plant simulated at 10 kHz
 const TICKS: u32 = 4000; // 4 s: two periods of the trajectory
 const COUNTS_PER_RAD: f32 = 1_048_576.0 / (2.0 * core::f32::consts::PI); // 20-bit encoder
 const AMPLITUDE: f32 = 0.2; // rad
 const FREQUENCY: f32 = 0.5; // Hz
-const OBSERVER_GAIN: f64 = 200.0; // 1/s
-const TORQUE_MAX: f32 = 5.0; // N m, the drive's full scale and the command limit
-
-/// PD (bandwidth 2 pi 10 Hz, damping 1) with acceleration feed-forward, at
-/// 1 kHz, commanding a torque.
-fn controller() -> CompensatorParams {
-    let w = 2.0 * core::f64::consts::PI * 10.0;
-    let j = INERTIA as f64;
-    CompensatorParams {
-        h: H as f64,
-        kp: j * w * w,
-        ki: 0.0,
-        kd: 2.0 * j * w,
-        inertia: j,
-        torque_constant: 1.0,
-        limit: TORQUE_MAX as f64,
-    }
-}
 
 struct Errors {
     rms: f32,
@@ -408,18 +387,6 @@ fn count_instructions(
             name,
             per_call(t)
         );
-    }
-}
-
-/// Leuven on the nominal curve: `xs = Fs / sigma0` (initial stiffness
-/// `sigma0`), `sigma1`, `sigma2` of the nominal LuGre model, `n = 2`.
-fn leuven_nominal() -> LeuvenParams {
-    LeuvenParams {
-        curve: NOMINAL.curve,
-        sigma1: NOMINAL.sigma1,
-        sigma2: NOMINAL.sigma2,
-        n: 2.0,
-        xs: NOMINAL.curve.fs / NOMINAL.sigma0,
     }
 }
 

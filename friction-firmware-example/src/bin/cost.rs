@@ -49,20 +49,21 @@ use friction_core::{
     XiongAt, XiongAtState,
 };
 use friction_core::{
-    Bristle, BristleParams, BristleState, Compensator, CompensatorParams, CompensatorState,
-    CoulombViscous, CoulombViscousParams, Dahl, DahlParams, DahlState, ElastoPlastic,
-    ElastoPlasticParams, FrictionModel, Gms, GmsElement, GmsParams, GmsState, LuGre, LuGreParams,
-    LuGreState, Observer, ResetIntegrator, ResetIntegratorParams, ResetIntegratorState, Scalar,
-    Setpoint, StribeckMap, StribeckMapParams, Xiong, XiongElement, XiongParams, XiongState,
+    Bristle, BristleParams, BristleState, Compensator, CompensatorState, CoulombViscous,
+    CoulombViscousParams, Dahl, DahlParams, DahlState, ElastoPlastic, ElastoPlasticParams,
+    FrictionModel, Gms, GmsElement, GmsParams, GmsState, LuGre, LuGreState, Observer,
+    ResetIntegrator, ResetIntegratorParams, ResetIntegratorState, Scalar, Setpoint, StribeckMap,
+    StribeckMapParams, Xiong, XiongElement, XiongParams, XiongState,
 };
-use friction_core::{Leuven, LeuvenParams, LeuvenState};
+use friction_core::{Leuven, LeuvenState};
 
-/// The controller's model: Olsson et al. 1998, Table 2 (N m, rad).
-const NOMINAL: LuGreParams = LuGreParams::OLSSON_1998;
-/// Step length of the variable-step form (1 kHz), passed through `black_box`.
-const H: f32 = 1e-3;
-/// Observer gain (1/s) and the position error it sees in the observer row.
-const OBSERVER_GAIN: f64 = 200.0;
+// the servo's model, loop period (the variable-step rows pass `H` through
+// `black_box`), observer gain and gains, shared with `main.rs`
+#[path = "../setup.rs"]
+mod setup;
+use setup::{controller, leuven_nominal, H, NOMINAL, OBSERVER_GAIN};
+
+/// The position error the observer rows see.
 const OBSERVER_ERROR: f32 = 1e-5;
 
 /// Steps of the average.
@@ -733,19 +734,8 @@ fn main() -> ! {
     }
     .build::<f32, 8>()
     .unwrap_or_else(|_| fail("bristle parameters"));
-    // PD (bandwidth 2 pi 10 Hz, damping 1) + acceleration feed-forward at
-    // 1 kHz on J = 0.0023 kg m^2, as in the firmware's servo
-    let w = 2.0 * core::f64::consts::PI * 10.0;
-    let j = 0.0023;
-    let controller = CompensatorParams {
-        h: H as f64,
-        kp: j * w * w,
-        ki: 0.0,
-        kd: 2.0 * j * w,
-        inertia: j,
-        torque_constant: 1.0,
-        limit: 5.0,
-    };
+    // the firmware servo's PD + acceleration feed-forward
+    let controller = controller();
     let servo = controller
         .build::<f32, _>(observer)
         .unwrap_or_else(|_| fail("servo gains"));
@@ -796,15 +786,9 @@ fn main() -> ! {
     row!(pt, "bristle8", "f32", v, &bristle, step_bristle8_f32, f32);
     // Leuven (variable step only), memory of 8 reversal points, n = 2 and
     // the virgin curve's xs = Fs / sigma0, as in the firmware's servo
-    let leuven = LeuvenParams {
-        curve,
-        sigma1: NOMINAL.sigma1,
-        sigma2: NOMINAL.sigma2,
-        n: 2.0,
-        xs: curve.fs / NOMINAL.sigma0,
-    }
-    .build::<f32, 8>()
-    .unwrap_or_else(|_| fail("Leuven parameters"));
+    let leuven = leuven_nominal()
+        .build::<f32, 8>()
+        .unwrap_or_else(|_| fail("Leuven parameters"));
     row!(pt, "leuven8", "f32", v, &leuven, step_leuven8_f32, f32);
     row!(pt, "gms1-var", "f32", v, &gms::<1>(), step_gms1_f32, f32);
     row!(pt, "gms4-var", "f32", v, &gms::<4>(), step_gms4_f32, f32);

@@ -1,0 +1,41 @@
+//! What the servo (`main.rs`) and the cost benchmark (`bin/cost.rs`) share:
+//! the controller's friction model, its loop and its gains, so that the
+//! cost table measures the servo the example runs.
+
+use friction_core::{CompensatorParams, LeuvenParams, LuGreParams};
+
+/// Olsson et al. 1998, Table 2: the controller's model of the friction (N m, rad).
+pub const NOMINAL: LuGreParams = LuGreParams::OLSSON_1998;
+
+pub const INERTIA: f32 = 0.0023; // kg m^2
+pub const H: f32 = 1e-3; // 1 kHz control loop
+pub const OBSERVER_GAIN: f64 = 200.0; // 1/s
+pub const TORQUE_MAX: f32 = 5.0; // N m, the drive's full scale and the command limit
+
+/// PD (bandwidth 2 pi 10 Hz, damping 1) with acceleration feed-forward, at
+/// 1 kHz, commanding a torque.
+pub fn controller() -> CompensatorParams {
+    let w = 2.0 * core::f64::consts::PI * 10.0;
+    let j = INERTIA as f64;
+    CompensatorParams {
+        h: H as f64,
+        kp: j * w * w,
+        ki: 0.0,
+        kd: 2.0 * j * w,
+        inertia: j,
+        torque_constant: 1.0,
+        limit: TORQUE_MAX as f64,
+    }
+}
+
+/// The controller's Leuven model: the nominal curve and damping, `n = 2`,
+/// the virgin curve's `xs = Fs / sigma0`.
+pub fn leuven_nominal() -> LeuvenParams {
+    LeuvenParams {
+        curve: NOMINAL.curve,
+        sigma1: NOMINAL.sigma1,
+        sigma2: NOMINAL.sigma2,
+        n: 2.0,
+        xs: NOMINAL.curve.fs / NOMINAL.sigma0,
+    }
+}
