@@ -278,7 +278,7 @@ impl<S: Scalar> DahlAt<S> {
             // Fc y (scaled), and y = 1 - sign(v) F / Fc from the unscaled 1/Fc
             let gap = self.fc - signed(v, f);
             if gap > S::ZERO {
-                let y = gap * self.inv_fc * self.inv_scale;
+                let y = (gap * self.inv_fc).rescale(self.inv_scale);
                 let p = self.sigma_h * speed; // sigma h |v|, scaled: Fc k
                 let d = self.delta_minus_one;
                 let incr = if d > S::ZERO {
@@ -319,14 +319,14 @@ impl<S: Scalar> FixedStepModel<S> for DahlAt<S> {
     #[inline]
     fn step(&self, state: &mut DahlState<S>, v: S) -> S {
         match checked_velocity(v) {
-            Some(v) => self.advance(state, v, S::ZERO) * self.inv_scale,
+            Some(v) => self.advance(state, v, S::ZERO).rescale(self.inv_scale),
             None => self.hold_force(state),
         }
     }
 
     /// `F`.
     fn hold_force(&self, state: &DahlState<S>) -> S {
-        state.f * self.inv_scale
+        state.f.rescale(self.inv_scale)
     }
 }
 
@@ -334,12 +334,12 @@ impl<S: Scalar> FixedStepModel<S> for DahlAt<S> {
 /// the exact step; Dahl has no `sigma1`, `damping` has no effect.
 impl<S: Scalar> FixedStepObservable<S> for DahlAt<S> {
     fn step_corrected(&self, state: &mut DahlState<S>, v: S, correction: S, _damping: bool) -> S {
-        self.advance(state, v, correction) * self.inv_scale
+        self.advance(state, v, correction).rescale(self.inv_scale)
     }
 
     /// `Fc + sigma2 |v|`.
     fn force_bound(&self, v: S) -> S {
-        (self.fc + self.sigma2 * v.abs()) * self.inv_scale
+        (self.fc + self.sigma2 * v.abs()).rescale(self.inv_scale)
     }
 }
 

@@ -380,14 +380,14 @@ pub struct ElastoPlasticAt<S> {
 impl<S: Scalar> ElastoPlasticAt<S> {
     /// The break-away force `sigma0 z_ba` (N).
     pub fn w_ba(&self) -> S {
-        self.w_ba * self.lugre.inv_scale()
+        self.w_ba.rescale(self.lugre.inv_scale())
     }
 
     /// `a / w_max` for `0 <= a <= w_max` (scaled forces), from the unscaled
     /// `1 / g`: `(a / g) k <= k` fits, and no factor is a tiny number.
     #[inline]
     fn ratio(&self, a: S, inv_w_max: S) -> S {
-        a * inv_w_max * self.lugre.inv_scale()
+        (a * inv_w_max).rescale(self.lugre.inv_scale())
     }
 
     /// `dW/dX` at the force along the motion `w`, with `w_max = g(v)`
@@ -398,7 +398,7 @@ impl<S: Scalar> ElastoPlasticAt<S> {
             S::ONE
         } else if w >= w_max {
             // 1 - w / w_max, with w - w_max <= Fs - Fc (scaled) in the product
-            -((w - w_max) * inv_w_max * self.lugre.inv_scale())
+            -((w - w_max) * inv_w_max).rescale(self.lugre.inv_scale())
         } else {
             let width = w_max - self.w_ba;
             let u = ((w_max - w) / width).min(S::ONE);
@@ -501,14 +501,16 @@ impl<S: Scalar> FixedStepModel<S> for ElastoPlasticAt<S> {
     #[inline]
     fn step(&self, state: &mut LuGreAtState<S>, v: S) -> S {
         match checked_velocity(v) {
-            Some(v) => self.advance(state, v, S::ZERO, true) * self.lugre.inv_scale(),
+            Some(v) => self
+                .advance(state, v, S::ZERO, true)
+                .rescale(self.lugre.inv_scale()),
             None => self.hold_force(state),
         }
     }
 
     /// `w = sigma0 z`.
     fn hold_force(&self, state: &LuGreAtState<S>) -> S {
-        state.w * self.lugre.inv_scale()
+        state.w.rescale(self.lugre.inv_scale())
     }
 }
 
@@ -516,7 +518,8 @@ impl<S: Scalar> FixedStepModel<S> for ElastoPlasticAt<S> {
 /// after the model's step, `w <- w - sigma0 h c`, then `|w| <= Fs`.
 impl<S: Scalar> FixedStepObservable<S> for ElastoPlasticAt<S> {
     fn step_corrected(&self, state: &mut LuGreAtState<S>, v: S, correction: S, damping: bool) -> S {
-        self.advance(state, v, correction, damping) * self.lugre.inv_scale()
+        self.advance(state, v, correction, damping)
+            .rescale(self.lugre.inv_scale())
     }
 
     /// As LuGre's.

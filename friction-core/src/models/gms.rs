@@ -672,7 +672,9 @@ impl<S: Scalar, const N: usize> FixedStepModel<S> for GmsAt<S, N> {
     #[inline]
     fn step(&self, state: &mut GmsState<S, N>, v: S) -> S {
         match checked_velocity(v) {
-            Some(v) => self.advance(state, v, S::ZERO, true) * self.inv_scale,
+            Some(v) => self
+                .advance(state, v, S::ZERO, true)
+                .rescale(self.inv_scale),
             None => self.hold_force(state),
         }
     }
@@ -683,7 +685,7 @@ impl<S: Scalar, const N: usize> FixedStepModel<S> for GmsAt<S, N> {
         for &f in &state.force {
             sum = sum + f;
         }
-        sum.sat(self.curve.fs()) * self.inv_scale
+        sum.sat(self.curve.fs()).rescale(self.inv_scale)
     }
 }
 
@@ -691,7 +693,8 @@ impl<S: Scalar, const N: usize> FixedStepModel<S> for GmsAt<S, N> {
 /// slipping follows the measured `v`.
 impl<S: Scalar, const N: usize> FixedStepObservable<S> for GmsAt<S, N> {
     fn step_corrected(&self, state: &mut GmsState<S, N>, v: S, correction: S, damping: bool) -> S {
-        self.advance(state, v, correction, damping) * self.inv_scale
+        self.advance(state, v, correction, damping)
+            .rescale(self.inv_scale)
     }
 
     /// As [`Gms`]'s: `Fs + (sum_i sigma1_i + sigma2) |v|`, plus the fastest
@@ -702,7 +705,7 @@ impl<S: Scalar, const N: usize> FixedStepObservable<S> for GmsAt<S, N> {
         } else {
             S::ZERO
         };
-        (self.curve.fs() + (self.sigma1_sum + self.sigma2) * v.abs() + slip) * self.inv_scale
+        (self.curve.fs() + (self.sigma1_sum + self.sigma2) * v.abs() + slip).rescale(self.inv_scale)
     }
 }
 

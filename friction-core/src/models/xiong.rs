@@ -492,7 +492,9 @@ impl<S: Scalar, const N: usize> FixedStepModel<S> for XiongAt<S, N> {
     #[inline]
     fn step(&self, state: &mut XiongAtState<S, N>, v: S) -> S {
         match checked_velocity(v) {
-            Some(v) => self.advance(state, v, S::ZERO, true) * self.inv_scale,
+            Some(v) => self
+                .advance(state, v, S::ZERO, true)
+                .rescale(self.inv_scale),
             None => self.hold_force(state),
         }
     }
@@ -503,7 +505,7 @@ impl<S: Scalar, const N: usize> FixedStepModel<S> for XiongAt<S, N> {
         for &w in &state.w {
             sum = sum + w;
         }
-        sum.sat(self.fs) * self.inv_scale
+        sum.sat(self.fs).rescale(self.inv_scale)
     }
 }
 
@@ -518,12 +520,13 @@ impl<S: Scalar, const N: usize> FixedStepObservable<S> for XiongAt<S, N> {
         correction: S,
         damping: bool,
     ) -> S {
-        self.advance(state, v, correction, damping) * self.inv_scale
+        self.advance(state, v, correction, damping)
+            .rescale(self.inv_scale)
     }
 
     /// `Fs + sigma2 |v|`.
     fn force_bound(&self, v: S) -> S {
-        (self.fs + self.sigma2 * v.abs()) * self.inv_scale
+        (self.fs + self.sigma2 * v.abs()).rescale(self.inv_scale)
     }
 }
 
