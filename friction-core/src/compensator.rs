@@ -65,6 +65,43 @@ pub trait Compensation<S: Scalar> {
     fn period(&self) -> Option<f64> {
         None
     }
+
+    /// Whether the compensation learns from the friction the compensator
+    /// measures ([`Compensation::learn`]); only then does the compensator
+    /// keep the positions and commands that measurement needs.
+    const LEARNS: bool = false;
+
+    /// Learns from one measured friction sample (called before
+    /// [`Compensation::estimate`], on ticks where a sample exists). The
+    /// sample is finite.
+    fn learn(&self, _state: &mut Self::State, _sample: FrictionSample<S>) {}
+}
+
+/// The friction the compensator measured over the last two periods, for
+/// compensations that learn ([`Compensation::LEARNS`]).
+///
+/// For an inertia `J` driven by `kc u - F` with the command held over each
+/// period (zero-order hold), the second difference of three consecutive
+/// positions is exactly `h^2 / J` times the mean net force over the two
+/// periods, so
+///
+/// ```text
+/// force = kc (u[k-1] + u[k-2]) / 2 - J (x[k] - 2 x[k-1] + x[k-2]) / h^2
+/// v     = (x[k] - x[k-2]) / (2 h)
+/// ```
+///
+/// is the mean friction over those periods and the mean velocity. It uses
+/// the compensator's `inertia` and `torque_constant` (a wrong inertia
+/// leaves an error proportional to the acceleration) and the commands it
+/// issued (a drive that applies them late or limits them differently makes
+/// the sample wrong by the difference).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct FrictionSample<S> {
+    /// Mean friction force over the two periods (force units).
+    pub force: S,
+    /// Mean velocity over the two periods.
+    pub v: S,
 }
 
 /// No friction compensation: `F^ = 0`.
@@ -213,6 +250,21 @@ impl CompensatorParams {
             limit,
             term_limit: convert("limit", 4.0 * self.limit)?,
             signal_limit: S::VELOCITY_LIMIT,
+            accel_ff: if C::LEARNS {
+                convert(
+                    "inertia",
+                    self.inertia / (self.torque_constant * self.h * self.h),
+                )?
+            } else {
+                S::ZERO
+            },
+            kc: if C::LEARNS {
+                convert("torque_constant", self.torque_constant)?
+            } else {
+                S::ZERO
+            },
+            velocity_blend: S::ONE,
+            filter_velocity: false,
             params: *self,
         })
     }
@@ -251,6 +303,14 @@ pub struct CompensatorState<S, T> {
     last_x: S,
     since_last: u32,
     friction: T,
+    /// The filtered velocity (with a velocity filter).
+    velocity: S,
+    /// For compensations that learn: the position before `last_x`, the last
+    /// two commands, and how many consecutive valid ticks preceded (at most 2).
+    x_before: S,
+    command: S,
+    command_before: S,
+    run: u8,
 }
 
 impl<S: Scalar, T> CompensatorState<S, T> {
@@ -309,6 +369,13 @@ pub struct Compensator<S, C> {
     limit: S,
     term_limit: S,
     signal_limit: S,
+    /// `J / (kc h^2)` and `kc`, for the friction samples of compensations
+    /// that learn (0 otherwise).
+    accel_ff: S,
+    kc: S,
+    /// The velocity filter's `h / (tau + h)` (`1`: no filter).
+    velocity_blend: S,
+    filter_velocity: bool,
     params: CompensatorParams,
 }
 
@@ -338,6 +405,35 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
         self.limit
     }
 
+    /// Low-passes the measured velocity (the backward difference) with a
+    /// first-order filter of cut-off `cutoff_hz` (Hz) before the
+    /// compensation and the derivative term see it:
+    /// `v_f += h / (tau + h) (v - v_f)`, `tau = 1 / (2 pi cutoff)`. With a
+    /// quantized encoder the backward difference jumps by whole counts per
+    /// period; the filter trades that noise for phase lag. `cutoff_hz`
+    /// must be finite and `> 0`.
+    ///
+    /// ```
+    /// use friction_core::{CompensatorParams, NoCompensation, ParamError};
+    /// let p = CompensatorParams { h: 1e-3, kp: 60.0, ki: 200.0, kd: 1.2,
+    ///     inertia: 0.0023, torque_constant: 1.0, limit: 5.0 };
+    /// let servo = p.build::<f32, _>(NoCompensation)?.with_velocity_filter(200.0)?;
+    /// assert_eq!(p.build::<f32, _>(NoCompensation)?.with_velocity_filter(0.0).err(),
+    ///     Some(ParamError::NotPositive("velocity_cutoff")));
+    /// # let _ = servo;
+    /// # Ok::<(), ParamError>(())
+    /// ```
+    pub fn with_velocity_filter(self, cutoff_hz: f64) -> Result<Self, ParamError> {
+        positive("velocity_cutoff", cutoff_hz)?;
+        let tau = 1.0 / (2.0 * core::f64::consts::PI * cutoff_hz);
+        let h = self.params.h;
+        Ok(Self {
+            velocity_blend: convert("velocity_cutoff", h / (tau + h))?,
+            filter_velocity: true,
+            ..self
+        })
+    }
+
     /// One tick with measured position `x` towards the setpoint `r`; see the
     /// [module documentation](self) for the control law and the guarantees.
     #[inline]
@@ -346,19 +442,44 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
             if state.since_last > 0 {
                 state.since_last = state.since_last.saturating_add(1);
             }
+            if C::LEARNS {
+                // no friction sample spans the gap
+                state.run = 0;
+            }
             return Tick {
                 command: S::ZERO,
                 friction: S::ZERO,
                 accepted: false,
             };
         }
-        let v = match state.since_last {
+        let mut v = match state.since_last {
             0 => S::ZERO,
             1 => (x - state.last_x) * self.inv_h,
             n => (x - state.last_x) * self.inv_h / S::from_f64(f64::from(n)),
         }
         .sat(self.signal_limit);
+        if self.filter_velocity {
+            v = if state.since_last == 0 {
+                S::ZERO
+            } else {
+                state.velocity + self.velocity_blend * (v - state.velocity)
+            };
+            state.velocity = v;
+        }
         let e = (x - r.x).sat(self.signal_limit);
+        if C::LEARNS {
+            if state.run >= 2 {
+                if let Some(sample) = self.sample(state, x) {
+                    self.compensation.learn(&mut state.friction, sample);
+                }
+            }
+            state.run = if state.since_last == 1 {
+                state.run.saturating_add(1).min(2)
+            } else {
+                1
+            };
+            state.x_before = state.last_x;
+        }
         let f = self
             .compensation
             .estimate(&mut state.friction, v, e, self.h);
@@ -377,11 +498,29 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
         }
         state.last_x = x;
         state.since_last = 1;
+        let command = (base + state.integral).sat(self.limit);
+        if C::LEARNS {
+            state.command_before = state.command;
+            state.command = command;
+        }
         Tick {
-            command: (base + state.integral).sat(self.limit),
+            command,
             friction: f,
             accepted: true,
         }
+    }
+
+    /// The friction sample over the last two periods (see
+    /// [`FrictionSample`]), from the new position `x` and the state's last
+    /// two positions and commands; `None` if it is not finite.
+    #[inline]
+    fn sample(&self, state: &CompensatorState<S, C::State>, x: S) -> Option<FrictionSample<S>> {
+        let second = x - state.last_x - (state.last_x - state.x_before);
+        let half = S::from_f64(0.5);
+        let command = half * (state.command + state.command_before);
+        let force = self.kc * (command - self.accel_ff * second);
+        let v = half * (x - state.x_before) * self.inv_h;
+        (force.is_finite() && v.is_finite()).then_some(FrictionSample { force, v })
     }
 }
 

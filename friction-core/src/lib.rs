@@ -13,6 +13,7 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod adaptive;
 pub mod compensator;
 #[cfg(feature = "fixed")]
 pub mod fixed_point;
@@ -21,12 +22,14 @@ pub mod model;
 pub mod models;
 pub mod observer;
 pub mod random;
+pub mod rls;
 pub mod scalar;
 pub mod stribeck;
 
+pub use adaptive::{AdaptiveObserver, AdaptiveParams, AdaptiveState};
 pub use compensator::{
     AtPeriod, Compensation, Compensator, CompensatorParams, CompensatorState, FeedForward,
-    NoCompensation, Setpoint, Tick,
+    FrictionSample, NoCompensation, Setpoint, Tick,
 };
 #[cfg(feature = "fixed")]
 pub use fixed_point::Fixed32;
@@ -41,6 +44,7 @@ pub use models::lugre::{LuGre, LuGreAt, LuGreAtState, LuGreParams, LuGreState};
 pub use models::reset_integrator::{ResetIntegrator, ResetIntegratorParams, ResetIntegratorState};
 pub use models::xiong::{Xiong, XiongAt, XiongAtState, XiongElement, XiongParams, XiongState};
 pub use observer::{Observable, Observer};
+pub use rls::{RlsFeedForward, RlsParams, RlsState};
 pub use scalar::{Conversion, Scalar};
 pub use stribeck::{
     CoulombParams, CoulombViscous, CoulombViscousParams, Karnopp, StribeckCurve, StribeckMap,

@@ -91,6 +91,24 @@ enum Command {
         #[arg(long)]
         output: PathBuf,
     },
+    /// Robustness map: the servo benchmark over a grid of parameter errors.
+    ///
+    /// Builds each compensation (none, static, observer, adaptive, rls) with
+    /// the model's friction level (fc, fs) scaled 0.25 to 2 and its
+    /// stiffness scaled 0.1 to 10, runs them in parallel against the file's
+    /// plant and scenario, prints a summary and writes DIR/robustness.csv
+    /// (RMS over the last half, mrad) and the heat map DIR/robustness.svg.
+    Robustness {
+        /// Parameter file [default: the built-in params/olsson1998-servo.toml].
+        #[arg(long)]
+        params: Option<PathBuf>,
+        /// Output folder.
+        #[arg(long)]
+        output: PathBuf,
+        /// Grid points per axis (2 to 25).
+        #[arg(long, default_value_t = 7)]
+        points: usize,
+    },
     /// Validate every model against the reference solver and judge the experiments.
     ///
     /// Exit code 0 when every check passes, 1 when one fails, 2 on bad input.
@@ -358,6 +376,11 @@ fn run(cli: Cli) -> Result<bool> {
             identify::run(&o)
         }
         Command::Servo { params, output } => friction_host::servo::run(params.as_deref(), &output),
+        Command::Robustness {
+            params,
+            output,
+            points,
+        } => friction_host::servo::robustness::run(params.as_deref(), &output, points),
         Command::Validate { output } => friction_host::validate::run(&output),
     }
 }

@@ -4,7 +4,7 @@
 //! Unknown keys are errors that
 //! name the key, with line and column.
 
-use crate::servo::ServoTable;
+use crate::servo::config::ServoTable;
 use anyhow::{bail, Context, Result};
 use serde::Deserialize;
 use std::path::Path;

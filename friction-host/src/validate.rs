@@ -929,6 +929,7 @@ fn write_report(
         writeln!(md, "\n![{}]({})", o.name, rel.display())?;
     }
     md.push_str(&crate::servo::report_section()?);
+    md.push_str(&crate::servo::robustness::report_section(dir)?);
     crate::io::write_bytes(&dir.join("report.md"), md.as_bytes())?;
     Ok(())
 }

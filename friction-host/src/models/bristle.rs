@@ -6,6 +6,7 @@
 use super::{
     boxed, from_toml, in_scalar, model_file, Expect, HostModel, ScalarKind, Stepper, N, U, Y,
 };
+use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use crate::signals::Signal;
 use crate::sim::ReferenceRun;
 use anyhow::{bail, Result};
@@ -91,9 +92,47 @@ fn build<S: Scalar + 'static>(spec: &BristleSpec) -> Result<Box<dyn Stepper>, Pa
         60 61 62 63 64)
 }
 
+/// The observer controller with `K` bristles: `sigma0` by the stiffness
+/// factor, `delta_s` by `scale / stiffness`, so that the sliding force
+/// `N sigma0 delta_s / 3` scales by `scale`.
+fn observer_n<const K: usize>(
+    p: &BristleParams,
+    setup: &Loop,
+    request: &ObserverRequest,
+) -> Result<Box<dyn Controller>, ParamError> {
+    observer_controller(setup, request, |s, k| {
+        BristleParams {
+            sigma0: p.sigma0 * k,
+            delta_s: p.delta_s * s / k,
+            ..*p
+        }
+        .build::<f64, K>()
+    })
+}
+
 impl HostModel for BristleSpec {
     fn name(&self) -> &'static str {
         "bristle"
+    }
+    /// See `observer_n`.
+    fn observer_controller(
+        &self,
+        setup: &Loop,
+        request: &ObserverRequest,
+    ) -> Option<Result<Box<dyn Controller>, ParamError>> {
+        macro_rules! dispatch {
+            ($($n:literal)*) => {
+                match self.bristles {
+                    $($n => observer_n::<$n>(&self.params, setup, request),)*
+                    _ => Err(ParamError::NotBelow { name: "bristles", limit: "65" }),
+                }
+            };
+        }
+        Some(
+            dispatch!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28
+            29 30 31 32 33 34 35 36 37 38 39 40 41 42 43 44 45 46 47 48 49 50 51 52 53 54 55 56 57
+            58 59 60 61 62 63 64),
+        )
     }
     fn validate(&self) -> Result<(), ParamError> {
         self.params.validate()

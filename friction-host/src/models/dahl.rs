@@ -5,6 +5,7 @@ use super::{
     boxed, boxed_fixed, from_toml, in_scalar, model_file, sign, Continuous, Expect, HostModel,
     ScalarKind, Stepper, N, Y,
 };
+use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use anyhow::Result;
 use friction_core::{DahlParams, DahlState, Fixed32, ParamError, Scalar};
 
@@ -64,6 +65,21 @@ fn build<S: Scalar + 'static>(p: &DahlParams) -> Result<Box<dyn Stepper>, ParamE
 impl HostModel for DahlParams {
     fn name(&self) -> &'static str {
         "dahl"
+    }
+    /// `fc` scaled; `sigma` by the stiffness factor.
+    fn observer_controller(
+        &self,
+        setup: &Loop,
+        request: &ObserverRequest,
+    ) -> Option<Result<Box<dyn Controller>, ParamError>> {
+        Some(observer_controller(setup, request, |s, k| {
+            DahlParams {
+                fc: self.fc * s,
+                sigma: self.sigma * k,
+                ..*self
+            }
+            .build()
+        }))
     }
     fn validate(&self) -> Result<(), ParamError> {
         DahlParams::validate(self)

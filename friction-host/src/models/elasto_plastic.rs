@@ -2,11 +2,14 @@
 //! `z_ba`, the continuous equations with `alpha(z, v)` (`|z|` in the sine).
 
 use super::lugre::{lugre_force, parse_keys, z_state};
+use super::scaled_curve;
 use super::{
     boxed, boxed_fixed, curve_g, in_scalar, sign, Continuous, Expect, HostModel, ScalarKind,
     Stepper, N, Y,
 };
+use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use anyhow::{bail, Result};
+use friction_core::LuGreParams;
 use friction_core::{ElastoPlasticParams, Fixed32, LuGreAtState, ParamError, Scalar};
 
 pub(super) fn parse(text: &str, origin: &str) -> Result<ElastoPlasticParams> {
@@ -69,6 +72,25 @@ fn build<S: Scalar + 'static>(p: &ElastoPlasticParams) -> Result<Box<dyn Stepper
 impl HostModel for ElastoPlasticParams {
     fn name(&self) -> &'static str {
         "elasto-plastic"
+    }
+    /// `fc`, `fs` scaled; `sigma0` by the stiffness factor, `z_ba` by both
+    /// (`z_ba sigma0 / fc` kept).
+    fn observer_controller(
+        &self,
+        setup: &Loop,
+        request: &ObserverRequest,
+    ) -> Option<Result<Box<dyn Controller>, ParamError>> {
+        Some(observer_controller(setup, request, |s, k| {
+            ElastoPlasticParams {
+                lugre: LuGreParams {
+                    curve: scaled_curve(&self.lugre.curve, s),
+                    sigma0: self.lugre.sigma0 * k,
+                    ..self.lugre
+                },
+                z_ba: self.z_ba * s / k,
+            }
+            .build()
+        }))
     }
     fn validate(&self) -> Result<(), ParamError> {
         ElastoPlasticParams::validate(self)

@@ -13,6 +13,7 @@ use super::{
     boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, Expect,
     HostModel, ScalarKind, Stepper, N, Y,
 };
+use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use crate::signals::Signal;
 use crate::sim::ReferenceRun;
 use anyhow::{bail, Result};
@@ -178,6 +179,29 @@ fn build_fixed_n<const K: usize>(spec: &GmsSpec, h: f64) -> Result<Box<dyn Stepp
     ))
 }
 
+/// The observer controller with `K` elements (`fc`, `fs` scaled, the element
+/// stiffnesses by the stiffness factor).
+fn observer_n<const K: usize>(
+    spec: &GmsSpec,
+    setup: &Loop,
+    request: &ObserverRequest,
+) -> Result<Box<dyn Controller>, ParamError> {
+    let p = spec.params::<K>().ok_or(ParamError::NotBelow {
+        name: "elements",
+        limit: "17",
+    })?;
+    observer_controller(setup, request, |s, k| {
+        let mut q = GmsParams {
+            curve: super::scaled_curve(&p.curve, s),
+            ..p
+        };
+        for e in &mut q.elements {
+            e.k *= k;
+        }
+        q.build::<f64>()
+    })
+}
+
 fn validate_n<const K: usize>(spec: &GmsSpec) -> Result<(), ParamError> {
     spec.params::<K>()
         .ok_or(ParamError::NotBelow {
@@ -190,6 +214,14 @@ fn validate_n<const K: usize>(spec: &GmsSpec) -> Result<(), ParamError> {
 impl HostModel for GmsSpec {
     fn name(&self) -> &'static str {
         "gms"
+    }
+    /// See `observer_n`.
+    fn observer_controller(
+        &self,
+        setup: &Loop,
+        request: &ObserverRequest,
+    ) -> Option<Result<Box<dyn Controller>, ParamError>> {
+        Some(with_count!(self, observer_n; setup, request))
     }
     fn validate(&self) -> Result<(), ParamError> {
         with_count!(self, validate_n)

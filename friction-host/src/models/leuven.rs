@@ -14,6 +14,7 @@ use super::{
     boxed, curve_g, default_exponent, from_toml, in_scalar, model_file, Expect, HostModel,
     ScalarKind, Stepper, N, U, Y,
 };
+use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use crate::signals::Signal;
 use crate::sim::ReferenceRun;
 use anyhow::{bail, Result};
@@ -148,15 +149,39 @@ macro_rules! with_memory {
         }
     };
 }
-pub(crate) use with_memory;
 
 fn build<S: Scalar + 'static>(spec: &LeuvenSpec) -> Result<Box<dyn Stepper>, ParamError> {
     with_memory!(spec.memory, build_m, S; spec)
 }
 
+/// The observer controller with memory `M` (`fc`, `fs` scaled, `xs`
+/// divided by the stiffness factor).
+fn observer_m<const M: usize>(
+    spec: &LeuvenSpec,
+    setup: &Loop,
+    request: &ObserverRequest,
+) -> Result<Box<dyn Controller>, ParamError> {
+    observer_controller(setup, request, |s, k| {
+        LeuvenParams {
+            curve: super::scaled_curve(&spec.params.curve, s),
+            xs: spec.params.xs / k,
+            ..spec.params
+        }
+        .build::<f64, M>()
+    })
+}
+
 impl HostModel for LeuvenSpec {
     fn name(&self) -> &'static str {
         "leuven"
+    }
+    /// See `observer_m`.
+    fn observer_controller(
+        &self,
+        setup: &Loop,
+        request: &ObserverRequest,
+    ) -> Option<Result<Box<dyn Controller>, ParamError>> {
+        Some(with_memory!(self.memory, observer_m; self, setup, request))
     }
     fn validate(&self) -> Result<(), ParamError> {
         if !(1..=MAX_MEMORY).contains(&self.memory) {

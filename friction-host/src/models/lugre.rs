@@ -1,10 +1,12 @@
 //! LuGre (Canudas de Wit et al. 1995) on the host: file keys, the
 //! continuous equations, expectations and bounds.
 
+use super::scaled_curve;
 use super::{
     boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, sign,
     Continuous, Expect, HostModel, ScalarKind, Stepper, N, Y,
 };
+use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use anyhow::{bail, Result};
 use friction_core::{
     Fixed32, LuGreAtState, LuGreParams, LuGreState, ParamError, Scalar, StribeckParams,
@@ -103,6 +105,21 @@ fn build<S: Scalar + 'static>(p: &LuGreParams) -> Result<Box<dyn Stepper>, Param
 impl HostModel for LuGreParams {
     fn name(&self) -> &'static str {
         "lugre"
+    }
+    /// `fc`, `fs` scaled; `sigma0` by the stiffness factor.
+    fn observer_controller(
+        &self,
+        setup: &Loop,
+        request: &ObserverRequest,
+    ) -> Option<Result<Box<dyn Controller>, ParamError>> {
+        Some(observer_controller(setup, request, |s, k| {
+            LuGreParams {
+                curve: scaled_curve(&self.curve, s),
+                sigma0: self.sigma0 * k,
+                ..*self
+            }
+            .build()
+        }))
     }
     fn validate(&self) -> Result<(), ParamError> {
         LuGreParams::validate(self)

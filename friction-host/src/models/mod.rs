@@ -10,6 +10,7 @@
 //! Adding a model: its core file, its host module here, and one line in
 //! the `registry!` call below.
 
+use crate::control::{Controller, Loop, ObserverRequest};
 use crate::signals::Signal;
 use crate::sim::ReferenceRun;
 use anyhow::Result;
@@ -249,6 +250,16 @@ pub trait HostModel {
     fn drift_force(&self) -> f64 {
         0.5 * self.max_static_force()
     }
+    /// The core observer around this model (plain or θ-adaptive, as
+    /// `request` says) with its friction level scaled by `request.scale`,
+    /// in the loop `setup`; `None` where the model has no observer form.
+    fn observer_controller(
+        &self,
+        _setup: &Loop,
+        _request: &ObserverRequest,
+    ) -> Option<Result<Box<dyn Controller>, ParamError>> {
+        None
+    }
 }
 
 /// The registry: one line per model, `Variant(Type) = "file name"`. It
@@ -357,6 +368,25 @@ impl ModelSpec {
     pub fn continuous(&self) -> Option<Box<dyn Continuous>> {
         self.host().continuous()
     }
+    /// See [`HostModel::observer_controller`].
+    pub fn observer_controller(
+        &self,
+        setup: &Loop,
+        request: &ObserverRequest,
+    ) -> Option<Result<Box<dyn Controller>, ParamError>> {
+        self.host().observer_controller(setup, request)
+    }
+}
+
+/// `fc` and `fs` of a Stribeck curve times `scale`.
+pub(crate) fn scaled_curve(
+    c: &friction_core::StribeckParams,
+    scale: f64,
+) -> friction_core::StribeckParams {
+    let mut c = *c;
+    c.fc *= scale;
+    c.fs *= scale;
+    c
 }
 
 /// `g(v) = Fc + (Fs - Fc) exp(-|v/vs|^delta)`.

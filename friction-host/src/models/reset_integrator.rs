@@ -5,6 +5,7 @@ use super::{
     boxed, from_toml, in_scalar, model_file, sign, stribeck, Continuous, Expect, HostModel,
     ScalarKind, Stepper, N, U, Y,
 };
+use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use anyhow::{bail, Result};
 use friction_core::{
     ParamError, ResetIntegratorParams, ResetIntegratorState, Scalar, StribeckParams,
@@ -102,6 +103,23 @@ fn build<S: Scalar + 'static>(p: &ResetIntegratorParams) -> Result<Box<dyn Stepp
 impl HostModel for ResetIntegratorParams {
     fn name(&self) -> &'static str {
         "reset-integrator"
+    }
+    /// `sigma0` by the stiffness factor and `z0` by `scale / stiffness`, so
+    /// the bond's force `sigma0 z0` scales by `scale` (a Stribeck curve only
+    /// shapes `sigma0(v)` by `g(v) / Fs`).
+    fn observer_controller(
+        &self,
+        setup: &Loop,
+        request: &ObserverRequest,
+    ) -> Option<Result<Box<dyn Controller>, ParamError>> {
+        Some(observer_controller(setup, request, |s, k| {
+            ResetIntegratorParams {
+                sigma0: self.sigma0 * k,
+                z0: self.z0 * s / k,
+                ..*self
+            }
+            .build()
+        }))
     }
     fn validate(&self) -> Result<(), ParamError> {
         ResetIntegratorParams::validate(self)

@@ -6,6 +6,7 @@ use super::{
     boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, sign,
     Continuous, Expect, HostModel, ScalarKind, Stepper, N, Y,
 };
+use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use anyhow::{bail, Result};
 use friction_core::{
     Fixed32, ParamError, Scalar, StribeckParams, Xiong, XiongAtState, XiongElement, XiongParams,
@@ -186,9 +187,40 @@ impl Continuous for XiongOde {
     }
 }
 
+/// The observer controller with `K` elements (`fc`, `fs` scaled, the element
+/// stiffnesses by the stiffness factor).
+fn observer_n<const K: usize>(
+    spec: &XiongSpec,
+    setup: &Loop,
+    request: &ObserverRequest,
+) -> Result<Box<dyn Controller>, ParamError> {
+    let p = spec.params::<K>().ok_or(ParamError::NotBelow {
+        name: "elements",
+        limit: "17",
+    })?;
+    observer_controller(setup, request, |s, k| {
+        let mut q = XiongParams {
+            curve: super::scaled_curve(&p.curve, s),
+            ..p
+        };
+        for e in &mut q.elements {
+            e.k *= k;
+        }
+        q.build::<f64>()
+    })
+}
+
 impl HostModel for XiongSpec {
     fn name(&self) -> &'static str {
         "xiong"
+    }
+    /// See `observer_n`.
+    fn observer_controller(
+        &self,
+        setup: &Loop,
+        request: &ObserverRequest,
+    ) -> Option<Result<Box<dyn Controller>, ParamError>> {
+        Some(with_count!(self, observer_n; setup, request))
     }
     fn validate(&self) -> Result<(), ParamError> {
         with_count!(self, validate_n)

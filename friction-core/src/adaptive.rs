@@ -1,0 +1,348 @@
+//! The θ-adaptive observer: friction compensation that follows a plant
+//! whose friction is a multiple of the model's (Canudas de Wit et al. 1995,
+//! IEEE TAC 40(3), Section V; Olsson et al. 1998, Eur. J. Control 4(3);
+//! Canudas de Wit & Lischinsky 1997, Int. J. Adapt. Control Signal Process.
+//! 11(1)).
+//!
+//! The plant's friction is taken to be `θ F(v, z)`, the model's friction
+//! scaled by an unknown, slowly varying factor `θ` (normal force,
+//! temperature, wear, or a model whose `Fc` and `Fs` are off by a common
+//! factor). The [`Observer`] estimates the model's friction `F^` from the
+//! measured velocity and the position error `e = x - x_ref`; the estimate
+//! sent to the drive is `θ^ F^`, and `θ^` follows a gradient law with
+//! leakage, projected onto `[θmin, θmax]`:
+//!
+//! ```text
+//! F^      = observer(v, e)                        the model's friction (as Observer)
+//! dθ^/dt  = -γ e F^ - ρ (θ^ - θ0)                 gradient law, leakage ρ
+//! θ^      = min(θmax, max(θmin, θ^))              projection
+//! output  = sat(θmax B(v), θ^ F^)                 B(v): Observable::force_bound
+//! ```
+//!
+//! Sign: a plant with more friction than the estimate lags its reference
+//! (`e < 0` while `F^ > 0` in forward sliding), so `θ^` grows. With the
+//! opposite sign of `e` the law diverges. Discretised with explicit Euler at
+//! the compensator's period `h`, after the observer's step, and the output
+//! uses the updated `θ^`.
+//!
+//! Choosing `γ` (units 1/(position x force x s)): a friction error `δ F`
+//! moves a loop of stiffness `kc kp` by about `e = -δ F / (kc kp)`, so `θ^`
+//! converges at a rate near `a = γ Fs^2 / (kc kp)` while sliding at the
+//! friction level `Fs`; `γ = a kc kp / Fs^2` with `a` of 1 to 10 1/s is a
+//! starting point ([`AdaptiveParams::gain_for_rate`]). The integral action
+//! absorbs the steady error, so adaptation is driven by the transients at
+//! reversals: a persistently reversing motion adapts, a standstill does not
+//! (`e F^` is then small), and leakage `ρ` slowly returns `θ^` to `θ0`.
+//!
+//! Bounds, for any finite inputs: `θ^` stays in `[θmin, θmax]`, the output
+//! is finite and within `θmax B(v)`, and the model's state stays within its
+//! bounds (those of [`Observer`]). A NaN or infinite input leaves the state
+//! untouched.
+//!
+//! In fixed point `θ^` is carried scaled by a power of two
+//! ([`Scalar::force_scale`] of its range): per-tick increments of `1e-6`
+//! would otherwise round to 0 in Q16.16.
+
+use crate::compensator::Compensation;
+use crate::fixed_step::FixedStepObservable;
+use crate::model::{convert, non_negative, positive, ParamError};
+use crate::observer::{Observable, Observer};
+use crate::Scalar;
+
+/// Design-time parameters of the adaptation, in `f64`.
+///
+/// ```
+/// use friction_core::AdaptiveParams;
+/// let p = AdaptiveParams { gamma: 600.0, ..AdaptiveParams::DEFAULT };
+/// assert!(p.validate().is_ok());
+/// let bad = AdaptiveParams { theta_min: 2.0, ..p }; // θ0 = 1 below θmin
+/// assert!(bad.validate().is_err());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct AdaptiveParams {
+    /// Adaptation gain `γ >= 0` (1/(position units x force units x s)).
+    pub gamma: f64,
+    /// Leakage `ρ >= 0` (1/s): pulls `θ^` back to `θ0`.
+    pub leakage: f64,
+    /// Initial and leakage target `θ0`, within `[θmin, θmax]`.
+    pub theta0: f64,
+    /// Lower projection bound `θmin >= 0`.
+    pub theta_min: f64,
+    /// Upper projection bound `θmax > θmin`.
+    pub theta_max: f64,
+}
+
+impl AdaptiveParams {
+    /// No leakage, `θ0 = 1`, `θ ∈ [0.2, 5]`, and `γ = 0` (no adaptation:
+    /// set `gamma`, e.g. with [`AdaptiveParams::gain_for_rate`]).
+    pub const DEFAULT: Self = Self {
+        gamma: 0.0,
+        leakage: 0.0,
+        theta0: 1.0,
+        theta_min: 0.2,
+        theta_max: 5.0,
+    };
+
+    /// `γ = a kc kp / fs^2`: the gain that adapts at about `a` (1/s) in a
+    /// loop with proportional gain `kp` and torque constant `kc` on friction
+    /// of level `fs` (see the [module documentation](self)).
+    pub fn gain_for_rate(rate: f64, kp: f64, torque_constant: f64, fs: f64) -> f64 {
+        rate * torque_constant * kp / (fs * fs)
+    }
+
+    /// Checks `gamma`, `leakage` `>= 0`, `0 <= θmin <= θ0 <= θmax`,
+    /// `θmin < θmax`, all finite; the error names the parameter.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        non_negative("gamma", self.gamma)?;
+        non_negative("leakage", self.leakage)?;
+        non_negative("theta_min", self.theta_min)?;
+        positive("theta_max", self.theta_max)?;
+        non_negative("theta0", self.theta0)?;
+        if self.theta_min >= self.theta_max {
+            return Err(ParamError::NotBelow {
+                name: "theta_min",
+                limit: "theta_max",
+            });
+        }
+        if self.theta0 < self.theta_min || self.theta0 > self.theta_max {
+            return Err(ParamError::NotBelow {
+                name: "theta0",
+                limit: "within [theta_min, theta_max]",
+            });
+        }
+        Ok(())
+    }
+
+    /// Validates and builds the adaptive observer around `observer`, for a
+    /// compensator running at period `h` (s). Besides
+    /// [`validate`](Self::validate), rejects what the scalar cannot carry:
+    /// `γ h` and `ρ h` (scaled), and the bounds.
+    ///
+    /// ```
+    /// use friction_core::{AdaptiveParams, LuGreParams, Observer};
+    /// let model = LuGreParams::OLSSON_1998.build::<f32>()?;
+    /// let observer: Observer<_, f32> = Observer::new(model, 20.0)?;
+    /// let gamma = AdaptiveParams::gain_for_rate(2.0, 60.0, 1.02, 0.33);
+    /// let adaptive = AdaptiveParams { gamma, ..AdaptiveParams::DEFAULT }.build(observer, 1e-3)?;
+    /// assert_eq!(adaptive.theta(&Default::default()), 1.0);
+    /// # Ok::<(), friction_core::ParamError>(())
+    /// ```
+    pub fn build<S: Scalar, M>(
+        &self,
+        observer: Observer<M, S>,
+        h: f64,
+    ) -> Result<AdaptiveObserver<M, S>, ParamError> {
+        self.validate()?;
+        positive("h", h)?;
+        // θ^ - θ0 is carried times `scale`
+        let range = self.theta_max.max(self.theta0 - self.theta_min);
+        let scale = S::force_scale(range);
+        let scaled = |name, x: f64| -> Result<S, ParamError> {
+            if x == 0.0 {
+                Ok(S::ZERO)
+            } else {
+                convert(name, x)
+            }
+        };
+        Ok(AdaptiveObserver {
+            observer,
+            gamma_h: scaled("gamma", self.gamma * h * scale)?,
+            leakage_h: scaled("leakage", (self.leakage * h).min(1.0))?,
+            theta0: convert("theta0", self.theta0)?,
+            low: scaled("theta_min", (self.theta_min - self.theta0) * scale)?,
+            high: scaled("theta_max", (self.theta_max - self.theta0) * scale)?,
+            theta_min: convert("theta_min", self.theta_min)?,
+            theta_max: convert("theta_max", self.theta_max)?,
+            inv_scale: S::from_f64(1.0 / scale),
+            period: h,
+            params: *self,
+        })
+    }
+}
+
+impl Default for AdaptiveParams {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// The state of an [`AdaptiveObserver`]: the model's state and `θ^`.
+/// `Default` is the model at rest with `θ^ = θ0`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct AdaptiveState<T, S> {
+    /// The observer's model state.
+    pub model: T,
+    /// `θ^ - θ0`, scaled (see [`AdaptiveObserver::theta`]).
+    offset: S,
+}
+
+/// The built θ-adaptive observer: immutable, shared by any number of
+/// [`AdaptiveState`]s. A [`Compensation`] for the
+/// [`Compensator`](crate::Compensator) (wrap it in
+/// [`AtPeriod`](crate::AtPeriod) for a fixed-step model).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct AdaptiveObserver<M, S> {
+    observer: Observer<M, S>,
+    gamma_h: S,
+    leakage_h: S,
+    theta0: S,
+    low: S,
+    high: S,
+    theta_min: S,
+    theta_max: S,
+    inv_scale: S,
+    period: f64,
+    params: AdaptiveParams,
+}
+
+impl<M, S: Scalar> AdaptiveObserver<M, S> {
+    /// The current `θ^` of `state`.
+    #[inline]
+    pub fn theta(&self, state: &AdaptiveState<impl Copy, S>) -> S {
+        self.theta_of(state.offset)
+    }
+
+    /// `θ0 + offset / scale`, within `[θmin, θmax]` against rounding.
+    #[inline]
+    fn theta_of(&self, offset: S) -> S {
+        (self.theta0 + offset.rescale(self.inv_scale))
+            .min(self.theta_max)
+            .max(self.theta_min)
+    }
+
+    /// The wrapped observer.
+    pub fn observer(&self) -> &Observer<M, S> {
+        &self.observer
+    }
+
+    /// The parameters it was built from.
+    pub fn params(&self) -> &AdaptiveParams {
+        &self.params
+    }
+
+    /// The period it was built for (s).
+    pub fn period(&self) -> f64 {
+        self.period
+    }
+
+    /// Sets `θ^` of `state` (e.g. restored from non-volatile memory after a
+    /// power cycle), projected onto `[θmin, θmax]`; a NaN leaves it as it is.
+    pub fn set_theta(&self, state: &mut AdaptiveState<impl Copy, S>, theta: f64) {
+        if !theta.is_nan() {
+            let scale = 1.0 / self.inv_scale.to_f64();
+            let offset = S::from_f64((theta - self.theta0.to_f64()) * scale);
+            state.offset = offset.min(self.high).max(self.low);
+        }
+    }
+
+    /// Adapts `θ^` from the error `e` and the model's estimate `f`, then
+    /// returns `θ^ f` within `±θmax bound`.
+    #[inline]
+    fn adapt(&self, offset: &mut S, e: S, f: S, bound: S) -> S {
+        // (γ h e) is clamped before it meets f, so no product is inf * 0
+        let limit = S::VELOCITY_LIMIT;
+        let step = (self.gamma_h * e).sat(limit) * f + self.leakage_h * *offset;
+        *offset = (*offset - step).min(self.high).max(self.low);
+        scaled(self.theta_of(*offset), f).sat(self.theta_max * bound)
+    }
+}
+
+/// `θ f`, or `f` where the product overflows a float (a `θmax` times a
+/// force bound beyond the scalar's range): always finite for finite `f`.
+#[inline]
+fn scaled<S: Scalar>(theta: S, f: S) -> S {
+    let out = theta * f;
+    if out.is_finite() {
+        out
+    } else {
+        f
+    }
+}
+
+impl<S: Scalar, M: Observable<S>> AdaptiveObserver<M, S> {
+    /// Advances the observer by `h` with measured velocity `v` and position
+    /// error `e = x - x_ref`, adapts `θ^` (by the built period; `h` drives
+    /// the model), and returns `θ^ F^`. A non-finite input, or `h <= 0`,
+    /// leaves the state untouched and returns `θ^` times the model's hold
+    /// force.
+    ///
+    /// ```
+    /// use friction_core::{AdaptiveParams, AdaptiveState, LuGreParams, Observer};
+    /// let observer = Observer::new(LuGreParams::OLSSON_1998.build::<f64>()?, 20.0)?;
+    /// let p = AdaptiveParams { gamma: 1e4, ..AdaptiveParams::DEFAULT };
+    /// let a = p.build(observer, 1e-3)?;
+    /// let mut s = AdaptiveState::default();
+    /// // sliding forward at 0.1 rad/s while lagging 1 mrad: more friction than modelled
+    /// for _ in 0..100 {
+    ///     a.step(&mut s, 0.1, -1e-3, 1e-3);
+    /// }
+    /// assert!(a.theta(&s) > 1.0 && a.theta(&s) <= 5.0);
+    /// # Ok::<(), friction_core::ParamError>(())
+    /// ```
+    #[inline]
+    pub fn step(&self, state: &mut AdaptiveState<M::State, S>, v: S, e: S, h: S) -> S {
+        let theta = self.theta(state);
+        if !(v.is_finite() && e.is_finite() && h.is_finite() && h > S::ZERO) {
+            return scaled(theta, self.observer.model().hold_force(&state.model));
+        }
+        let v = v.sat(S::VELOCITY_LIMIT);
+        let f = self.observer.step(&mut state.model, v, e, h);
+        let bound = self.observer.model().force_bound(v);
+        self.adapt(&mut state.offset, e.sat(S::VELOCITY_LIMIT), f, bound)
+    }
+}
+
+impl<S: Scalar, M: FixedStepObservable<S>> AdaptiveObserver<M, S> {
+    /// [`AdaptiveObserver::step`] for a fixed-step model: one period (the
+    /// model's, which the compensator checks against the built period).
+    #[inline]
+    pub fn step_at(&self, state: &mut AdaptiveState<M::State, S>, v: S, e: S) -> S {
+        if !(v.is_finite() && e.is_finite()) {
+            return scaled(
+                self.theta(state),
+                self.observer.model().hold_force(&state.model),
+            );
+        }
+        let v = v.sat(S::VELOCITY_LIMIT);
+        let f = self.observer.step_at(&mut state.model, v, e);
+        let bound = self.observer.model().force_bound(v);
+        self.adapt(&mut state.offset, e.sat(S::VELOCITY_LIMIT), f, bound)
+    }
+}
+
+/// The adaptive observer on a variable-step model as the compensation.
+impl<S: Scalar, M: Observable<S>> Compensation<S> for AdaptiveObserver<M, S> {
+    type State = AdaptiveState<M::State, S>;
+    #[inline]
+    fn estimate(&self, state: &mut Self::State, v: S, e: S, h: S) -> S {
+        self.step(state, v, e, h)
+    }
+    fn period(&self) -> Option<f64> {
+        Some(self.period)
+    }
+}
+
+/// The adaptive observer on a fixed-step model as the compensation. Its
+/// period is the model's, which must be the one the adaptation was built
+/// for (otherwise a negative period, which no compensator accepts:
+/// [`ParamError::PeriodMismatch`]).
+impl<S: Scalar, M: FixedStepObservable<S>> Compensation<S>
+    for crate::AtPeriod<AdaptiveObserver<M, S>>
+{
+    type State = AdaptiveState<M::State, S>;
+    #[inline]
+    fn estimate(&self, state: &mut Self::State, v: S, e: S, _h: S) -> S {
+        self.0.step_at(state, v, e)
+    }
+    fn period(&self) -> Option<f64> {
+        let model = self.0.observer.model().period();
+        if (model - self.0.period).abs() <= 1e-9 * model {
+            Some(model)
+        } else {
+            Some(-1.0)
+        }
+    }
+}

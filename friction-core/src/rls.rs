@@ -1,0 +1,305 @@
+//! Model-free adaptive feed-forward: Coulomb + viscous friction fitted online
+//! by recursive least squares with forgetting (Ljung & Söderström 1983; as
+//! friction identification: Canudas de Wit & Lischinsky 1997).
+//!
+//! The compensator measures the friction residual over the last two periods
+//! ([`FrictionSample`]: command force minus inertia times the measured
+//! acceleration). Each sample above a minimum speed updates the weights `w`
+//! of the regressors `φ = (sign v, v / v_ref)`:
+//!
+//! ```text
+//! K = P φ / (λ + φᵀ P φ)
+//! w = w + K (y - φᵀ w)
+//! P = (P - K φᵀ P) / λ,   then scaled down to trace(P) <= p_max
+//! F^ = sat(F_max, w0 sign(v) + w1 v / v_ref)        on the measured velocity
+//! ```
+//!
+//! so `w0` estimates the Coulomb level and `w1 / v_ref` the viscous
+//! coefficient. `v_ref` (the speed scale, e.g. the largest speed of the
+//! motion) makes both regressors of order one, so that `P` is dimensionless
+//! and one `p0` suits both. Forgetting `λ < 1` follows drift with a memory
+//! of about `1 / (1 - λ)` samples; a too small `λ` follows the noise of a
+//! quantized acceleration. Samples below `v_min` are skipped (at rest the
+//! sign regressor is meaningless and the residual is stiction), and nothing
+//! is forgotten without a sample, so a standstill cannot wind `P` up; the
+//! trace bound holds it bounded in any case, and `|w| <= F_max`.
+//!
+//! `P` starts at `p0 I` and `w` at 0 (or the given initial weights): the
+//! first samples move `w` fast, by about `p0 / (1 + p0)` of each residual.
+
+use crate::compensator::{Compensation, FrictionSample};
+use crate::model::{convert, positive, ParamError};
+use crate::Scalar;
+
+/// Design-time parameters of the least-squares feed-forward, in `f64`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct RlsParams {
+    /// Forgetting factor `0 < λ <= 1`.
+    pub forgetting: f64,
+    /// Minimum speed `v_min > 0` of a sample that updates the fit.
+    pub min_speed: f64,
+    /// Speed scale `v_ref > 0` of the viscous regressor `v / v_ref`.
+    pub speed_scale: f64,
+    /// Initial covariance `p0 > 0` (dimensionless).
+    pub initial_covariance: f64,
+    /// Bound `p_max >= p0` on the trace of the covariance.
+    pub max_covariance: f64,
+    /// Bound `F_max > 0` on each weight and on the estimate (force units).
+    pub max_force: f64,
+    /// Initial Coulomb level `w0` (force units), within `±F_max`.
+    pub initial_coulomb: f64,
+    /// Initial viscous coefficient (force per speed unit), with
+    /// `|coefficient v_ref| <= F_max`.
+    pub initial_viscous: f64,
+}
+
+impl RlsParams {
+    /// Checks every parameter; the error names the first offending one.
+    ///
+    /// ```
+    /// use friction_core::RlsParams;
+    /// let p = RlsParams::new(0.63, 10.0);
+    /// assert!(p.validate().is_ok());
+    /// assert!(RlsParams { forgetting: 1.5, ..p }.validate().is_err());
+    /// ```
+    pub fn validate(&self) -> Result<(), ParamError> {
+        positive("forgetting", self.forgetting)?;
+        if self.forgetting > 1.0 {
+            return Err(ParamError::NotBelow {
+                name: "forgetting",
+                limit: "1 (inclusive)",
+            });
+        }
+        positive("min_speed", self.min_speed)?;
+        positive("speed_scale", self.speed_scale)?;
+        positive("initial_covariance", self.initial_covariance)?;
+        positive("max_covariance", self.max_covariance)?;
+        if self.max_covariance < self.initial_covariance {
+            return Err(ParamError::NotBelow {
+                name: "initial_covariance",
+                limit: "max_covariance (inclusive)",
+            });
+        }
+        positive("max_force", self.max_force)?;
+        let ok = |x: f64| x.is_finite() && x.abs() <= self.max_force;
+        if !ok(self.initial_coulomb) {
+            return Err(ParamError::NotBelow {
+                name: "initial_coulomb",
+                limit: "max_force in magnitude",
+            });
+        }
+        if !ok(self.initial_viscous * self.speed_scale) {
+            return Err(ParamError::NotBelow {
+                name: "initial_viscous",
+                limit: "max_force / speed_scale in magnitude",
+            });
+        }
+        Ok(())
+    }
+
+    /// Defaults for a motion of peak speed `speed_scale` and friction below
+    /// `max_force`: `λ = 0.999` (about a second of memory at 1 kHz),
+    /// `v_min = speed_scale / 50`, `p0 = 10`, `p_max = 100`, starting from 0.
+    pub fn new(speed_scale: f64, max_force: f64) -> Self {
+        Self {
+            forgetting: 0.999,
+            min_speed: speed_scale / 50.0,
+            speed_scale,
+            initial_covariance: 10.0,
+            max_covariance: 100.0,
+            max_force,
+            initial_coulomb: 0.0,
+            initial_viscous: 0.0,
+        }
+    }
+
+    /// Validates and builds the run-time form.
+    ///
+    /// ```
+    /// use friction_core::{CompensatorParams, CompensatorState, RlsParams, Setpoint};
+    /// let rls = RlsParams::new(0.63, 10.0).build::<f32>()?;
+    /// let servo = CompensatorParams {
+    ///     h: 1e-3, kp: 60.0, ki: 200.0, kd: 1.2,
+    ///     inertia: 0.0023, torque_constant: 1.02, limit: 10.0,
+    /// }
+    /// .build(rls)?;
+    /// let mut state = CompensatorState::default();
+    /// let tick = servo.tick(&mut state, 0.0, Setpoint { x: 1e-3, v: 0.1, a: 0.0 });
+    /// assert!(tick.accepted && tick.friction == 0.0); // nothing learnt yet
+    /// # Ok::<(), friction_core::ParamError>(())
+    /// ```
+    pub fn build<S: Scalar>(&self) -> Result<RlsFeedForward<S>, ParamError> {
+        self.validate()?;
+        Ok(RlsFeedForward {
+            inv_forgetting: convert("forgetting", 1.0 / self.forgetting)?,
+            min_speed: convert("min_speed", self.min_speed)?,
+            inv_speed_scale: convert("speed_scale", 1.0 / self.speed_scale)?,
+            initial_covariance: convert("initial_covariance", self.initial_covariance)?,
+            max_covariance: convert("max_covariance", self.max_covariance)?,
+            max_force: convert("max_force", self.max_force)?,
+            forgetting: convert("forgetting", self.forgetting)?,
+            initial: [
+                S::from_f64(self.initial_coulomb),
+                S::from_f64(self.initial_viscous * self.speed_scale),
+            ],
+            params: *self,
+        })
+    }
+}
+
+/// The state of an [`RlsFeedForward`]: weights and covariance. `Default` is
+/// before the first sample (the built initial weights, `P = p0 I`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct RlsState<S> {
+    /// `false` until the first update: the weights are the built initial
+    /// ones and `P = p0 I`.
+    primed: bool,
+    w: [S; 2],
+    /// `P` as `(p00, p01, p11)`.
+    p: [S; 3],
+    updates: u32,
+}
+
+impl<S: Scalar> RlsState<S> {
+    /// The number of samples that updated the fit (saturating).
+    pub fn updates(&self) -> u32 {
+        self.updates
+    }
+}
+
+/// The built least-squares feed-forward: a [`Compensation`] that learns from
+/// the compensator's [`FrictionSample`]s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct RlsFeedForward<S> {
+    forgetting: S,
+    inv_forgetting: S,
+    min_speed: S,
+    inv_speed_scale: S,
+    initial_covariance: S,
+    max_covariance: S,
+    max_force: S,
+    initial: [S; 2],
+    params: RlsParams,
+}
+
+impl<S: Scalar> RlsFeedForward<S> {
+    /// The parameters it was built from.
+    pub fn params(&self) -> &RlsParams {
+        &self.params
+    }
+
+    /// The fitted `(Coulomb level, viscous coefficient)` of `state`.
+    pub fn coefficients(&self, state: &RlsState<S>) -> (f64, f64) {
+        let w = self.weights(state);
+        (w[0].to_f64(), w[1].to_f64() * self.inv_speed_scale.to_f64())
+    }
+
+    /// The trace of the covariance `P`.
+    pub fn covariance_trace(&self, state: &RlsState<S>) -> S {
+        let p = self.covariance(state);
+        p[0] + p[2]
+    }
+
+    fn weights(&self, state: &RlsState<S>) -> [S; 2] {
+        if state.primed {
+            state.w
+        } else {
+            self.initial
+        }
+    }
+
+    fn covariance(&self, state: &RlsState<S>) -> [S; 3] {
+        if state.primed {
+            state.p
+        } else {
+            [self.initial_covariance, S::ZERO, self.initial_covariance]
+        }
+    }
+
+    /// The regressor `(sign v, v / v_ref)`, the second within the scalar's
+    /// velocity limit.
+    #[inline]
+    fn regressor(&self, v: S) -> [S; 2] {
+        [v.sign(), (v * self.inv_speed_scale).sat(S::VELOCITY_LIMIT)]
+    }
+
+    /// The estimate `w0 sign(v) + w1 v / v_ref` within `±F_max`.
+    #[inline]
+    pub fn force(&self, state: &RlsState<S>, v: S) -> S {
+        if !v.is_finite() {
+            return S::ZERO;
+        }
+        let w = self.weights(state);
+        let phi = self.regressor(v.sat(S::VELOCITY_LIMIT));
+        let viscous = (w[1] * phi[1]).sat(self.max_force);
+        (w[0] * phi[0] + viscous).sat(self.max_force)
+    }
+
+    /// One least-squares update from a sample: skipped below the minimum
+    /// speed and for a non-finite sample.
+    pub fn update(&self, state: &mut RlsState<S>, sample: FrictionSample<S>) {
+        let (y, v) = (sample.force, sample.v);
+        if !(y.is_finite() && v.is_finite()) || v.abs() <= self.min_speed {
+            return;
+        }
+        let y = y.sat(self.max_force + self.max_force + self.max_force + self.max_force);
+        let w = self.weights(state);
+        let [p00, p01, p11] = self.covariance(state);
+        let phi = self.regressor(v);
+        // P φ and φᵀ P φ (P symmetric)
+        let a0 = p00 * phi[0] + p01 * phi[1];
+        let a1 = p01 * phi[0] + p11 * phi[1];
+        let denom = self.forgetting + phi[0] * a0 + phi[1] * a1;
+        let (k0, k1) = (a0 / denom, a1 / denom);
+        let err = y - (w[0] * phi[0] + w[1] * phi[1]);
+        let w0 = (w[0] + k0 * err).sat(self.max_force);
+        let w1 = (w[1] + k1 * err).sat(self.max_force);
+        // P - K (P φ)ᵀ, over λ
+        let mut q00 = ((p00 - k0 * a0) * self.inv_forgetting).max(S::ZERO);
+        let mut q11 = ((p11 - k1 * a1) * self.inv_forgetting).max(S::ZERO);
+        let mut q01 = (p01 - k0 * a1) * self.inv_forgetting;
+        // keep P positive semi-definite against rounding: q01^2 <= q00 q11
+        let det = q00 * q11;
+        if q01 * q01 > det {
+            q01 = if q01 == S::ZERO { q01 } else { det / q01 };
+        }
+        // trace bound
+        let trace = q00 + q11;
+        if trace > self.max_covariance {
+            let shrink = self.max_covariance / trace;
+            q00 = q00 * shrink;
+            q11 = q11 * shrink;
+            q01 = q01 * shrink;
+        }
+        if !(w0.is_finite()
+            && w1.is_finite()
+            && q00.is_finite()
+            && q01.is_finite()
+            && q11.is_finite())
+        {
+            return;
+        }
+        state.w = [w0, w1];
+        state.p = [q00, q01, q11];
+        state.primed = true;
+        state.updates = state.updates.saturating_add(1);
+    }
+}
+
+/// The feed-forward `F^ = w0 sign(v) + w1 v / v_ref` on the measured velocity,
+/// learning from every sample the compensator measures.
+impl<S: Scalar> Compensation<S> for RlsFeedForward<S> {
+    type State = RlsState<S>;
+    const LEARNS: bool = true;
+    #[inline]
+    fn estimate(&self, state: &mut RlsState<S>, v: S, _e: S, _h: S) -> S {
+        self.force(state, v)
+    }
+    #[inline]
+    fn learn(&self, state: &mut RlsState<S>, sample: FrictionSample<S>) {
+        self.update(state, sample);
+    }
+}

@@ -1,0 +1,138 @@
+//! The core's [`Compensator`] as the host runs it: one servo axis (the
+//! built tick and its state) behind an object-safe trait, so that the layers
+//! above (`servo`, the robustness map) run any compensation without naming
+//! a model. Each model's host module builds its own observer-based
+//! controllers ([`crate::models::HostModel::observer_controller`]) through
+//! [`observer_controller`].
+
+use friction_core::{
+    AdaptiveParams, Compensation, Compensator, CompensatorParams, CompensatorState, Observable,
+    Observer, ParamError, Setpoint, Tick,
+};
+
+/// One servo axis: the core's compensator tick with its state.
+pub trait Controller: Send {
+    /// One tick with measured position `x` towards the setpoint `r`.
+    fn tick(&mut self, x: f64, r: Setpoint<f64>) -> Tick<f64>;
+    /// The adapted quantities after the last tick, named by
+    /// [`Controller::adapted_names`] (`θ^` for an adaptive observer, the
+    /// Coulomb level and viscous coefficient for least squares).
+    fn adapted(&self) -> Vec<f64> {
+        Vec::new()
+    }
+    /// The names of [`Controller::adapted`]'s values.
+    fn adapted_names(&self) -> &'static [&'static str] {
+        &[]
+    }
+}
+
+/// Reads the adapted quantities of a compensation's state.
+pub type Reader<C> = fn(&C, &<C as Compensation<f64>>::State) -> Vec<f64>;
+
+struct Axis<C: Compensation<f64>> {
+    ctl: Compensator<f64, C>,
+    state: CompensatorState<f64, C::State>,
+    names: &'static [&'static str],
+    read: Reader<C>,
+}
+
+impl<C: Compensation<f64> + Send> Controller for Axis<C>
+where
+    C::State: Send,
+{
+    fn tick(&mut self, x: f64, r: Setpoint<f64>) -> Tick<f64> {
+        self.ctl.tick(&mut self.state, x, r)
+    }
+    fn adapted(&self) -> Vec<f64> {
+        (self.read)(self.ctl.compensation(), self.state.friction())
+    }
+    fn adapted_names(&self) -> &'static [&'static str] {
+        self.names
+    }
+}
+
+/// What the compensator around a compensation looks like.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Loop {
+    /// The PID, inertia, torque constant and limit.
+    pub params: CompensatorParams,
+    /// Cut-off (Hz) of the velocity low-pass, if any.
+    pub velocity_filter: Option<f64>,
+}
+
+/// Builds one axis around `compensation` with nothing to read.
+pub fn controller<C>(setup: &Loop, compensation: C) -> Result<Box<dyn Controller>, ParamError>
+where
+    C: Compensation<f64> + Send + 'static,
+    C::State: Send,
+{
+    controller_reading(setup, compensation, &[], |_, _| Vec::new())
+}
+
+/// Builds one axis around `compensation`, reading its adapted quantities.
+pub fn controller_reading<C>(
+    setup: &Loop,
+    compensation: C,
+    names: &'static [&'static str],
+    read: Reader<C>,
+) -> Result<Box<dyn Controller>, ParamError>
+where
+    C: Compensation<f64> + Send + 'static,
+    C::State: Send,
+{
+    let mut ctl = setup.params.build::<f64, C>(compensation)?;
+    if let Some(cutoff) = setup.velocity_filter {
+        ctl = ctl.with_velocity_filter(cutoff)?;
+    }
+    Ok(Box::new(Axis {
+        ctl,
+        state: CompensatorState::default(),
+        names,
+        read,
+    }))
+}
+
+/// An observer-based compensation, as a model's host module builds it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObserverRequest {
+    /// Factor on the observer model's friction level: `fc`, `fs` and what
+    /// must scale with them (`z_ba` for elasto-plastic, `z0` for the reset
+    /// integrator, `delta_s` for bristle); 1 for the nominal model.
+    pub scale: f64,
+    /// Factor on the observer model's stiffness: `sigma0` (and what keeps
+    /// its deflections consistent: `z_ba`, `z0`, `delta_s` by
+    /// `scale / stiffness`), the GMS and Xiong element stiffnesses, Leuven's
+    /// `xs` by `1 / stiffness`; 1 for the nominal model.
+    pub stiffness: f64,
+    /// Observer correction gain (1/s).
+    pub gain: f64,
+    /// Whether the estimate includes `sigma1 dz^/dt`.
+    pub damping: bool,
+    /// The θ adaptation, if any.
+    pub adaptive: Option<AdaptiveParams>,
+}
+
+/// The controller of `request` around the model `build(scale, stiffness)`
+/// builds (see [`ObserverRequest`]): the
+/// plain observer, or the θ-adaptive one (`adapted`: `theta`).
+pub fn observer_controller<M>(
+    setup: &Loop,
+    request: &ObserverRequest,
+    build: impl Fn(f64, f64) -> Result<M, ParamError>,
+) -> Result<Box<dyn Controller>, ParamError>
+where
+    M: Observable<f64> + Send + 'static,
+    M::State: Send,
+{
+    let model = build(request.scale, request.stiffness)?;
+    let observer = Observer::new(model, request.gain)?.with_damping(request.damping);
+    match request.adaptive {
+        None => controller(setup, observer),
+        Some(p) => controller_reading(
+            setup,
+            p.build(observer, setup.params.h)?,
+            &["theta"],
+            |c, s| vec![c.theta(s)],
+        ),
+    }
+}

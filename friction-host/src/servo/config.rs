@@ -1,0 +1,539 @@
+//! The `[servo]` table of a parameter file and the resolved set-up of
+//! `friction servo`: the loop, the drive scenario (encoder, friction drift,
+//! load-dependent friction, delay) and the adaptation settings, every key
+//! with its default and its range checked up front.
+
+use friction_core::{CompensatorParams, ParamError};
+use serde::Deserialize;
+
+/// The `[servo]` table of a parameter file: every key optional, unknown
+/// keys rejected by the loader.
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ServoTable {
+    /// Inertia `J` (kg m^2) of the plant and of the acceleration feed-forward.
+    pub inertia: Option<f64>,
+    /// Torque constant `kc` (N m per command unit).
+    pub torque_constant: Option<f64>,
+    /// Amplitude of the reference sine (rad).
+    pub amplitude: Option<f64>,
+    /// Frequency of the reference sine (Hz).
+    pub frequency: Option<f64>,
+    /// Length of the run (s).
+    pub duration: Option<f64>,
+    /// Controller rate (Hz).
+    pub rate: Option<f64>,
+    /// Plant integration rate (Hz), a whole multiple of `rate`.
+    pub plant_rate: Option<f64>,
+    /// Proportional gain.
+    pub kp: Option<f64>,
+    /// Integral gain.
+    pub ki: Option<f64>,
+    /// Derivative gain (on the error).
+    pub kd: Option<f64>,
+    /// Observer correction gain (1/s).
+    pub observer_gain: Option<f64>,
+    /// Command limit (command units).
+    pub limit: Option<f64>,
+    /// Encoder resolution: the measured position is rounded to whole counts
+    /// of `2 pi / encoder_counts` (0: ideal).
+    pub encoder_counts: Option<f64>,
+    /// The plant's friction scale over time, `[[t, scale], ...]`: piecewise
+    /// linear in `t`, held before the first and after the last point.
+    pub friction_drift: Option<Vec<[f64; 2]>>,
+    /// Load-dependent friction `mu` (1/(N m)): the plant's friction is
+    /// multiplied by `1 + mu |kc u|`.
+    pub load_friction: Option<f64>,
+    /// The command reaches the plant this many controller ticks late.
+    pub delay_ticks: Option<f64>,
+    /// Cut-off (Hz) of the controller's velocity low-pass (0: none).
+    pub velocity_filter: Option<f64>,
+    /// Adaptation rate `a` (1/s) of the θ-adaptive observer:
+    /// `gamma = a kc kp / Fs^2`.
+    pub adaptation_rate: Option<f64>,
+    /// Leakage `rho` (1/s) of the θ-adaptive observer.
+    pub adaptation_leakage: Option<f64>,
+    /// Lower projection bound of `θ^`.
+    pub theta_min: Option<f64>,
+    /// Upper projection bound of `θ^`.
+    pub theta_max: Option<f64>,
+    /// Forgetting factor of the least-squares feed-forward.
+    pub rls_forgetting: Option<f64>,
+    /// Minimum speed (rad/s) of a least-squares update (default: the
+    /// reference's peak speed / 50).
+    pub rls_min_speed: Option<f64>,
+}
+
+/// The servo set-up with every default filled in.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ServoConfig {
+    /// `inertia` (kg m^2).
+    pub inertia: f64,
+    /// `torque_constant` (N m per command unit).
+    pub torque_constant: f64,
+    /// `amplitude` (rad).
+    pub amplitude: f64,
+    /// `frequency` (Hz).
+    pub frequency: f64,
+    /// `duration` (s).
+    pub duration: f64,
+    /// `rate` (Hz).
+    pub rate: f64,
+    /// `plant_rate` (Hz).
+    pub plant_rate: f64,
+    /// `kp`.
+    pub kp: f64,
+    /// `ki`.
+    pub ki: f64,
+    /// `kd`.
+    pub kd: f64,
+    /// `observer_gain` (1/s).
+    pub observer_gain: f64,
+    /// `limit`.
+    pub limit: f64,
+    /// `encoder_counts` (0: ideal).
+    pub encoder_counts: f64,
+    /// `friction_drift` (empty: scale 1).
+    pub friction_drift: Vec<[f64; 2]>,
+    /// `load_friction` (1/(N m)).
+    pub load_friction: f64,
+    /// `delay_ticks`.
+    pub delay_ticks: usize,
+    /// `velocity_filter` (Hz, 0: none).
+    pub velocity_filter: f64,
+    /// `adaptation_rate` (1/s).
+    pub adaptation_rate: f64,
+    /// `adaptation_leakage` (1/s).
+    pub adaptation_leakage: f64,
+    /// `theta_min`.
+    pub theta_min: f64,
+    /// `theta_max`.
+    pub theta_max: f64,
+    /// `rls_forgetting`.
+    pub rls_forgetting: f64,
+    /// `rls_min_speed` (rad/s).
+    pub rls_min_speed: f64,
+}
+
+impl Default for ServoConfig {
+    /// Olsson et al. 1998, ideal drive (no quantization, drift, load or
+    /// delay), and the adaptation defaults.
+    fn default() -> Self {
+        Self {
+            inertia: 0.0023,
+            torque_constant: 1.02,
+            amplitude: 0.5,
+            frequency: 0.2,
+            duration: 20.0,
+            rate: 1e3,
+            plant_rate: 1e5,
+            kp: 60.0,
+            ki: 200.0,
+            kd: 1.2,
+            observer_gain: 20.0,
+            limit: 10.0,
+            encoder_counts: 0.0,
+            friction_drift: Vec::new(),
+            load_friction: 0.0,
+            delay_ticks: 0,
+            velocity_filter: 0.0,
+            adaptation_rate: DEFAULT_ADAPTATION_RATE,
+            adaptation_leakage: 0.0,
+            theta_min: 0.2,
+            theta_max: 5.0,
+            rls_forgetting: DEFAULT_RLS_FORGETTING,
+            rls_min_speed: 0.0,
+        }
+    }
+}
+
+/// Default `adaptation_rate` (1/s).
+pub const DEFAULT_ADAPTATION_RATE: f64 = 4.0;
+/// Default `rls_forgetting`.
+pub const DEFAULT_RLS_FORGETTING: f64 = 0.9995;
+
+/// The most plant steps (`duration x plant_rate`) one run may take.
+pub const MAX_PLANT_STEPS: f64 = 2e7;
+
+/// The most controller ticks (`duration x rate`) one run may take: the
+/// trace keeps two columns per compensation per tick.
+pub const MAX_TICKS: f64 = 2e6;
+
+/// The most points of `friction_drift`.
+pub const MAX_DRIFT_POINTS: usize = 10_000;
+
+/// The largest `delay_ticks`.
+pub const MAX_DELAY_TICKS: f64 = 1000.0;
+
+/// Why a `[servo]` table was rejected: each variant names the file and the key.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ServoError {
+    /// A key's value is out of its range.
+    #[error("{file}: [servo] `{key}` must be {rule}, got {value}")]
+    Invalid {
+        /// The parameter file.
+        file: String,
+        /// The key.
+        key: &'static str,
+        /// What it must be.
+        rule: &'static str,
+        /// What it was.
+        value: f64,
+    },
+    /// `plant_rate` is not a whole multiple of `rate`.
+    #[error("{file}: [servo] `plant_rate` ({plant_rate} Hz) must be a whole multiple of `rate` ({rate} Hz)")]
+    NotMultiple {
+        /// The parameter file.
+        file: String,
+        /// `plant_rate`.
+        plant_rate: f64,
+        /// `rate`.
+        rate: f64,
+    },
+    /// The run would take more plant steps than [`MAX_PLANT_STEPS`].
+    #[error("{file}: [servo] `duration` x `plant_rate` = {steps:.3e} plant steps exceeds the cap of {cap:.0e}: shorten `duration` or lower `plant_rate`")]
+    TooManySteps {
+        /// The parameter file.
+        file: String,
+        /// `duration x plant_rate`.
+        steps: f64,
+        /// [`MAX_PLANT_STEPS`].
+        cap: f64,
+    },
+    /// The run would take more controller ticks than [`MAX_TICKS`].
+    #[error("{file}: [servo] `duration` x `rate` = {ticks:.3e} ticks exceeds the cap of {cap:.0e}: shorten `duration` or lower `rate`")]
+    TooManyTicks {
+        /// The parameter file.
+        file: String,
+        /// `duration x rate`.
+        ticks: f64,
+        /// [`MAX_TICKS`].
+        cap: f64,
+    },
+    /// `friction_drift` is malformed.
+    #[error("{file}: [servo] `friction_drift` point {index}: {rule}")]
+    Drift {
+        /// The parameter file.
+        file: String,
+        /// The point (from 1).
+        index: usize,
+        /// What is wrong.
+        rule: &'static str,
+    },
+    /// The controller rejected its parameters (named by the core).
+    #[error("{file}: [servo] controller: {error}")]
+    Controller {
+        /// The parameter file.
+        file: String,
+        /// The core's error.
+        error: ParamError,
+    },
+}
+
+impl ServoTable {
+    /// Fills in the defaults and checks every key; `file` names the source.
+    pub fn resolve(&self, file: &str) -> Result<ServoConfig, ServoError> {
+        let d = ServoConfig::default();
+        let mut c = ServoConfig {
+            inertia: self.inertia.unwrap_or(d.inertia),
+            torque_constant: self.torque_constant.unwrap_or(d.torque_constant),
+            amplitude: self.amplitude.unwrap_or(d.amplitude),
+            frequency: self.frequency.unwrap_or(d.frequency),
+            duration: self.duration.unwrap_or(d.duration),
+            rate: self.rate.unwrap_or(d.rate),
+            plant_rate: self.plant_rate.unwrap_or(d.plant_rate),
+            kp: self.kp.unwrap_or(d.kp),
+            ki: self.ki.unwrap_or(d.ki),
+            kd: self.kd.unwrap_or(d.kd),
+            observer_gain: self.observer_gain.unwrap_or(d.observer_gain),
+            limit: self.limit.unwrap_or(d.limit),
+            encoder_counts: self.encoder_counts.unwrap_or(d.encoder_counts),
+            friction_drift: self.friction_drift.clone().unwrap_or_default(),
+            load_friction: self.load_friction.unwrap_or(d.load_friction),
+            delay_ticks: 0,
+            velocity_filter: self.velocity_filter.unwrap_or(d.velocity_filter),
+            adaptation_rate: self.adaptation_rate.unwrap_or(d.adaptation_rate),
+            adaptation_leakage: self.adaptation_leakage.unwrap_or(d.adaptation_leakage),
+            theta_min: self.theta_min.unwrap_or(d.theta_min),
+            theta_max: self.theta_max.unwrap_or(d.theta_max),
+            rls_forgetting: self.rls_forgetting.unwrap_or(d.rls_forgetting),
+            rls_min_speed: 0.0,
+        };
+        let invalid = |key, rule, value| ServoError::Invalid {
+            file: file.to_string(),
+            key,
+            rule,
+            value,
+        };
+        for (key, value, positive) in [
+            ("inertia", c.inertia, true),
+            ("torque_constant", c.torque_constant, true),
+            ("amplitude", c.amplitude, false),
+            ("frequency", c.frequency, false),
+            ("duration", c.duration, true),
+            ("rate", c.rate, true),
+            ("plant_rate", c.plant_rate, true),
+            ("kp", c.kp, false),
+            ("ki", c.ki, false),
+            ("kd", c.kd, false),
+            ("observer_gain", c.observer_gain, false),
+            ("limit", c.limit, true),
+            ("encoder_counts", c.encoder_counts, false),
+            ("load_friction", c.load_friction, false),
+            ("velocity_filter", c.velocity_filter, false),
+            ("adaptation_rate", c.adaptation_rate, false),
+            ("adaptation_leakage", c.adaptation_leakage, false),
+            ("theta_min", c.theta_min, false),
+            ("theta_max", c.theta_max, true),
+        ] {
+            let (ok, rule) = if positive {
+                (value > 0.0, "a finite number > 0")
+            } else {
+                (value >= 0.0, "a finite number >= 0")
+            };
+            if !(ok && value.is_finite()) {
+                return Err(invalid(key, rule, value));
+            }
+        }
+        if c.encoder_counts != c.encoder_counts.round() || c.encoder_counts > 1e12 {
+            return Err(invalid(
+                "encoder_counts",
+                "a whole number from 0 (ideal) to 1e12",
+                c.encoder_counts,
+            ));
+        }
+        if let Some(delay) = self.delay_ticks {
+            if !(delay >= 0.0 && delay <= MAX_DELAY_TICKS && delay == delay.round()) {
+                return Err(invalid(
+                    "delay_ticks",
+                    "a whole number from 0 to 1000",
+                    delay,
+                ));
+            }
+            c.delay_ticks = delay as usize;
+        }
+        if c.velocity_filter > 0.0 && c.velocity_filter >= 0.5 * c.rate {
+            return Err(invalid(
+                "velocity_filter",
+                "0 (none) or a cut-off below half the controller `rate`",
+                c.velocity_filter,
+            ));
+        }
+        if c.theta_min >= c.theta_max || c.theta_min > 1.0 || c.theta_max < 1.0 {
+            return Err(invalid(
+                "theta_min",
+                "below `theta_max`, with 1 (the nominal model) between them",
+                c.theta_min,
+            ));
+        }
+        if !(c.rls_forgetting > 0.0 && c.rls_forgetting <= 1.0) {
+            return Err(invalid(
+                "rls_forgetting",
+                "a number in (0, 1]",
+                c.rls_forgetting,
+            ));
+        }
+        c.rls_min_speed = match self.rls_min_speed {
+            Some(v) if v.is_finite() && v > 0.0 => v,
+            Some(v) => return Err(invalid("rls_min_speed", "a finite number > 0", v)),
+            None => c.peak_speed() / 50.0,
+        };
+        if c.friction_drift.len() > MAX_DRIFT_POINTS {
+            return Err(ServoError::Drift {
+                file: file.to_string(),
+                index: MAX_DRIFT_POINTS + 1,
+                rule: "at most 10000 points",
+            });
+        }
+        let mut last_t = f64::NEG_INFINITY;
+        for (i, [t, s]) in c.friction_drift.iter().enumerate() {
+            let rule = if !(t.is_finite() && s.is_finite()) {
+                Some("`t` and `scale` must be finite")
+            } else if *s < 0.0 || *s > 1e3 {
+                Some("`scale` must be between 0 and 1000")
+            } else if *t <= last_t {
+                Some("times must increase")
+            } else {
+                None
+            };
+            if let Some(rule) = rule {
+                return Err(ServoError::Drift {
+                    file: file.to_string(),
+                    index: i + 1,
+                    rule,
+                });
+            }
+            last_t = *t;
+        }
+        if c.duration * c.rate < 10.0 {
+            return Err(invalid(
+                "duration",
+                "at least 10 controller periods",
+                c.duration,
+            ));
+        }
+        let ratio = c.plant_rate / c.rate;
+        if ratio < 1.0 || (ratio - ratio.round()).abs() > 1e-9 * ratio {
+            return Err(ServoError::NotMultiple {
+                file: file.to_string(),
+                plant_rate: c.plant_rate,
+                rate: c.rate,
+            });
+        }
+        let steps = c.duration * c.plant_rate;
+        if steps > MAX_PLANT_STEPS {
+            return Err(ServoError::TooManySteps {
+                file: file.to_string(),
+                steps,
+                cap: MAX_PLANT_STEPS,
+            });
+        }
+        let ticks = c.duration * c.rate;
+        if ticks > MAX_TICKS {
+            return Err(ServoError::TooManyTicks {
+                file: file.to_string(),
+                ticks,
+                cap: MAX_TICKS,
+            });
+        }
+        c.controller()
+            .validate()
+            .map_err(|error| ServoError::Controller {
+                file: file.to_string(),
+                error,
+            })?;
+        Ok(c)
+    }
+}
+
+impl ServoConfig {
+    /// The core compensator's parameters.
+    pub fn controller(&self) -> CompensatorParams {
+        CompensatorParams {
+            h: 1.0 / self.rate,
+            kp: self.kp,
+            ki: self.ki,
+            kd: self.kd,
+            inertia: self.inertia,
+            torque_constant: self.torque_constant,
+            limit: self.limit,
+        }
+    }
+
+    /// The reference's peak speed `2 pi f A` (rad/s), or 1 for a still
+    /// reference.
+    pub fn peak_speed(&self) -> f64 {
+        let v = 2.0 * std::f64::consts::PI * self.frequency * self.amplitude;
+        if v > 0.0 {
+            v
+        } else {
+            1.0
+        }
+    }
+
+    /// The plant's friction scale at time `t` (`friction_drift`).
+    pub fn drift(&self, t: f64) -> f64 {
+        let d = &self.friction_drift;
+        match d.iter().position(|p| p[0] > t) {
+            None => d.last().map_or(1.0, |p| p[1]),
+            Some(0) => d[0][1],
+            Some(i) => {
+                let ([t0, s0], [t1, s1]) = (d[i - 1], d[i]);
+                s0 + (s1 - s0) * (t - t0) / (t1 - t0)
+            }
+        }
+    }
+
+    /// Whether the set-up is the ideal drive (no quantization, drift, load
+    /// or delay).
+    pub fn is_ideal(&self) -> bool {
+        self.encoder_counts == 0.0
+            && self.friction_drift.is_empty()
+            && self.load_friction == 0.0
+            && self.delay_ticks == 0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn drift_is_piecewise_linear_and_held() {
+        let c = ServoConfig {
+            friction_drift: vec![[1.0, 1.3], [11.0, 1.0], [12.0, 1.4]],
+            ..ServoConfig::default()
+        };
+        assert_eq!(c.drift(0.0), 1.3);
+        assert!((c.drift(6.0) - 1.15).abs() < 1e-12);
+        assert!((c.drift(11.5) - 1.2).abs() < 1e-12);
+        assert_eq!(c.drift(100.0), 1.4);
+        assert_eq!(ServoConfig::default().drift(3.0), 1.0);
+    }
+
+    #[test]
+    fn scenario_keys_are_checked_and_named() {
+        let bad = |t: ServoTable, key: &str| {
+            let e = t.resolve("p.toml").unwrap_err();
+            assert!(e.to_string().contains(key), "{e}");
+        };
+        bad(
+            ServoTable {
+                encoder_counts: Some(1.5),
+                ..Default::default()
+            },
+            "encoder_counts",
+        );
+        bad(
+            ServoTable {
+                delay_ticks: Some(-1.0),
+                ..Default::default()
+            },
+            "delay_ticks",
+        );
+        bad(
+            ServoTable {
+                friction_drift: Some(vec![[1.0, 1.0], [0.5, 1.0]]),
+                ..Default::default()
+            },
+            "point 2: times must increase",
+        );
+        bad(
+            ServoTable {
+                friction_drift: Some(vec![[1.0, f64::NAN]]),
+                ..Default::default()
+            },
+            "point 1",
+        );
+        bad(
+            ServoTable {
+                theta_min: Some(2.0),
+                ..Default::default()
+            },
+            "theta_min",
+        );
+        bad(
+            ServoTable {
+                velocity_filter: Some(600.0),
+                ..Default::default()
+            },
+            "velocity_filter",
+        );
+        bad(
+            ServoTable {
+                rls_forgetting: Some(0.0),
+                ..Default::default()
+            },
+            "rls_forgetting",
+        );
+        let ok = ServoTable {
+            encoder_counts: Some(262_144.0),
+            delay_ticks: Some(1.0),
+            ..Default::default()
+        }
+        .resolve("p.toml")
+        .unwrap();
+        assert_eq!((ok.encoder_counts, ok.delay_ticks), (262_144.0, 1));
+        assert!(!ok.is_ideal() && ServoConfig::default().is_ideal());
+    }
+}

@@ -1,0 +1,853 @@
+//! `friction servo`: a position servo against a simulated plant, with each
+//! friction compensation of the core's [`Compensator`](friction_core::Compensator).
+//!
+//! The plant is an inertia `J` driven through a torque constant `kc`,
+//! `J dv/dt = kc u - F`, with the friction `F` of the parameter file's model
+//! stepped by the core (f64) at `plant_rate` (semi-implicit Euler, velocity
+//! held over each step). The controller is the core's compensator at `rate`
+//! (PID on `e = x - x_ref`, acceleration feed-forward, measured velocity the
+//! backward difference of the sampled position, optionally low-passed), its
+//! command held over the period.
+//!
+//! A drive scenario ([`config`]) makes the plant realistic: the measured
+//! position is rounded to encoder counts, the plant's whole friction force
+//! is multiplied by a drift `s(t)` and by `1 + mu |kc u|` (load-dependent
+//! friction), and the command reaches the plant `delay_ticks` late. The
+//! tracking error is the true one, `x - x_ref`.
+//!
+//! Compensations ([`NAMES`]): `nofriction` (the plant without friction: the
+//! floor), `none`, `static` (Coulomb + viscous feed-forward from the nominal
+//! parameters on the measured velocity), `observer` (the nominal model),
+//! `observer+50` / `observer-50` (the observer's friction level, `fc` and
+//! `fs`, scaled by 1.5 and 0.5: the robustness check of Olsson et al.
+//! 1998), `observer-nodamping` (without `sigma1 dz^/dt`), `adaptive`,
+//! `adaptive+50`, `adaptive-50` (the θ-adaptive observer started from the
+//! nominal and the scaled models) and `rls` (the least-squares Coulomb +
+//! viscous feed-forward, started from zero). The observer and adaptive rows
+//! need a model with an observer form; for the static maps they are
+//! skipped with a note. Each model's host module builds its own observer
+//! rows ([`crate::models::HostModel::observer_controller`]).
+//!
+//! Defaults reproduce Olsson et al. 1998 (Table 2 LuGre, `J = 0.0023`,
+//! `kc = 1.02`, reference `0.5 sin(2 pi 0.2 t)` rad for 20 s, PID at 1 kHz
+//! with `kp = 60`, `ki = 200`, `kd = 1.2`, observer gain 20 1/s, plant at
+//! 100 kHz) on an ideal drive; each is a key of the file's `[servo]` table.
+//! RMS and maximum tracking errors are taken over the last 90 % of the run,
+//! and the RMS also over the last half (`rms_half`, after adaptation). A
+//! loop that diverges is reported as `unstable`.
+
+pub mod config;
+pub mod robustness;
+
+use crate::control::{controller, controller_reading, Controller, Loop, ObserverRequest};
+use crate::io::write_columns;
+use crate::params::{ModelSpec, ParamFile};
+use crate::plot::{line_plot, Axis, Series};
+use anyhow::{Context, Result};
+use config::ServoConfig;
+pub use config::{ServoError, ServoTable, MAX_PLANT_STEPS, MAX_TICKS};
+use friction_core::{
+    AdaptiveParams, CoulombViscousParams, FeedForward, NoCompensation, RlsParams, Setpoint,
+};
+use rayon::prelude::*;
+use std::collections::VecDeque;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// One compensation's run.
+#[derive(Clone, Debug)]
+pub struct ServoRun {
+    /// Its name (`none`, `observer+50`, ...).
+    pub name: &'static str,
+    /// Whether the loop stayed bounded (`false`: it diverged).
+    pub stable: bool,
+    /// RMS tracking error over the last 90 % (rad; infinite if unstable).
+    pub rms: f64,
+    /// Largest tracking error over the last 90 % (rad; infinite if unstable).
+    pub max: f64,
+    /// RMS tracking error over the last half (rad; infinite if unstable).
+    pub rms_half: f64,
+    /// Tracking error `x - x_ref` at each controller tick (rad; NaN after a
+    /// divergence).
+    pub error: Vec<f64>,
+    /// Friction estimate or feed-forward at each tick (N m).
+    pub friction: Vec<f64>,
+    /// The plant's friction scale at each tick (drift times load factor).
+    pub plant_scale: Vec<f64>,
+    /// The adapted quantities at each tick, one column per name of
+    /// `adapted_names` (`theta` for the adaptive rows; `fc`, `sigma2` for
+    /// `rls`).
+    pub adapted: Vec<Vec<f64>>,
+    /// Their names.
+    pub adapted_names: &'static [&'static str],
+    /// The factor on the nominal friction level the row's model starts from
+    /// (1.5 for `observer+50`, ...; 1 otherwise).
+    pub scale: f64,
+}
+
+/// The whole benchmark.
+#[derive(Clone, Debug)]
+pub struct ServoBenchmark {
+    /// The set-up.
+    pub config: ServoConfig,
+    /// Controller tick times (s).
+    pub t: Vec<f64>,
+    /// Reference position at each tick (rad).
+    pub x_ref: Vec<f64>,
+    /// The plant's friction drift `s(t)` at each tick.
+    pub drift: Vec<f64>,
+    /// The nominal Coulomb level of the model (the static feed-forward's).
+    pub coulomb_level: f64,
+    /// The runs, in the order of [`NAMES`] (observer rows only for observable models).
+    pub runs: Vec<ServoRun>,
+    /// Why rows were skipped, if any.
+    pub note: Option<String>,
+}
+
+/// Every compensation, in order.
+pub const NAMES: [&str; 11] = [
+    "nofriction",
+    "none",
+    "static",
+    "observer",
+    "observer+50",
+    "observer-50",
+    "observer-nodamping",
+    "adaptive",
+    "adaptive+50",
+    "adaptive-50",
+    "rls",
+];
+
+/// What a row compensates with.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Row {
+    /// The plant without friction, no compensation.
+    NoFriction,
+    /// No compensation.
+    None,
+    /// Coulomb + viscous feed-forward from the nominal parameters times `scale`.
+    Static {
+        /// Factor on the Coulomb level.
+        scale: f64,
+    },
+    /// The model's observer, friction level times `scale`, stiffness times `stiffness`.
+    Observer {
+        /// Factor on `fc`, `fs`.
+        scale: f64,
+        /// Factor on the stiffness (`sigma0` and its kin).
+        stiffness: f64,
+        /// Whether `sigma1 dz^/dt` is included.
+        damping: bool,
+    },
+    /// The θ-adaptive observer around the model times `scale`, `stiffness`.
+    Adaptive {
+        /// Factor on `fc`, `fs`.
+        scale: f64,
+        /// Factor on the stiffness.
+        stiffness: f64,
+    },
+    /// The least-squares Coulomb + viscous feed-forward.
+    Rls,
+}
+
+impl Row {
+    /// The row called `name` of [`NAMES`].
+    pub fn named(name: &str) -> Option<Row> {
+        let observer = |scale, damping| Row::Observer {
+            scale,
+            stiffness: 1.0,
+            damping,
+        };
+        let adaptive = |scale| Row::Adaptive {
+            scale,
+            stiffness: 1.0,
+        };
+        Some(match name {
+            "nofriction" => Row::NoFriction,
+            "none" => Row::None,
+            "static" => Row::Static { scale: 1.0 },
+            "observer" => observer(1.0, true),
+            "observer+50" => observer(1.5, true),
+            "observer-50" => observer(0.5, true),
+            "observer-nodamping" => observer(1.0, false),
+            "adaptive" => adaptive(1.0),
+            "adaptive+50" => adaptive(1.5),
+            "adaptive-50" => adaptive(0.5),
+            "rls" => Row::Rls,
+            _ => return None,
+        })
+    }
+
+    fn scale(&self) -> f64 {
+        match *self {
+            Row::Static { scale } | Row::Observer { scale, .. } | Row::Adaptive { scale, .. } => {
+                scale
+            }
+            _ => 1.0,
+        }
+    }
+}
+
+/// The adaptation of the θ-adaptive rows: `gamma = a kc kp / Fs^2` from
+/// `adaptation_rate` and the static force `Fs` of the compensator's own
+/// (possibly mis-scaled) model, with the file's leakage and bounds.
+pub fn adaptation(cfg: &ServoConfig, static_force: f64) -> AdaptiveParams {
+    AdaptiveParams {
+        gamma: AdaptiveParams::gain_for_rate(
+            cfg.adaptation_rate,
+            cfg.kp,
+            cfg.torque_constant,
+            static_force,
+        ),
+        leakage: cfg.adaptation_leakage,
+        theta0: 1.0,
+        theta_min: cfg.theta_min,
+        theta_max: cfg.theta_max,
+    }
+}
+
+/// The least-squares feed-forward of the `rls` row.
+pub fn least_squares(cfg: &ServoConfig) -> RlsParams {
+    RlsParams {
+        forgetting: cfg.rls_forgetting,
+        min_speed: cfg.rls_min_speed,
+        ..RlsParams::new(cfg.peak_speed(), cfg.torque_constant * cfg.limit)
+    }
+}
+
+/// The controller of `row`, or `None` where the model has no observer form.
+pub fn build_controller(
+    cfg: &ServoConfig,
+    spec: &ModelSpec,
+    row: Row,
+) -> Option<Result<Box<dyn Controller>>> {
+    let setup = Loop {
+        params: cfg.controller(),
+        velocity_filter: (cfg.velocity_filter > 0.0).then_some(cfg.velocity_filter),
+    };
+    let built = match row {
+        Row::NoFriction | Row::None => controller(&setup, NoCompensation),
+        Row::Static { scale } => {
+            let map = CoulombViscousParams {
+                fc: scale * spec.host().coulomb_level(),
+                sigma2: spec.sigma2(),
+            };
+            match map.build::<f64>() {
+                Ok(map) => controller(&setup, FeedForward(map)),
+                Err(e) => Err(e),
+            }
+        }
+        Row::Observer {
+            scale,
+            stiffness,
+            damping,
+        } => {
+            let request = ObserverRequest {
+                scale,
+                stiffness,
+                gain: cfg.observer_gain,
+                damping,
+                adaptive: None,
+            };
+            spec.observer_controller(&setup, &request)?
+        }
+        Row::Adaptive { scale, stiffness } => {
+            let request = ObserverRequest {
+                scale,
+                stiffness,
+                gain: cfg.observer_gain,
+                damping: true,
+                adaptive: Some(adaptation(cfg, scale * spec.max_static_force())),
+            };
+            spec.observer_controller(&setup, &request)?
+        }
+        Row::Rls => match least_squares(cfg).build::<f64>() {
+            Ok(rls) => controller_reading(&setup, rls, &["fc", "sigma2"], |c, s| {
+                let (fc, sigma2) = c.coefficients(s);
+                vec![fc, sigma2]
+            }),
+            Err(e) => Err(e),
+        },
+    };
+    Some(built.map_err(anyhow::Error::from))
+}
+
+/// Runs one row of the benchmark: `None` where the model has no observer
+/// form for it.
+pub fn simulate(
+    name: &'static str,
+    cfg: &ServoConfig,
+    spec: &ModelSpec,
+    row: Row,
+) -> Option<Result<ServoRun>> {
+    let ctl = match build_controller(cfg, spec, row)? {
+        Ok(c) => c,
+        Err(e) => return Some(Err(e.context(format!("controller of `{name}`")))),
+    };
+    Some(run_loop(name, cfg, spec, row, ctl))
+}
+
+/// A position far beyond any sensible error: the loop has diverged.
+const DIVERGED: f64 = 1e6;
+
+fn run_loop(
+    name: &'static str,
+    cfg: &ServoConfig,
+    spec: &ModelSpec,
+    row: Row,
+    mut ctl: Box<dyn Controller>,
+) -> Result<ServoRun> {
+    let mut friction_model = match row {
+        Row::NoFriction => None,
+        _ => Some(spec.stepper(crate::models::ScalarKind::F64)?),
+    };
+    let n = ticks(cfg);
+    let substeps = (cfg.plant_rate / cfg.rate).round() as usize;
+    let hp = 1.0 / cfg.plant_rate;
+    let count = if cfg.encoder_counts > 0.0 {
+        2.0 * std::f64::consts::PI / cfg.encoder_counts
+    } else {
+        0.0
+    };
+    let (mut x, mut v) = (0.0f64, 0.0f64);
+    let mut pending: VecDeque<f64> = std::iter::repeat_n(0.0, cfg.delay_ticks).collect();
+    let names = ctl.adapted_names();
+    let mut adapted: Vec<Vec<f64>> = vec![Vec::with_capacity(n); names.len()];
+    let (mut error, mut friction, mut plant_scale) = (
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+    );
+    let mut stable = true;
+    for k in 0..n {
+        let t = k as f64 / cfg.rate;
+        let r = setpoint(cfg, t);
+        if !stable {
+            error.push(f64::NAN);
+            friction.push(f64::NAN);
+            plant_scale.push(f64::NAN);
+            adapted.iter_mut().for_each(|c| c.push(f64::NAN));
+            continue;
+        }
+        let measured = if count > 0.0 {
+            (x / count).round() * count
+        } else {
+            x
+        };
+        let tick = ctl.tick(measured, r);
+        error.push(x - r.x);
+        friction.push(tick.friction);
+        for (column, value) in adapted.iter_mut().zip(ctl.adapted()) {
+            column.push(value);
+        }
+        pending.push_back(tick.command);
+        let applied = pending.pop_front().unwrap_or(0.0);
+        let torque = cfg.torque_constant * applied;
+        let scale = cfg.drift(t) * (1.0 + cfg.load_friction * torque.abs());
+        plant_scale.push(scale);
+        for _ in 0..substeps {
+            let f = friction_model.as_mut().map_or(0.0, |m| m.step(v, hp));
+            v += hp * (torque - scale * f) / cfg.inertia;
+            x += hp * v;
+        }
+        if !(x.abs() < DIVERGED && v.is_finite()) {
+            stable = false;
+        }
+    }
+    let window = |from: usize| {
+        let tail = &error[from.min(n)..];
+        let rms = (tail.iter().map(|e| e * e).sum::<f64>() / tail.len().max(1) as f64).sqrt();
+        let max = tail.iter().fold(0.0f64, |m, e| m.max(e.abs()));
+        (rms, max)
+    };
+    let ((rms, max), (rms_half, _)) = if stable {
+        (window(n / 10), window(n / 2))
+    } else {
+        ((f64::INFINITY, f64::INFINITY), (f64::INFINITY, 0.0))
+    };
+    Ok(ServoRun {
+        name,
+        stable,
+        rms,
+        max,
+        rms_half,
+        error,
+        friction,
+        plant_scale,
+        adapted,
+        adapted_names: names,
+        scale: row.scale(),
+    })
+}
+
+fn ticks(cfg: &ServoConfig) -> usize {
+    (cfg.duration * cfg.rate).round() as usize
+}
+
+fn setpoint(cfg: &ServoConfig, t: f64) -> Setpoint<f64> {
+    let w = 2.0 * std::f64::consts::PI * cfg.frequency;
+    let (s, c) = (w * t).sin_cos();
+    Setpoint {
+        x: cfg.amplitude * s,
+        v: cfg.amplitude * w * c,
+        a: -cfg.amplitude * w * w * s,
+    }
+}
+
+/// The Coulomb level of the static feed-forward: the model's sliding
+/// friction at high speed less its viscous part ([`crate::models::HostModel::coulomb_level`]).
+pub fn coulomb_level(spec: &ModelSpec) -> f64 {
+    spec.host().coulomb_level()
+}
+
+/// Runs every compensation for the parameter file (`origin` names it in
+/// errors), the rows in parallel.
+pub fn benchmark(file: &ParamFile, origin: &str) -> Result<ServoBenchmark> {
+    let cfg = file.servo.resolve(origin)?;
+    let spec = &file.model;
+    let results: Vec<Option<Result<ServoRun>>> = NAMES
+        .par_iter()
+        .map(|&name| {
+            let row = Row::named(name).context("unknown row")?;
+            simulate(name, &cfg, spec, row).transpose()
+        })
+        .map(|r: Result<Option<ServoRun>>| r.transpose())
+        .collect();
+    let mut runs = Vec::new();
+    for r in results.into_iter().flatten() {
+        runs.push(r?);
+    }
+    let note = (runs.len() < NAMES.len()).then(|| {
+        format!(
+            "observer and adaptive rows skipped: `{}` has no observer form",
+            spec.name()
+        )
+    });
+    let n = ticks(&cfg);
+    let t: Vec<f64> = (0..n).map(|k| k as f64 / cfg.rate).collect();
+    let x_ref = t.iter().map(|&ti| setpoint(&cfg, ti).x).collect();
+    let drift = t.iter().map(|&ti| cfg.drift(ti)).collect();
+    Ok(ServoBenchmark {
+        config: cfg,
+        t,
+        x_ref,
+        drift,
+        coulomb_level: coulomb_level(spec),
+        runs,
+        note,
+    })
+}
+
+impl ServoBenchmark {
+    /// The run called `name`.
+    pub fn run(&self, name: &str) -> Option<&ServoRun> {
+        self.runs.iter().find(|r| r.name == name)
+    }
+
+    /// One line per compensation: `servo NAME RMS_MRAD MAX_MRAD`, or
+    /// `servo NAME unstable`.
+    pub fn lines(&self) -> Vec<String> {
+        self.runs
+            .iter()
+            .map(|r| {
+                if r.stable {
+                    format!("servo {} {:.4} {:.4}", r.name, 1e3 * r.rms, 1e3 * r.max)
+                } else {
+                    format!("servo {} unstable", r.name)
+                }
+            })
+            .collect()
+    }
+
+    fn setup(&self) -> String {
+        let c = &self.config;
+        let mut s = format!(
+            "J = {} kg m^2, kc = {} N m/A, reference {} sin(2 pi {} t) rad for {} s; PID at {} Hz \
+             (kp = {}, ki = {}, kd = {}, limit {} A), observer gain {} 1/s; plant at {} Hz; \
+             adaptation rate {} 1/s, theta in [{}, {}]; least squares forgetting {}; \
+             errors over the last 90 % (rms, max) and the last half (rms half)",
+            c.inertia,
+            c.torque_constant,
+            c.amplitude,
+            c.frequency,
+            c.duration,
+            c.rate,
+            c.kp,
+            c.ki,
+            c.kd,
+            c.limit,
+            c.observer_gain,
+            c.plant_rate,
+            c.adaptation_rate,
+            c.theta_min,
+            c.theta_max,
+            c.rls_forgetting,
+        );
+        if c.is_ideal() {
+            s.push_str("; ideal drive");
+        } else {
+            let _ = write!(
+                s,
+                "; drive: encoder {} counts/rev, friction drift {:?}, load friction {} 1/(N m), \
+                 delay {} ticks",
+                c.encoder_counts, c.friction_drift, c.load_friction, c.delay_ticks
+            );
+        }
+        if c.velocity_filter > 0.0 {
+            let _ = write!(s, ", velocity low-pass {} Hz", c.velocity_filter);
+        }
+        s
+    }
+
+    fn figures(r: &ServoRun, none: f64) -> [String; 4] {
+        if r.stable {
+            [
+                format!("{:.4}", 1e3 * r.rms),
+                format!("{:.4}", 1e3 * r.max),
+                format!("{:.4}", 1e3 * r.rms_half),
+                format!("{:.3}", r.rms / none),
+            ]
+        } else {
+            ["unstable".into(), "-".into(), "-".into(), "-".into()]
+        }
+    }
+
+    fn none_rms(&self) -> f64 {
+        self.run("none").map_or(f64::NAN, |r| r.rms)
+    }
+
+    /// The results as a plain-text table.
+    pub fn table(&self) -> String {
+        let none = self.none_rms();
+        let mut s = format!(
+            "{:<20} {:>12} {:>12} {:>14} {:>10}\n",
+            "compensation", "rms [mrad]", "max [mrad]", "rms half", "rms/none"
+        );
+        for r in &self.runs {
+            let [rms, max, half, ratio] = Self::figures(r, none);
+            let _ = writeln!(
+                s,
+                "{:<20} {rms:>12} {max:>12} {half:>14} {ratio:>10}",
+                r.name
+            );
+        }
+        s
+    }
+
+    /// The results as a Markdown section body (set-up, table, note).
+    pub fn markdown(&self) -> String {
+        let none = self.none_rms();
+        let mut md = format!("{}.\n\n", self.setup());
+        md.push_str(
+            "| compensation | rms (mrad) | max (mrad) | rms last half (mrad) | rms / none |\n|---|---|---|---|---|\n",
+        );
+        for r in &self.runs {
+            let [rms, max, half, ratio] = Self::figures(r, none);
+            let _ = writeln!(md, "| {} | {rms} | {max} | {half} | {ratio} |", r.name);
+        }
+        if let Some(note) = &self.note {
+            let _ = writeln!(md, "\n{note}.");
+        }
+        md
+    }
+
+    /// The trace's columns: `t`, `x_ref`, `drift`, then `e_NAME` (rad) and
+    /// `fhat_NAME` (N m) for each compensation, then the adapted quantities
+    /// (`theta_NAME` for the adaptive rows, `fc_rls`, `sigma2_rls`).
+    fn columns(&self) -> (Vec<String>, Vec<&[f64]>) {
+        let mut headers = vec!["t".to_string(), "x_ref".to_string(), "drift".to_string()];
+        let mut cols: Vec<&[f64]> = vec![&self.t, &self.x_ref, &self.drift];
+        for r in &self.runs {
+            headers.push(format!("e_{}", r.name));
+            cols.push(&r.error);
+        }
+        for r in &self.runs {
+            headers.push(format!("fhat_{}", r.name));
+            cols.push(&r.friction);
+        }
+        for r in &self.runs {
+            for (name, column) in r.adapted_names.iter().zip(&r.adapted) {
+                headers.push(format!("{name}_{}", r.name));
+                cols.push(column);
+            }
+        }
+        (headers, cols)
+    }
+
+    /// The plots this benchmark draws: `(file, title, y label, series)`.
+    fn plots(&self) -> Vec<(&'static str, &'static str, &'static str, Vec<Series<'_>>)> {
+        let thin = |v: &[f64]| -> Vec<(f64, f64)> {
+            let step = (v.len() / 4000).max(1);
+            self.t
+                .iter()
+                .zip(v)
+                .step_by(step)
+                .filter(|(_, y)| y.is_finite())
+                .map(|(&t, &y)| (t, y))
+                .collect()
+        };
+        let errors = |names: &[&str]| -> Vec<Series<'_>> {
+            names
+                .iter()
+                .filter_map(|n| self.run(n))
+                .filter(|r| r.stable)
+                .map(|r| Series {
+                    label: r.name,
+                    points: thin(&r.error.iter().map(|e| 1e3 * e).collect::<Vec<_>>()),
+                })
+                .collect()
+        };
+        let mut scales = vec![Series {
+            label: "plant: friction drift",
+            points: thin(&self.drift),
+        }];
+        if self.config.load_friction > 0.0 {
+            if let Some(r) = self.run("adaptive") {
+                scales.push(Series {
+                    label: "plant: drift x load factor (1 s mean, adaptive run)",
+                    points: thin(&moving_mean(&r.plant_scale, self.config.rate as usize)),
+                });
+            }
+        }
+        for r in self.runs.iter().filter(|r| r.stable) {
+            let label = match r.name {
+                "adaptive" => "adaptive: theta",
+                "adaptive+50" => "adaptive+50: 1.5 theta",
+                "adaptive-50" => "adaptive-50: 0.5 theta",
+                "rls" => "rls: Fc^ / Fc",
+                _ => continue,
+            };
+            let Some(first) = r.adapted.first() else {
+                continue;
+            };
+            let factor = if r.name == "rls" {
+                1.0 / coulomb_level_of(self).max(f64::MIN_POSITIVE)
+            } else {
+                r.scale
+            };
+            scales.push(Series {
+                label,
+                points: thin(&first.iter().map(|x| factor * x).collect::<Vec<_>>()),
+            });
+        }
+        vec![
+            (
+                "errors.svg",
+                "Tracking error by compensation",
+                "x - x_ref [mrad]",
+                errors(&["nofriction", "none", "static", "observer"]),
+            ),
+            (
+                "observer.svg",
+                "Observer: nominal, Fc and Fs +/-50 %, without sigma1 dz/dt",
+                "x - x_ref [mrad]",
+                errors(&[
+                    "nofriction",
+                    "observer",
+                    "observer+50",
+                    "observer-50",
+                    "observer-nodamping",
+                ]),
+            ),
+            (
+                "adaptive.svg",
+                "Adaptive compensation: theta-adaptive observer (nominal, +/-50 %) and least squares",
+                "x - x_ref [mrad]",
+                errors(&["static", "adaptive", "adaptive+50", "adaptive-50", "rls"]),
+            ),
+            (
+                "adaptation.svg",
+                "Adapted friction scale against the plant's",
+                "friction scale (1 = nominal model)",
+                scales,
+            ),
+        ]
+    }
+
+    /// Writes `dir/trace.csv` (see `columns`) and the SVG plots
+    /// (`errors.svg`, `observer.svg`, `adaptive.svg`, `adaptation.svg`, each
+    /// where it has curves); returns the plot paths.
+    pub fn write(&self, dir: &Path) -> Result<Vec<std::path::PathBuf>> {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+        let (headers, cols) = self.columns();
+        let headers: Vec<&str> = headers.iter().map(String::as_str).collect();
+        write_columns(&dir.join("trace.csv"), &headers, &cols)?;
+        let mut written = Vec::new();
+        for (file, title, y, series) in self.plots() {
+            let path = dir.join(file);
+            if series.is_empty() || (file == "adaptation.svg" && series.len() < 2) {
+                // no stale plot of an earlier run beside this one
+                if path.exists() {
+                    std::fs::remove_file(&path)
+                        .with_context(|| format!("cannot remove {}", path.display()))?;
+                }
+                continue;
+            }
+            line_plot(&path, title, ("t [s]", Axis::Linear), y, &series)?;
+            written.push(path);
+        }
+        Ok(written)
+    }
+}
+
+/// The nominal Coulomb level of the benchmark's model (for the `rls` plot).
+fn coulomb_level_of(b: &ServoBenchmark) -> f64 {
+    b.coulomb_level
+}
+
+/// The mean of `v` over a trailing window of `w` samples.
+fn moving_mean(v: &[f64], w: usize) -> Vec<f64> {
+    let w = w.max(1);
+    let mut sum = 0.0;
+    let mut out = Vec::with_capacity(v.len());
+    for (i, x) in v.iter().enumerate() {
+        sum += x;
+        if i >= w {
+            sum -= v[i - w];
+        }
+        out.push(sum / (i + 1).min(w) as f64);
+    }
+    out
+}
+
+/// The plot and trace files `friction servo` writes into its output folder.
+pub const OUTPUTS: [&str; 5] = [
+    "trace.csv",
+    "errors.svg",
+    "observer.svg",
+    "adaptive.svg",
+    "adaptation.svg",
+];
+
+/// `friction servo`: runs, prints the lines and the table, writes the trace
+/// and plots. `params` = `None` uses the built-in `olsson1998-servo` set.
+pub fn run(params: Option<&Path>, output: &Path) -> Result<bool> {
+    if let Some(p) = params {
+        for name in OUTPUTS {
+            crate::io::refuse_overwrite("--output", &output.join(name), &[p])?;
+        }
+    }
+    let (file, origin) = match params {
+        Some(p) => (ParamFile::load(p)?, p.display().to_string()),
+        None => (
+            crate::validate::param_set("olsson1998-servo")?,
+            "params/olsson1998-servo.toml".to_string(),
+        ),
+    };
+    let bench = benchmark(&file, &origin)?;
+    for line in bench.lines() {
+        println!("{line}");
+    }
+    println!();
+    print!("{}", bench.table());
+    if let Some(note) = &bench.note {
+        println!("note: {note}");
+    }
+    let plots = bench.write(output)?;
+    println!("trace: {}", output.join("trace.csv").display());
+    for p in plots {
+        println!("plot:  {}", p.display());
+    }
+    Ok(true)
+}
+
+/// The servo section of the validation report: the default benchmark on the
+/// built-in `olsson1998-servo` set, as Markdown (heading included).
+pub fn report_section() -> Result<String> {
+    let file = crate::validate::param_set("olsson1998-servo")?;
+    let bench = benchmark(&file, "params/olsson1998-servo.toml")?;
+    Ok(format!(
+        "\n## Servo benchmark (`friction servo`)\n\n{}",
+        bench.markdown()
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn servo_keys_are_checked_and_named() {
+        let ok = ServoTable::default().resolve("p.toml").unwrap();
+        // the defaults, with the least-squares speed threshold at 1/50 of the peak speed
+        let expected = ServoConfig {
+            rls_min_speed: ServoConfig::default().peak_speed() / 50.0,
+            ..ServoConfig::default()
+        };
+        assert_eq!(ok, expected);
+        let e = ServoTable {
+            kp: Some(-1.0),
+            ..Default::default()
+        }
+        .resolve("p.toml")
+        .unwrap_err();
+        assert!(matches!(e, ServoError::Invalid { key: "kp", .. }), "{e:?}");
+        assert!(e.to_string().starts_with("p.toml: [servo] `kp`"), "{e}");
+        let e = ServoTable {
+            inertia: Some(0.0),
+            ..Default::default()
+        }
+        .resolve("p.toml")
+        .unwrap_err();
+        assert!(matches!(e, ServoError::Invalid { key: "inertia", .. }));
+        let e = ServoTable {
+            frequency: Some(f64::NAN),
+            ..Default::default()
+        }
+        .resolve("p.toml")
+        .unwrap_err();
+        assert!(matches!(
+            e,
+            ServoError::Invalid {
+                key: "frequency",
+                ..
+            }
+        ));
+        let e = ServoTable {
+            plant_rate: Some(1500.0),
+            ..Default::default()
+        }
+        .resolve("p.toml")
+        .unwrap_err();
+        assert!(matches!(e, ServoError::NotMultiple { .. }), "{e:?}");
+        let e = ServoTable {
+            duration: Some(1e4),
+            ..Default::default()
+        }
+        .resolve("p.toml")
+        .unwrap_err();
+        assert!(matches!(e, ServoError::TooManySteps { .. }), "{e:?}");
+        assert!(e.to_string().contains("`duration` x `plant_rate`"), "{e}");
+    }
+
+    #[test]
+    fn servo_table_parses_and_rejects_unknown_keys() {
+        let text = include_str!("../../../params/olsson1998-servo.toml");
+        let f = ParamFile::parse(
+            &format!("{text}\n[servo]\nduration = 2\nkp = 50\n"),
+            "p.toml",
+        )
+        .unwrap();
+        assert_eq!(f.servo.duration, Some(2.0));
+        assert_eq!(f.servo.kp, Some(50.0));
+        let e = ParamFile::parse(&format!("{text}\n[servo]\nkpp = 50\n"), "p.toml").unwrap_err();
+        let e = format!("{e:#}");
+        assert!(e.contains("kpp") && e.contains("p.toml"), "{e}");
+    }
+
+    #[test]
+    fn static_maps_get_the_model_free_rows_and_a_note() {
+        let f = ParamFile::parse(
+            "model = \"coulomb-viscous\"\nfc = 0.28\nsigma2 = 0.0176\n[servo]\nduration = 1\nplant_rate = 10000\n",
+            "c.toml",
+        )
+        .unwrap();
+        let b = benchmark(&f, "c.toml").unwrap();
+        let names: Vec<_> = b.runs.iter().map(|r| r.name).collect();
+        assert_eq!(names, ["nofriction", "none", "static", "rls"]);
+        assert!(b.note.as_deref().unwrap().contains("coulomb-viscous"));
+        // the exact static compensation of a static plant beats none
+        assert!(b.run("static").unwrap().rms < b.run("none").unwrap().rms);
+    }
+}
