@@ -14,7 +14,7 @@
 //!
 //! ```text
 //! F^      = observer(v, e)                        the model's friction (as Observer)
-//! dθ^/dt  = -γ e F^ - ρ (θ^ - θ0)                 gradient law, leakage ρ
+//! dθ^/dt  = -(γ e + γd de/dt) F^ - ρ (θ^ - θ0)     gradient law, leakage ρ
 //! θ^      = min(θmax, max(θmin, θ^))              projection
 //! output  = sat(θmax B(v), θ^ F^)                 B(v): Observable::force_bound
 //! ```
@@ -22,17 +22,25 @@
 //! Sign: a plant with more friction than the estimate lags its reference
 //! (`e < 0` while `F^ > 0` in forward sliding), so `θ^` grows. With the
 //! opposite sign of `e` the law diverges. Discretised with explicit Euler at
-//! the compensator's period `h`, after the observer's step, and the output
-//! uses the updated `θ^`.
+//! the compensator's period `h` (`de/dt h` is the change of `e` since the
+//! last step), after the observer's step, and the output uses the updated
+//! `θ^`.
 //!
-//! Choosing `γ` (units 1/(position x force x s)): a friction error `δ F`
-//! moves a loop of stiffness `kc kp` by about `e = -δ F / (kc kp)`, so `θ^`
-//! converges at a rate near `a = γ Fs^2 / (kc kp)` while sliding at the
-//! friction level `Fs`; `γ = a kc kp / Fs^2` with `a` of 1 to 10 1/s is a
-//! starting point ([`AdaptiveParams::gain_for_rate`]). The integral action
-//! absorbs the steady error, so adaptation is driven by the transients at
-//! reversals: a persistently reversing motion adapts, a standstill does not
-//! (`e F^` is then small), and leakage `ρ` slowly returns `θ^` to `θ0`.
+//! Choosing the gains: in a PD(+I) loop with gains `kp`, `kd` and torque
+//! constant `kc`, a friction error `δF` drives the composite error
+//! `s = de/dt + (kp / kd) e` like `J ds/dt + kd s ≈ -δF / kc`, the error
+//! model of Slotine and Li (1987) for which a gradient law on `s F^` is
+//! stable; `γd = γ kd / kp` gives that law (`γ e + γd de/dt = γd s`). With
+//! `γ = a kc kp / Fs^2` ([`AdaptiveParams::gain_for_rate`]) `θ^` converges
+//! at a rate near `a` (1/s) while sliding at the friction level `Fs`; `a`
+//! of 1 to 10 is a starting point. Without the `de/dt` term (`γd = 0`) the
+//! law reads the error alone, which lags the friction error by the loop's
+//! phase: on a loop that is slow against its friction (`friction servo` on
+//! `params/astrom2008-drift.toml`) it drove `θ^` the wrong way, to `θmax`.
+//! The integral action absorbs the steady error, so adaptation is driven
+//! by the transients at reversals: a persistently reversing motion adapts,
+//! a standstill does not (`s F^` is then small), and leakage `ρ` slowly
+//! returns `θ^` to `θ0`.
 //!
 //! Bounds, for any finite inputs: `θ^` stays in `[θmin, θmax]`, the output
 //! is finite and within `θmax B(v)`, and the model's state stays within its
@@ -61,8 +69,12 @@ use crate::Scalar;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct AdaptiveParams {
-    /// Adaptation gain `γ >= 0` (1/(position units x force units x s)).
+    /// Adaptation gain `γ >= 0` on the position error (1/(position units x
+    /// force units x s)).
     pub gamma: f64,
+    /// Adaptation gain `γd >= 0` on the error's rate `de/dt` (1/(position
+    /// units x force units)).
+    pub gamma_derivative: f64,
     /// Leakage `ρ >= 0` (1/s): pulls `θ^` back to `θ0`.
     pub leakage: f64,
     /// Initial and leakage target `θ0`, within `[θmin, θmax]`.
@@ -78,6 +90,7 @@ impl AdaptiveParams {
     /// set `gamma`, e.g. with [`AdaptiveParams::gain_for_rate`]).
     pub const DEFAULT: Self = Self {
         gamma: 0.0,
+        gamma_derivative: 0.0,
         leakage: 0.0,
         theta0: 1.0,
         theta_min: 0.2,
@@ -86,15 +99,17 @@ impl AdaptiveParams {
 
     /// `γ = a kc kp / fs^2`: the gain that adapts at about `a` (1/s) in a
     /// loop with proportional gain `kp` and torque constant `kc` on friction
-    /// of level `fs` (see the [module documentation](self)).
+    /// of level `fs`; pair it with `gamma_derivative = γ kd / kp` (see the
+    /// [module documentation](self)).
     pub fn gain_for_rate(rate: f64, kp: f64, torque_constant: f64, fs: f64) -> f64 {
         rate * torque_constant * kp / (fs * fs)
     }
 
-    /// Checks `gamma`, `leakage` `>= 0`, `0 <= θmin <= θ0 <= θmax`,
+    /// Checks `gamma`, `gamma_derivative`, `leakage` `>= 0`, `0 <= θmin <= θ0 <= θmax`,
     /// `θmin < θmax`, all finite; the error names the parameter.
     pub fn validate(&self) -> Result<(), ParamError> {
         non_negative("gamma", self.gamma)?;
+        non_negative("gamma_derivative", self.gamma_derivative)?;
         non_negative("leakage", self.leakage)?;
         non_negative("theta_min", self.theta_min)?;
         positive("theta_max", self.theta_max)?;
@@ -148,6 +163,7 @@ impl AdaptiveParams {
         Ok(AdaptiveObserver {
             observer,
             gamma_h: scaled("gamma", self.gamma * h * scale)?,
+            gamma_d: scaled("gamma_derivative", self.gamma_derivative * scale)?,
             leakage_h: scaled("leakage", (self.leakage * h).min(1.0))?,
             theta0: convert("theta0", self.theta0)?,
             low: scaled("theta_min", (self.theta_min - self.theta0) * scale)?,
@@ -176,6 +192,9 @@ pub struct AdaptiveState<T, S> {
     pub model: T,
     /// `θ^ - θ0`, scaled (see [`AdaptiveObserver::theta`]).
     offset: S,
+    /// The last position error, once `primed`.
+    last_error: S,
+    primed: bool,
 }
 
 /// The built θ-adaptive observer: immutable, shared by any number of
@@ -187,6 +206,7 @@ pub struct AdaptiveState<T, S> {
 pub struct AdaptiveObserver<M, S> {
     observer: Observer<M, S>,
     gamma_h: S,
+    gamma_d: S,
     leakage_h: S,
     theta0: S,
     low: S,
@@ -241,12 +261,21 @@ impl<M, S: Scalar> AdaptiveObserver<M, S> {
     /// Adapts `θ^` from the error `e` and the model's estimate `f`, then
     /// returns `θ^ f` within `±θmax bound`.
     #[inline]
-    fn adapt(&self, offset: &mut S, e: S, f: S, bound: S) -> S {
-        // (γ h e) is clamped before it meets f, so no product is inf * 0
+    fn adapt<T>(&self, state: &mut AdaptiveState<T, S>, e: S, f: S, bound: S) -> S {
+        // each gain's product is clamped before it meets f, so no product
+        // is inf * 0
         let limit = S::VELOCITY_LIMIT;
-        let step = (self.gamma_h * e).sat(limit) * f + self.leakage_h * *offset;
-        *offset = (*offset - step).min(self.high).max(self.low);
-        scaled(self.theta_of(*offset), f).sat(self.theta_max * bound)
+        let de = if state.primed {
+            (e - state.last_error).sat(limit)
+        } else {
+            S::ZERO
+        };
+        let signal = ((self.gamma_h * e).sat(limit) + (self.gamma_d * de).sat(limit)).sat(limit);
+        let step = signal * f + self.leakage_h * state.offset;
+        state.offset = (state.offset - step).min(self.high).max(self.low);
+        state.last_error = e;
+        state.primed = true;
+        scaled(self.theta_of(state.offset), f).sat(self.theta_max * bound)
     }
 }
 
@@ -291,7 +320,7 @@ impl<S: Scalar, M: Observable<S>> AdaptiveObserver<M, S> {
         let v = v.sat(S::VELOCITY_LIMIT);
         let f = self.observer.step(&mut state.model, v, e, h);
         let bound = self.observer.model().force_bound(v);
-        self.adapt(&mut state.offset, e.sat(S::VELOCITY_LIMIT), f, bound)
+        self.adapt(state, e.sat(S::VELOCITY_LIMIT), f, bound)
     }
 }
 
@@ -309,7 +338,7 @@ impl<S: Scalar, M: FixedStepObservable<S>> AdaptiveObserver<M, S> {
         let v = v.sat(S::VELOCITY_LIMIT);
         let f = self.observer.step_at(&mut state.model, v, e);
         let bound = self.observer.model().force_bound(v);
-        self.adapt(&mut state.offset, e.sat(S::VELOCITY_LIMIT), f, bound)
+        self.adapt(state, e.sat(S::VELOCITY_LIMIT), f, bound)
     }
 }
 

@@ -90,6 +90,8 @@ fn adaptive_params(rate: f64) -> AdaptiveParams {
     let fs = LuGreParams::OLSSON_1998.curve.fs;
     AdaptiveParams {
         gamma: AdaptiveParams::gain_for_rate(rate, 60.0, KC, fs),
+        // the composite error de/dt + (kp / kd) e
+        gamma_derivative: AdaptiveParams::gain_for_rate(rate, 60.0, KC, fs) * 1.2 / 60.0,
         ..AdaptiveParams::DEFAULT
     }
 }
@@ -188,6 +190,13 @@ fn invalid_adaptation_parameters_are_named() {
         (AdaptiveParams { gamma: -1.0, ..ok }, "gamma"),
         (
             AdaptiveParams {
+                gamma_derivative: -1.0,
+                ..ok
+            },
+            "gamma_derivative",
+        ),
+        (
+            AdaptiveParams {
                 gamma: f64::NAN,
                 ..ok
             },
@@ -247,10 +256,11 @@ proptest! {
     #[test]
     fn theta_and_estimate_stay_bounded(
         gamma in prop_oneof![Just(0.0), 1e-3..1e3f64, Just(1e12), Just(1e300)],
+        gamma_derivative in prop_oneof![Just(0.0), 1e-3..1e3f64, Just(1e12)],
         leakage in prop_oneof![Just(0.0), 0.0..1e3f64, Just(1e300)],
         inputs in prop::collection::vec((hostile(), hostile(), prop_oneof![Just(1e-3), 1e-9..1.0f64, Just(1e300)]), 1..200),
     ) {
-        let p = AdaptiveParams { gamma, leakage, theta0: 1.0, theta_min: 0.2, theta_max: 5.0 };
+        let p = AdaptiveParams { gamma, gamma_derivative, leakage, theta0: 1.0, theta_min: 0.2, theta_max: 5.0 };
         let model = LuGreParams::OLSSON_1998.build::<f64>().unwrap();
         let m32 = LuGreParams::OLSSON_1998.build::<f32>().unwrap();
         // a gain the scalar cannot carry is a typed error at build time

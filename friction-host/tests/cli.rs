@@ -908,3 +908,31 @@ fn simulate_runs_gms_in_fixed_point() {
         .sqrt();
     assert!(rms < 1e-2 * 1.5, "rms {rms}");
 }
+
+#[test]
+fn servo_adaptive_rows_beat_static_where_the_error_only_law_failed() {
+    // With dθ/dt = -γ e F^ alone, θ^ ran to θmax on these files
+    // (astrom2008-drift adaptive+50: 89 mrad against none 21; dahl1968
+    // adaptive-50: 45 against 8.2); the composite error de/dt + (kp/kd) e
+    // keeps both mis-scaled starts below the static feed-forward.
+    for name in ["astrom2008-drift.toml", "dahl1968.toml"] {
+        let dir = tempfile::tempdir().unwrap();
+        let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../params")
+            .join(name);
+        let out = friction(&[
+            "servo",
+            "--params",
+            p.to_str().unwrap(),
+            "--output",
+            dir.path().to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{name}: {}", stderr(&out));
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let lines = servo_lines(&stdout);
+        let rms = |n: &str| lines.iter().find(|l| l.0 == n).unwrap().1;
+        for row in ["adaptive+50", "adaptive-50"] {
+            assert!(rms(row) < rms("static"), "{name} {row}: {stdout}");
+        }
+    }
+}

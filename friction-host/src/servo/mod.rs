@@ -191,15 +191,24 @@ impl Row {
 
 /// The adaptation of the θ-adaptive rows: `gamma = a kc kp / Fs^2` from
 /// `adaptation_rate` and the static force `Fs` of the compensator's own
-/// (possibly mis-scaled) model, with the file's leakage and bounds.
+/// (possibly mis-scaled) model, and `gamma_derivative = gamma kd / kp`, so
+/// that θ^ follows the composite error `s = de/dt + (kp / kd) e` of the
+/// loop's PD part; with the file's leakage and bounds.
 pub fn adaptation(cfg: &ServoConfig, static_force: f64) -> AdaptiveParams {
+    let gamma = AdaptiveParams::gain_for_rate(
+        cfg.adaptation_rate,
+        cfg.kp,
+        cfg.torque_constant,
+        static_force,
+    );
     AdaptiveParams {
-        gamma: AdaptiveParams::gain_for_rate(
-            cfg.adaptation_rate,
-            cfg.kp,
-            cfg.torque_constant,
-            static_force,
-        ),
+        gamma,
+        // the composite error s = de/dt + (kp / kd) e of the loop's PD part
+        gamma_derivative: if cfg.kp > 0.0 {
+            gamma * cfg.kd / cfg.kp
+        } else {
+            0.0
+        },
         leakage: cfg.adaptation_leakage,
         theta0: 1.0,
         theta_min: cfg.theta_min,
