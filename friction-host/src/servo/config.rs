@@ -53,6 +53,11 @@ pub struct ServoTable {
     pub adaptation_rate: Option<f64>,
     /// Leakage `rho` (1/s) of the θ-adaptive observer.
     pub adaptation_leakage: Option<f64>,
+    /// Weight of the error's rate in the adaptation: `gamma_derivative =
+    /// w gamma kd / kp` (1: the composite error `de/dt + (kp/kd) e`; 0: the
+    /// error alone, which copes better with a coarse encoder but can run
+    /// away on a loop that is slow against its friction).
+    pub adaptation_derivative: Option<f64>,
     /// Lower projection bound of `θ^`.
     pub theta_min: Option<f64>,
     /// Upper projection bound of `θ^`.
@@ -105,6 +110,8 @@ pub struct ServoConfig {
     pub adaptation_rate: f64,
     /// `adaptation_leakage` (1/s).
     pub adaptation_leakage: f64,
+    /// `adaptation_derivative` (weight of `de/dt`, default 1).
+    pub adaptation_derivative: f64,
     /// `theta_min`.
     pub theta_min: f64,
     /// `theta_max`.
@@ -139,6 +146,7 @@ impl Default for ServoConfig {
             velocity_filter: 0.0,
             adaptation_rate: DEFAULT_ADAPTATION_RATE,
             adaptation_leakage: 0.0,
+            adaptation_derivative: 1.0,
             theta_min: 0.2,
             theta_max: 5.0,
             rls_forgetting: DEFAULT_RLS_FORGETTING,
@@ -254,6 +262,9 @@ impl ServoTable {
             velocity_filter: self.velocity_filter.unwrap_or(d.velocity_filter),
             adaptation_rate: self.adaptation_rate.unwrap_or(d.adaptation_rate),
             adaptation_leakage: self.adaptation_leakage.unwrap_or(d.adaptation_leakage),
+            adaptation_derivative: self
+                .adaptation_derivative
+                .unwrap_or(d.adaptation_derivative),
             theta_min: self.theta_min.unwrap_or(d.theta_min),
             theta_max: self.theta_max.unwrap_or(d.theta_max),
             rls_forgetting: self.rls_forgetting.unwrap_or(d.rls_forgetting),
@@ -283,6 +294,7 @@ impl ServoTable {
             ("velocity_filter", c.velocity_filter, false),
             ("adaptation_rate", c.adaptation_rate, false),
             ("adaptation_leakage", c.adaptation_leakage, false),
+            ("adaptation_derivative", c.adaptation_derivative, false),
             ("theta_min", c.theta_min, false),
             ("theta_max", c.theta_max, true),
         ] {

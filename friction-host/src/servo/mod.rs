@@ -191,7 +191,8 @@ impl Row {
 
 /// The adaptation of the θ-adaptive rows: `gamma = a kc kp / Fs^2` from
 /// `adaptation_rate` and the static force `Fs` of the compensator's own
-/// (possibly mis-scaled) model, and `gamma_derivative = gamma kd / kp`, so
+/// (possibly mis-scaled) model, and `gamma_derivative = w gamma kd / kp`
+/// (`w`: `adaptation_derivative`, default 1), so
 /// that θ^ follows the composite error `s = de/dt + (kp / kd) e` of the
 /// loop's PD part; with the file's leakage and bounds.
 pub fn adaptation(cfg: &ServoConfig, static_force: f64) -> AdaptiveParams {
@@ -205,7 +206,7 @@ pub fn adaptation(cfg: &ServoConfig, static_force: f64) -> AdaptiveParams {
         gamma,
         // the composite error s = de/dt + (kp / kd) e of the loop's PD part
         gamma_derivative: if cfg.kp > 0.0 {
-            gamma * cfg.kd / cfg.kp
+            cfg.adaptation_derivative * gamma * cfg.kd / cfg.kp
         } else {
             0.0
         },
