@@ -315,7 +315,7 @@ impl ServoTable {
             ));
         }
         if let Some(delay) = self.delay_ticks {
-            if !(delay >= 0.0 && delay <= MAX_DELAY_TICKS && delay == delay.round()) {
+            if !((0.0..=MAX_DELAY_TICKS).contains(&delay) && delay == delay.round()) {
                 return Err(invalid(
                     "delay_ticks",
                     "a whole number from 0 to 1000",

@@ -178,7 +178,7 @@ pub fn map(
             .find(|(j, _)| {
                 j.column == column
                     && (column == 0 || column == 4 || j.force == force)
-                    && (column < 2 || column > 3 || j.stiffness == stiffness)
+                    && (!(2..=3).contains(&column) || j.stiffness == stiffness)
             })
             .map_or(f64::NAN, |(_, rms)| *rms)
     };
