@@ -135,12 +135,14 @@ impl AdaptiveParams {
     /// `γ h` and `ρ h` (scaled), and the bounds.
     ///
     /// ```
-    /// use friction_core::{AdaptiveParams, LuGreParams, Observer};
+    /// use friction_core::{AdaptiveParams, AdaptiveState, LuGreParams, Observer};
     /// let model = LuGreParams::OLSSON_1998.build::<f32>()?;
     /// let observer: Observer<_, f32> = Observer::new(model, 20.0)?;
     /// let gamma = AdaptiveParams::gain_for_rate(2.0, 60.0, 1.02, 0.33);
-    /// let adaptive = AdaptiveParams { gamma, ..AdaptiveParams::DEFAULT }.build(observer, 1e-3)?;
-    /// assert_eq!(adaptive.theta(&Default::default()), 1.0);
+    /// let p = AdaptiveParams { gamma, gamma_derivative: gamma * 1.2 / 60.0, ..AdaptiveParams::DEFAULT };
+    /// let adaptive = p.build(observer, 1e-3)?;
+    /// let state: AdaptiveState<friction_core::LuGreState<f32>, f32> = AdaptiveState::default();
+    /// assert_eq!(adaptive.theta(&state), 1.0);
     /// # Ok::<(), friction_core::ParamError>(())
     /// ```
     pub fn build<S: Scalar, M>(
