@@ -116,6 +116,9 @@ enum Command {
         /// Output folder of the report.
         #[arg(long, default_value = "validation")]
         output: PathBuf,
+        /// Print each section's cost (seconds) on stderr at the end.
+        #[arg(long)]
+        timings: bool,
     },
 }
 
@@ -381,7 +384,9 @@ fn run(cli: Cli) -> Result<bool> {
             output,
             points,
         } => friction_host::servo::robustness::run(params.as_deref(), &output, points),
-        Command::Validate { output } => friction_host::validate::run(&output),
+        Command::Validate { output, timings } => {
+            friction_host::validate::run_with(&output, timings)
+        }
     }
 }
 
