@@ -3,7 +3,7 @@
 //! against f64, and every experiment.
 
 use friction_host::experiments::{self, Options, NAMES};
-use friction_host::models::{leuven_reference, LeuvenSpec};
+use friction_host::models::{leuven_reference, LeuvenSpec, LEUVEN_REFERENCE_STEP};
 use friction_host::params::{ModelSpec, ParamFile};
 use friction_host::signals::{reversal_signals, validation_signals};
 use friction_host::sim::rms_diff;
@@ -91,15 +91,15 @@ fn return_point_memory_in_x_when_the_state_law_is_sharp() {
 
 #[test]
 fn leuven_reference_converges() {
-    // every validation signal at sub-steps 1e-6 and 5e-7 s, sampled at 10 kHz
+    // every validation signal at the validation's sub-step and at 5e-7 s, sampled at 10 kHz
     let spec = spec();
     for s in validation_signals().iter().chain(&reversal_signals()[2..]) {
         let t = s.times(1e-4);
-        let coarse = leuven_reference(&spec.params, s, &t, 1e-6);
+        let coarse = leuven_reference(&spec.params, s, &t, LEUVEN_REFERENCE_STEP);
         let fine = leuven_reference(&spec.params, s, &t, 5e-7);
         let diff = rms_diff(&coarse.force, &fine.force) / spec.params.curve.fs;
         println!(
-            "{}: sub-step 1e-6 against 5e-7: rms {diff:.2e} of Fs",
+            "{}: sub-step {LEUVEN_REFERENCE_STEP:e} against 5e-7: rms {diff:.2e} of Fs",
             s.name
         );
         assert!(diff < 1e-5, "{}: {diff:.2e}", s.name);

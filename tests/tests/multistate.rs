@@ -2,9 +2,9 @@
 //! against their references, f32 against f64, and every experiment.
 
 use friction_host::experiments::{self, Options, NAMES};
-use friction_host::models::{gms_reference, GmsSpec};
+use friction_host::models::{gms_reference, GmsSpec, GMS_REFERENCE_STEP};
 use friction_host::params::{ModelSpec, ParamFile};
-use friction_host::signals::{validation_signals, Signal};
+use friction_host::signals::validation_signals;
 use friction_host::sim::rms_diff;
 use friction_host::validate::{accuracy, F32_BOUND};
 use std::path::Path;
@@ -65,18 +65,23 @@ fn xiong_within_3_percent_at_1_khz_and_1_percent_at_10_khz() {
 
 #[test]
 fn gms_reference_converges() {
-    // the same signal at sub-steps 1e-6 and 1e-7 s, sampled at 10 kHz
+    // the validation's 5 Hz sine (5 s, the worst signal) at the
+    // validation's sub-step and at 1e-7 s, sampled at 10 kHz. The error is
+    // first order in the sub-step (1e-6: 5.0e-6 Fs, 1e-5: 5.5e-5 Fs), and
+    // 1e-5 keeps it 180x below the tightest accuracy bound (1 % at 10 kHz)
+    // while `friction validate` runs 10x faster.
     let ModelSpec::Gms(spec) = load("gms-typical").model else {
         panic!("not gms")
     };
     let spec: GmsSpec = spec;
-    let s = Signal::sine(2e-2, 5.0, 1.0);
+    let signals = validation_signals();
+    let s = &signals[1];
     let t = s.times(1e-4);
-    let coarse = gms_reference(&spec, &s, &t, 1e-6);
-    let fine = gms_reference(&spec, &s, &t, 1e-7);
+    let coarse = gms_reference(&spec, s, &t, GMS_REFERENCE_STEP);
+    let fine = gms_reference(&spec, s, &t, 1e-7);
     let diff = rms_diff(&coarse.force, &fine.force) / spec.curve.fs;
-    println!("GMS reference, sub-step 1e-6 against 1e-7: rms {diff:.2e} of Fs");
-    assert!(diff < 1e-5, "{diff:.2e}");
+    println!("GMS reference, sub-step {GMS_REFERENCE_STEP:e} against 1e-7: rms {diff:.2e} of Fs");
+    assert!(diff < 1e-4, "{diff:.2e}");
     // and the signals cross zero velocity: the reference switches
     assert!(coarse.switching.iter().filter(|&&b| b).count() >= 8);
     assert!(validation_signals().len() == 4);

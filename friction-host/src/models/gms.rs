@@ -26,7 +26,7 @@ use friction_core::{
 pub const MAX_ELEMENTS: usize = 16;
 
 /// The reference's default sub-step (s).
-pub const GMS_REFERENCE_STEP: f64 = 1e-6;
+pub const GMS_REFERENCE_STEP: f64 = 1e-5;
 
 /// GMS parameters with any number of elements (1 to [`MAX_ELEMENTS`] on the host).
 #[derive(Clone, Debug, PartialEq)]

@@ -28,7 +28,7 @@ pub const MAX_MEMORY: usize = 32;
 pub const DEFAULT_MEMORY: usize = 16;
 
 /// The reference's default sub-step (s).
-pub const LEUVEN_REFERENCE_STEP: f64 = 1e-6;
+pub const LEUVEN_REFERENCE_STEP: f64 = 1e-5;
 
 /// Leuven parameters with the memory capacity (1 to [`MAX_MEMORY`] on the host).
 #[derive(Clone, Debug, PartialEq)]
