@@ -247,6 +247,22 @@ pub fn parse_tv(text: &str, origin: &str) -> Result<(Vec<f64>, Vec<f64>)> {
     Ok((t, v))
 }
 
+/// A fraction as a readable percentage: `2.5 %`, `0.031 %`, `1.0e-7 %`.
+pub fn pct(x: f64) -> String {
+    let p = 100.0 * x;
+    if !p.is_finite() {
+        "-".into()
+    } else if p == 0.0 {
+        "0 %".into()
+    } else if p.abs() >= 0.01 {
+        // three significant digits, no trailing noise
+        let digits = (2 - p.abs().log10().floor() as i32).clamp(0, 4) as usize;
+        format!("{p:.digits$} %")
+    } else {
+        format!("{p:.1e} %")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

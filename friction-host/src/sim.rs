@@ -23,14 +23,7 @@ pub fn drive_core(model: &mut dyn Stepper, t: &[f64], v: &[f64]) -> Vec<f64> {
     out
 }
 
-/// The reference solution along a velocity signal, sampled.
-#[derive(Clone, Debug, Default)]
-pub struct ReferenceRun {
-    /// Force at each sample time.
-    pub force: Vec<f64>,
-    /// `switching[k]`: the model switched (its force jumped) in `(t[k-1], t[k]]`.
-    pub switching: Vec<bool>,
-}
+pub use crate::models::ReferenceRun;
 
 /// The reference force for the continuous velocity signal at times `t`:
 /// the model's own reference where it has one (the bristle model's exact

@@ -4,7 +4,7 @@
 
 use crate::experiments::{self, Options, Outcome};
 use crate::models::{BristleSpec, ScalarKind};
-use crate::params::{ModelSpec, ParamFile};
+use crate::params::ModelSpec;
 use crate::plot::{comparison_plot, line_plot, zip, Axis, Series};
 use crate::signals::{reversal_signals, validation_signals, Signal};
 use crate::sim::{drive_core, drive_reference, max_diff, rms_diff, ReferenceRun};
@@ -13,58 +13,8 @@ use friction_core::{CoulombParams, CoulombViscousParams, StribeckMapParams};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-/// The parameter sets shipped with the project (`params/`), embedded so that
-/// `validate` needs no files.
-pub const PARAM_SETS: &[(&str, &str)] = &[
-    ("canudas1995", include_str!("../../params/canudas1995.toml")),
-    (
-        "astrom2008-drift",
-        include_str!("../../params/astrom2008-drift.toml"),
-    ),
-    (
-        "astrom2008-stickslip",
-        include_str!("../../params/astrom2008-stickslip.toml"),
-    ),
-    (
-        "olsson1998-servo",
-        include_str!("../../params/olsson1998-servo.toml"),
-    ),
-    ("dahl1968", include_str!("../../params/dahl1968.toml")),
-    (
-        "canudas1995-ep",
-        include_str!("../../params/canudas1995-ep.toml"),
-    ),
-    (
-        "astrom2008-drift-ep",
-        include_str!("../../params/astrom2008-drift-ep.toml"),
-    ),
-    (
-        "haessig1991-reset",
-        include_str!("../../params/haessig1991-reset.toml"),
-    ),
-    (
-        "haessig1991-bristle",
-        include_str!("../../params/haessig1991-bristle.toml"),
-    ),
-    ("gms-typical", include_str!("../../params/gms-typical.toml")),
-    (
-        "xiong-typical",
-        include_str!("../../params/xiong-typical.toml"),
-    ),
-    (
-        "leuven-typical",
-        include_str!("../../params/leuven-typical.toml"),
-    ),
-];
-
-/// A shipped parameter set by name.
-pub fn param_set(name: &str) -> Result<ParamFile> {
-    let (_, text) = PARAM_SETS
-        .iter()
-        .find(|(n, _)| *n == name)
-        .ok_or_else(|| anyhow::anyhow!("no parameter set `{name}`"))?;
-    ParamFile::parse(text, &format!("params/{name}.toml"))
-}
+pub use crate::io::pct;
+pub use crate::params::{param_set, PARAM_SETS};
 
 /// Accuracy bound (fraction of the model's static force) at step `h`, from
 /// the model's host module; `None` where none is set.
@@ -718,22 +668,6 @@ pub fn bristle_convergence() -> Result<Vec<BristleConvergence>> {
         });
     }
     Ok(out)
-}
-
-/// A fraction as a readable percentage: `2.5 %`, `0.031 %`, `1.0e-7 %`.
-pub fn pct(x: f64) -> String {
-    let p = 100.0 * x;
-    if !p.is_finite() {
-        "-".into()
-    } else if p == 0.0 {
-        "0 %".into()
-    } else if p.abs() >= 0.01 {
-        // three significant digits, no trailing noise
-        let digits = (2 - p.abs().log10().floor() as i32).clamp(0, 4) as usize;
-        format!("{p:.digits$} %")
-    } else {
-        format!("{p:.1e} %")
-    }
 }
 
 /// The phenomena of the matrix: (column title, experiment name).

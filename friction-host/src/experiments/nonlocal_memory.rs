@@ -111,8 +111,8 @@ pub(super) fn nonlocal_memory(file: &ParamFile, _opts: Options, dir: &Path) -> R
         pass: None,
         figure: format!(
             "gap to the outer branch after the inner loop closes: {} of the force range (return-point memory below 1 %); inner-loop area {} of its bounding box (hysteresis above 0.1 %)",
-            crate::validate::pct(gap),
-            crate::validate::pct(hysteresis)
+            crate::io::pct(gap),
+            crate::io::pct(hysteresis)
         ),
         summary: vec![format!(
             "A = {amplitude:.3e} m (0.8 x the pre-sliding scale); positions of the compared legs agree to {position_offset:.1e} m"

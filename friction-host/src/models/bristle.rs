@@ -3,12 +3,12 @@
 //! event-driven solution on the signal's displacement, with the same seeded
 //! generator (the random numbers are part of the model's definition).
 
+use super::ReferenceRun;
 use super::{
     boxed, from_toml, in_scalar, model_file, Expect, HostModel, ScalarKind, Stepper, N, U, Y,
 };
 use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use crate::signals::Signal;
-use crate::sim::ReferenceRun;
 use anyhow::{bail, Result};
 use friction_core::random::CounterRng;
 use friction_core::{Bristle, BristleParams, BristleState, ParamError, Scalar};

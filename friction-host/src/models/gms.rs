@@ -9,13 +9,13 @@
 //! its sub-step (written here from the sheet, sharing no code with the
 //! core's step).
 
+use super::ReferenceRun;
 use super::{
     boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, Expect,
     HostModel, ScalarKind, Stepper, N, Y,
 };
 use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use crate::signals::Signal;
-use crate::sim::ReferenceRun;
 use anyhow::{bail, Result};
 use friction_core::{
     Fixed32, Gms, GmsElement, GmsParams, GmsState, ParamError, Scalar, StribeckParams,

@@ -10,13 +10,13 @@
 //! composite-branch lookup for the RK4 stages), sharing no code with the
 //! core's implicit step.
 
+use super::ReferenceRun;
 use super::{
     boxed, curve_g, default_exponent, from_toml, in_scalar, model_file, Expect, HostModel,
     ScalarKind, Stepper, N, U, Y,
 };
 use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use crate::signals::Signal;
-use crate::sim::ReferenceRun;
 use anyhow::{bail, Result};
 use friction_core::{Leuven, LeuvenParams, LeuvenState, ParamError, Scalar, StribeckParams};
 

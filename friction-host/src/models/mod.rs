@@ -12,9 +12,17 @@
 
 use crate::control::{Controller, Loop, ObserverRequest};
 use crate::signals::Signal;
-use crate::sim::ReferenceRun;
 use anyhow::Result;
 use friction_core::{Fixed32, FixedStepModel, FrictionModel, ParamError, Scalar};
+
+/// The reference solution along a velocity signal, sampled.
+#[derive(Clone, Debug, Default)]
+pub struct ReferenceRun {
+    /// Force at each sample time.
+    pub force: Vec<f64>,
+    /// `switching[k]`: the model switched (its force jumped) in `(t[k-1], t[k]]`.
+    pub switching: Vec<bool>,
+}
 
 /// The models with a fixed-point (fixed-step) form.
 pub const FIXED_POINT_MODELS: &[&str] = &["lugre", "elasto-plastic", "dahl", "gms", "xiong"];

@@ -36,7 +36,8 @@
 //! and the RMS also over the last half (`rms_half`, after adaptation). A
 //! loop that diverges is reported as `unstable`.
 
-pub mod config;
+/// The `[servo]` table of a parameter file (it lives with the file format).
+pub use crate::params::servo as config;
 pub mod robustness;
 
 use crate::control::{controller, controller_reading, Controller, Loop, ObserverRequest};
@@ -741,7 +742,7 @@ pub fn run(params: Option<&Path>, output: &Path) -> Result<bool> {
     let (file, origin) = match params {
         Some(p) => (ParamFile::load(p)?, p.display().to_string()),
         None => (
-            crate::validate::param_set("olsson1998-servo")?,
+            crate::params::param_set("olsson1998-servo")?,
             "params/olsson1998-servo.toml".to_string(),
         ),
     };
@@ -765,7 +766,7 @@ pub fn run(params: Option<&Path>, output: &Path) -> Result<bool> {
 /// The servo section of the validation report: the default benchmark on the
 /// built-in `olsson1998-servo` set, as Markdown (heading included).
 pub fn report_section() -> Result<String> {
-    let file = crate::validate::param_set("olsson1998-servo")?;
+    let file = crate::params::param_set("olsson1998-servo")?;
     let bench = benchmark(&file, "params/olsson1998-servo.toml")?;
     Ok(format!(
         "\n## Servo benchmark (`friction servo`)\n\n{}",

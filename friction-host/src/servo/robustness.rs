@@ -484,7 +484,7 @@ pub fn run(params: Option<&Path>, output: &Path, points: usize) -> Result<bool> 
     let (file, origin) = match params {
         Some(p) => (ParamFile::load(p)?, p.display().to_string()),
         None => (
-            crate::validate::param_set("olsson1998-servo")?,
+            crate::params::param_set("olsson1998-servo")?,
             "params/olsson1998-servo.toml".to_string(),
         ),
     };
@@ -519,7 +519,7 @@ fn progress_bar() -> indicatif::ProgressBar {
 /// The robustness section of the validation report: a 3 x 3 map (the corners and the centre of the CLI's 7 x 7 grid, to keep `validate` fast) on the
 /// built-in `olsson1998-servo` set, with the heat map written into `dir`.
 pub fn report_section(dir: &Path) -> Result<String> {
-    let file = crate::validate::param_set("olsson1998-servo")?;
+    let file = crate::params::param_set("olsson1998-servo")?;
     let grid = Grid::new(3)?;
     let m = map(&file, "params/olsson1998-servo.toml", &grid, &|_, _| {})?;
     m.heat_map(&dir.join(OUTPUTS[1]))?;

@@ -4,9 +4,11 @@
 //! Unknown keys are errors that
 //! name the key, with line and column.
 
-use crate::servo::config::ServoTable;
+pub mod servo;
+
 use anyhow::{bail, Context, Result};
 use serde::Deserialize;
+use servo::ServoTable;
 use std::path::Path;
 
 pub use crate::models::MAX_BRISTLES;
@@ -135,6 +137,65 @@ impl ParamFile {
             .with_context(|| format!("cannot read {}", path.display()))?;
         Self::parse(&text, &path.display().to_string())
     }
+}
+
+/// The parameter sets shipped with the project (`params/`), embedded so that
+/// `validate` needs no files.
+pub const PARAM_SETS: &[(&str, &str)] = &[
+    (
+        "canudas1995",
+        include_str!("../../../params/canudas1995.toml"),
+    ),
+    (
+        "astrom2008-drift",
+        include_str!("../../../params/astrom2008-drift.toml"),
+    ),
+    (
+        "astrom2008-stickslip",
+        include_str!("../../../params/astrom2008-stickslip.toml"),
+    ),
+    (
+        "olsson1998-servo",
+        include_str!("../../../params/olsson1998-servo.toml"),
+    ),
+    ("dahl1968", include_str!("../../../params/dahl1968.toml")),
+    (
+        "canudas1995-ep",
+        include_str!("../../../params/canudas1995-ep.toml"),
+    ),
+    (
+        "astrom2008-drift-ep",
+        include_str!("../../../params/astrom2008-drift-ep.toml"),
+    ),
+    (
+        "haessig1991-reset",
+        include_str!("../../../params/haessig1991-reset.toml"),
+    ),
+    (
+        "haessig1991-bristle",
+        include_str!("../../../params/haessig1991-bristle.toml"),
+    ),
+    (
+        "gms-typical",
+        include_str!("../../../params/gms-typical.toml"),
+    ),
+    (
+        "xiong-typical",
+        include_str!("../../../params/xiong-typical.toml"),
+    ),
+    (
+        "leuven-typical",
+        include_str!("../../../params/leuven-typical.toml"),
+    ),
+];
+
+/// A shipped parameter set by name.
+pub fn param_set(name: &str) -> Result<ParamFile> {
+    let (_, text) = PARAM_SETS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .ok_or_else(|| anyhow::anyhow!("no parameter set `{name}`"))?;
+    ParamFile::parse(text, &format!("params/{name}.toml"))
 }
 
 #[cfg(test)]
