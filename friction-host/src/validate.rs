@@ -9,7 +9,6 @@ use crate::plot::{comparison_plot, line_plot, zip, Axis, Series};
 use crate::signals::{reversal_signals, validation_signals, Signal};
 use crate::sim::{drive_core, drive_reference, max_diff, rms_diff, ReferenceRun};
 use anyhow::Result;
-use friction_core::{CoulombParams, CoulombViscousParams, StribeckMapParams};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -252,24 +251,6 @@ pub fn run_with(dir: &Path, timings: bool) -> Result<bool> {
     use anyhow::Context;
     std::fs::create_dir_all(dir)
         .with_context(|| format!("--output {}: cannot create the folder", dir.display()))?;
-    let canudas = param_set("canudas1995")?;
-    let ModelSpec::LuGre(lugre) = canudas.model else {
-        anyhow::bail!("canudas1995 is not a LuGre set")
-    };
-    let static_maps = [
-        ModelSpec::Coulomb(CoulombParams { fc: lugre.curve.fc }),
-        ModelSpec::CoulombViscous(CoulombViscousParams {
-            fc: lugre.curve.fc,
-            sigma2: lugre.sigma2,
-        }),
-        ModelSpec::Stribeck(StribeckMapParams {
-            curve: lugre.curve,
-            sigma2: lugre.sigma2,
-        }),
-    ];
-    let mut vd_variant = lugre;
-    vd_variant.vd = Some(lugre.curve.vs);
-
     println!(
         "Accuracy against the reference solver (diffsol BDF, rtol {:e})",
         crate::sim::REFERENCE_RTOL
@@ -279,78 +260,35 @@ pub fn run_with(dir: &Path, timings: bool) -> Result<bool> {
         "model", "signal", "rate", "rms/Fs", "max/Fs", "mean-v rms", "f32-f64", "fixed", "ok"
     );
     let mut rows = Vec::new();
-    // (label, model, bounded, plots): the bounds are set for the canudas1995
-    // parameters; the other sets are measured and reported.
-    let mut models: Vec<(String, ModelSpec, bool, bool)> = vec![
-        ("canudas1995".into(), canudas.model.clone(), true, true),
-        (
-            "canudas1995+vd".into(),
-            ModelSpec::LuGre(vd_variant),
-            false,
-            false,
-        ),
-        (
-            "astrom2008-drift".into(),
-            param_set("astrom2008-drift")?.model,
-            false,
-            false,
-        ),
-        (
-            "olsson1998-servo".into(),
-            param_set("olsson1998-servo")?.model,
-            false,
-            false,
-        ),
+    // (set, bounded, plots, with its variants): the bounds are set for
+    // each model's primary set; the other sets are measured and reported.
+    // Each model's host module names its own variants
+    // (`HostModel::validation_variants`).
+    let sets: &[(&str, bool, bool, bool)] = &[
+        ("canudas1995", true, true, true),
+        ("astrom2008-drift", false, false, false),
+        ("olsson1998-servo", false, false, false),
+        ("dahl1968", true, false, true),
+        ("canudas1995-ep", true, true, false),
+        // the multistate family, N = 4, bounded like elasto-plastic (3 % / 1 %)
+        ("gms-typical", true, true, false),
+        ("xiong-typical", true, true, false),
+        ("leuven-typical", true, true, false),
+        // switching models: figures stated, no bound (see the report)
+        ("haessig1991-reset", false, true, false),
+        ("haessig1991-bristle", false, true, true),
     ];
-    models.extend(
-        static_maps
-            .into_iter()
-            .map(|m| ("canudas1995".to_string(), m, true, false)),
-    );
-    let dahl = param_set("dahl1968")?.model;
-    if let ModelSpec::Dahl(p) = dahl {
-        models.push(("dahl1968".into(), dahl.clone(), true, false));
-        let quadratic = friction_core::DahlParams { delta: 2.0, ..p };
-        models.push((
-            "dahl1968 delta=2".into(),
-            ModelSpec::Dahl(quadratic),
-            true,
-            false,
-        ));
-    }
-    models.push((
-        "canudas1995-ep".into(),
-        param_set("canudas1995-ep")?.model,
-        true,
-        true,
-    ));
-    // the multistate family, N = 4, bounded like elasto-plastic (3 % / 1 %)
-    for set in ["gms-typical", "xiong-typical", "leuven-typical"] {
-        models.push((set.into(), param_set(set)?.model, true, true));
-    }
-    // switching models: figures stated, no bound (see the report)
-    models.push((
-        "haessig1991-reset".into(),
-        param_set("haessig1991-reset")?.model,
-        false,
-        true,
-    ));
-    if let ModelSpec::Bristle(BristleSpec { params, .. }) = param_set("haessig1991-bristle")?.model
-    {
-        for n in [8, 64] {
-            let scaled = friction_core::BristleParams {
-                sigma0: params.sigma0 * 25.0 / n as f64,
-                ..params
-            };
-            models.push((
-                format!("haessig1991-bristle N={n}"),
-                ModelSpec::Bristle(BristleSpec {
-                    params: scaled,
-                    bristles: n,
-                }),
-                false,
-                n == 64,
-            ));
+    let mut models: Vec<(String, ModelSpec, bool, bool)> = Vec::new();
+    for &(set, bounded, plots, with_variants) in sets {
+        let spec = param_set(set)?.model;
+        let host = spec.host();
+        if host.validates_itself() {
+            models.push((set.into(), spec.clone(), bounded, plots));
+        }
+        if with_variants {
+            for v in host.validation_variants() {
+                models.push((format!("{set}{}", v.suffix), v.spec, v.bounded, v.plots));
+            }
         }
     }
     let plan: &[(&str, &[&str])] = &[

@@ -114,4 +114,16 @@ impl HostModel for DahlParams {
     fn accuracy_bound(&self, h: f64) -> Option<f64> {
         Some(if h >= 1e-3 { 0.03 } else { 0.01 })
     }
+    /// The quadratic form `delta = 2` (bounded).
+    fn validation_variants(&self) -> Vec<super::Variant> {
+        vec![super::Variant {
+            suffix: " delta=2".into(),
+            spec: super::ModelSpec::Dahl(DahlParams {
+                delta: 2.0,
+                ..*self
+            }),
+            bounded: true,
+            plots: false,
+        }]
+    }
 }

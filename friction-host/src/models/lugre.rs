@@ -149,6 +149,48 @@ impl HostModel for LuGreParams {
     fn expectations(&self) -> [Expect; 8] {
         [Y, Y, Y, Y, Y, Y, N, N]
     }
+    /// The `sigma1(v)` form with `vd = vs` (reported), and the three static
+    /// maps on the same curve (bounded).
+    fn validation_variants(&self) -> Vec<super::Variant> {
+        use friction_core::{CoulombParams, CoulombViscousParams, StribeckMapParams};
+        let variant = |suffix: &str, spec, bounded| super::Variant {
+            suffix: suffix.into(),
+            spec,
+            bounded,
+            plots: false,
+        };
+        vec![
+            variant(
+                "+vd",
+                super::ModelSpec::LuGre(LuGreParams {
+                    vd: Some(self.curve.vs),
+                    ..*self
+                }),
+                false,
+            ),
+            variant(
+                "",
+                super::ModelSpec::Coulomb(CoulombParams { fc: self.curve.fc }),
+                true,
+            ),
+            variant(
+                "",
+                super::ModelSpec::CoulombViscous(CoulombViscousParams {
+                    fc: self.curve.fc,
+                    sigma2: self.sigma2,
+                }),
+                true,
+            ),
+            variant(
+                "",
+                super::ModelSpec::Stribeck(StribeckMapParams {
+                    curve: self.curve,
+                    sigma2: self.sigma2,
+                }),
+                true,
+            ),
+        ]
+    }
     /// 2 % at 1 kHz, 0.5 % at 10 kHz (set for the canudas1995 parameters).
     fn accuracy_bound(&self, h: f64) -> Option<f64> {
         Some(if h >= 1e-3 { 0.02 } else { 0.005 })

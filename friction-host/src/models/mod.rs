@@ -258,6 +258,17 @@ pub trait HostModel {
     fn drift_force(&self) -> f64 {
         0.5 * self.max_static_force()
     }
+    /// Parameter sets `friction validate` measures beside this one when it
+    /// is the model's primary set (e.g. LuGre's static maps and its `vd`
+    /// form, Dahl's quadratic form), each with its label suffix.
+    fn validation_variants(&self) -> Vec<Variant> {
+        Vec::new()
+    }
+    /// Whether `friction validate` measures the set itself, or only its
+    /// [`validation_variants`](HostModel::validation_variants).
+    fn validates_itself(&self) -> bool {
+        true
+    }
     /// The core observer around this model (plain or θ-adaptive, as
     /// `request` says) with its friction level scaled by `request.scale`,
     /// in the loop `setup`; `None` where the model has no observer form.
@@ -268,6 +279,20 @@ pub trait HostModel {
     ) -> Option<Result<Box<dyn Controller>, ParamError>> {
         None
     }
+}
+
+/// A parameter set derived from a model's primary set for the validation.
+#[derive(Clone, Debug)]
+pub struct Variant {
+    /// Appended to the set's label (`+vd`, ` delta=2`, ` N=8`; empty for
+    /// another model on the same curve).
+    pub suffix: String,
+    /// The model.
+    pub spec: ModelSpec,
+    /// Judged against its accuracy bound (otherwise reported).
+    pub bounded: bool,
+    /// Core-against-reference plots at 1 kHz.
+    pub plots: bool,
 }
 
 /// The registry: one line per model, `Variant(Type) = "file name"`. It
