@@ -36,7 +36,9 @@ use friction_core::{
 };
 use hw::{Plant, SimDrive, SimEncoder};
 use servo::Servo;
-use setup::{controller, leuven_nominal, H, INERTIA, NOMINAL, OBSERVER_GAIN, TORQUE_MAX};
+use setup::{
+    adaptation, controller, leuven_nominal, H, INERTIA, NOMINAL, OBSERVER_GAIN, TORQUE_MAX,
+};
 
 /// The plant's "real" friction: 10-20 % away from the nominal model.
 const ACTUAL: LuGreParams = LuGreParams {
@@ -472,6 +474,33 @@ fn main() -> ! {
     };
     let leuven_none = run_on(leuven_plant, c_none2);
     let leuven_obs = run_on(leuven_plant, c_leuven2);
+    // a plant whose friction has drifted to 1.5x (warm-up, load, wear: the
+    // actual set with every force term scaled) against the fixed observer
+    // and the θ-adaptive one, both from the nominal model
+    let drifted = LuGreParams {
+        curve: StribeckParams {
+            fc: 1.5 * ACTUAL.curve.fc,
+            fs: 1.5 * ACTUAL.curve.fs,
+            ..ACTUAL.curve
+        },
+        sigma0: 1.5 * ACTUAL.sigma0,
+        sigma1: 1.5 * ACTUAL.sigma1,
+        sigma2: 1.5 * ACTUAL.sigma2,
+        ..ACTUAL
+    };
+    let (Ok(drifted_plant), Ok(adaptive)) = (
+        drifted.build::<f32>(),
+        adaptation().build(observer_at, H as f64),
+    ) else {
+        fail("drifted plant or adaptation parameters")
+    };
+    let (Ok(c_obs2), Ok(c_adaptive)) =
+        (p.build(AtPeriod(observer_at)), p.build(AtPeriod(adaptive)))
+    else {
+        fail("controller gains")
+    };
+    let drift_obs = run_on(drifted_plant, c_obs2);
+    let drift_adaptive = run_on(drifted_plant, c_adaptive);
     for (name, e) in [
         ("no compensation", &none),
         ("Coulomb + viscous feed-forward (measured v)", &coul),
@@ -480,6 +509,11 @@ fn main() -> ! {
         ("Leuven observer (M = 8) on the LuGre plant", &obs_leuven),
         ("Leuven plant: no compensation", &leuven_none),
         ("Leuven plant: Leuven observer (M = 8)", &leuven_obs),
+        ("friction drifted to 1.5x: LuGre observer", &drift_obs),
+        (
+            "friction drifted to 1.5x: adaptive LuGre observer",
+            &drift_adaptive,
+        ),
     ] {
         defmt::info!(
             "{=str}: rms error {=f32} mrad, max {=f32} mrad",
@@ -495,6 +529,10 @@ fn main() -> ! {
     );
     if obs_leuven.rms >= none.rms || leuven_obs.rms >= leuven_none.rms {
         defmt::error!("the Leuven observer did not reduce the tracking error");
+        debug::exit(EXIT_FAILURE);
+    }
+    if drift_adaptive.rms >= drift_obs.rms {
+        defmt::error!("the adaptive observer did not beat the fixed one on the drifted plant");
         debug::exit(EXIT_FAILURE);
     }
     if best < none.rms {

@@ -2,7 +2,7 @@
 //! the controller's friction model, its loop and its gains, so that the
 //! cost table measures the servo the example runs.
 
-use friction_core::{CompensatorParams, LeuvenParams, LuGreParams};
+use friction_core::{AdaptiveParams, CompensatorParams, LeuvenParams, LuGreParams};
 
 /// Olsson et al. 1998, Table 2: the controller's model of the friction (N m, rad).
 pub const NOMINAL: LuGreParams = LuGreParams::OLSSON_1998;
@@ -37,5 +37,20 @@ pub fn leuven_nominal() -> LeuvenParams {
         sigma2: NOMINAL.sigma2,
         n: 2.0,
         xs: NOMINAL.curve.fs / NOMINAL.sigma0,
+    }
+}
+
+/// The θ-adaptive observer's adaptation for [`controller`]: θ^ converges at
+/// about `ADAPTATION_RATE` (1/s) on the composite error
+/// `de/dt + (kp / kd) e` (see `friction_core::adaptive`).
+pub fn adaptation() -> AdaptiveParams {
+    const ADAPTATION_RATE: f64 = 8.0;
+    let p = controller();
+    let gamma =
+        AdaptiveParams::gain_for_rate(ADAPTATION_RATE, p.kp, p.torque_constant, NOMINAL.curve.fs);
+    AdaptiveParams {
+        gamma,
+        gamma_derivative: gamma * p.kd / p.kp,
+        ..AdaptiveParams::DEFAULT
     }
 }

@@ -44,6 +44,7 @@ use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::hprintln;
+use friction_core::{AdaptiveObserver, AdaptiveState, Leuven, LeuvenState};
 use friction_core::{
     AtPeriod, DahlAt, ElastoPlasticAt, Fixed32, FixedStepModel, GmsAt, LuGreAt, LuGreAtState,
     XiongAt, XiongAtState,
@@ -55,13 +56,12 @@ use friction_core::{
     ResetIntegrator, ResetIntegratorParams, ResetIntegratorState, Scalar, Setpoint, StribeckMap,
     StribeckMapParams, Xiong, XiongElement, XiongParams, XiongState,
 };
-use friction_core::{Leuven, LeuvenState};
 
 // the servo's model, loop period (the variable-step rows pass `H` through
 // `black_box`), observer gain and gains, shared with `main.rs`
 #[path = "../setup.rs"]
 mod setup;
-use setup::{controller, leuven_nominal, H, NOMINAL, OBSERVER_GAIN};
+use setup::{adaptation, controller, leuven_nominal, H, NOMINAL, OBSERVER_GAIN};
 
 /// The position error the observer rows see.
 const OBSERVER_ERROR: f32 = 1e-5;
@@ -495,6 +495,11 @@ fixed_step_fns!(
 );
 step_fn!(step_servo_lugre_at_f32, ServoAt, ServoAtState, (f32, Setpoint<f32>) => f32,
     |m, s, input| m.tick(s, input.0, input.1).command);
+// the same tick with the θ-adaptive observer (issue 16: within the servo tick + 150)
+type ServoAdaptive = Compensator<f32, AtPeriod<AdaptiveObserver<LuGreAt<f32>, f32>>>;
+type ServoAdaptiveState = CompensatorState<f32, AdaptiveState<LuGreAtState<f32>, f32>>;
+step_fn!(step_servo_adaptive_at_f32, ServoAdaptive, ServoAdaptiveState, (f32, Setpoint<f32>) => f32,
+    |m, s, input| m.tick(s, input.0, input.1).command);
 
 /// One row per fixed-step form in scalar `$S` (label `$label`).
 macro_rules! fixed_step_rows {
@@ -889,6 +894,30 @@ fn main() -> ! {
     );
     if !(tick_at.avg > 0.0 && tick_at.worst >= tick_at.avg) {
         fail("implausible fixed-step servo tick count");
+    }
+    let adaptive_observer =
+        Observer::new(lugre_at, OBSERVER_GAIN).unwrap_or_else(|_| fail("observer gain"));
+    let servo_adaptive = controller
+        .build(AtPeriod(
+            adaptation()
+                .build(adaptive_observer, f64::from(H))
+                .unwrap_or_else(|_| fail("adaptation parameters")),
+        ))
+        .unwrap_or_else(|_| fail("servo gains"));
+    let tick_adaptive = row(
+        pt,
+        "servo-adaptive",
+        "step_servo_adaptive_at_f32",
+        "f32",
+        Form::Fixed,
+        &servo_adaptive,
+        step_servo_adaptive_at_f32,
+        servo_sweep,
+        servo_stress,
+        STRESS_LEN,
+    );
+    if !(tick_adaptive.avg > 0.0 && tick_adaptive.worst >= tick_adaptive.avg) {
+        fail("implausible adaptive servo tick count");
     }
     // the parts: e^(-(v/vs)^2) of the Stribeck curve and e^(-a h) - 1 of the
     // relaxation (a h = sigma0 |v| h / g, about 0.01 on the sweep)
