@@ -16,7 +16,7 @@
 //! F^      = observer(v, e)                        the model's friction (as Observer)
 //! dθ^/dt  = -(γ e + γd de/dt) F^ - ρ (θ^ - θ0)     gradient law, leakage ρ
 //! θ^      = min(θmax, max(θmin, θ^))              projection
-//! output  = sat(θmax B(v), θ^ F^)                 B(v): Observable::force_bound
+//! output  = θ^ F^                                 within θmax B(v), as |F^| <= B(v)
 //! ```
 //!
 //! Sign: a plant with more friction than the estimate lags its reference
@@ -53,6 +53,7 @@
 
 use crate::compensator::Compensation;
 use crate::fixed_step::FixedStepObservable;
+use crate::gain::Gain;
 use crate::model::{convert, non_negative, positive, ParamError};
 use crate::observer::{Observable, Observer};
 use crate::Scalar;
@@ -154,7 +155,15 @@ impl AdaptiveParams {
         positive("h", h)?;
         // θ^ - θ0 is carried times `scale`
         let range = self.theta_max.max(self.theta0 - self.theta_min);
-        let scale = S::force_scale(range);
+        // 2^exp: 1 for floats; in fixed point the largest power that
+        // holds the range, lowered while a gain would need scaling itself
+        // (offset increments keep ample precision either way)
+        let mut exp = libm::log2(S::force_scale(range)) as i8;
+        let largest_gain = (self.gamma * h).max(self.gamma_derivative);
+        while exp > 0 && largest_gain * libm::exp2(f64::from(exp)) >= 8192.0 {
+            exp -= 1;
+        }
+        let scale = libm::exp2(f64::from(exp));
         let scaled = |name, x: f64| -> Result<S, ParamError> {
             if x == 0.0 {
                 Ok(S::ZERO)
@@ -164,15 +173,16 @@ impl AdaptiveParams {
         };
         Ok(AdaptiveObserver {
             observer,
-            gamma_h: scaled("gamma", self.gamma * h * scale)?,
-            gamma_d: scaled("gamma_derivative", self.gamma_derivative * scale)?,
+            gamma_h: Gain::new("gamma", self.gamma * h * scale)?,
+            gamma_d: Gain::new("gamma_derivative", self.gamma_derivative * scale)?,
+            signal_limit: S::from_f64(SIGNAL_LIMIT),
             leakage_h: scaled("leakage", (self.leakage * h).min(1.0))?,
             theta0: convert("theta0", self.theta0)?,
             low: scaled("theta_min", (self.theta_min - self.theta0) * scale)?,
             high: scaled("theta_max", (self.theta_max - self.theta0) * scale)?,
             theta_min: convert("theta_min", self.theta_min)?,
             theta_max: convert("theta_max", self.theta_max)?,
-            inv_scale: S::from_f64(1.0 / scale),
+            scale_exp: exp,
             period: h,
             params: *self,
         })
@@ -207,15 +217,17 @@ pub struct AdaptiveState<T, S> {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct AdaptiveObserver<M, S> {
     observer: Observer<M, S>,
-    gamma_h: S,
-    gamma_d: S,
+    gamma_h: Gain<S>,
+    gamma_d: Gain<S>,
+    signal_limit: S,
     leakage_h: S,
     theta0: S,
     low: S,
     high: S,
     theta_min: S,
     theta_max: S,
-    inv_scale: S,
+    /// The offset is carried times `2^scale_exp`.
+    scale_exp: i8,
     period: f64,
     params: AdaptiveParams,
 }
@@ -230,7 +242,7 @@ impl<M, S: Scalar> AdaptiveObserver<M, S> {
     /// `θ0 + offset / scale`, within `[θmin, θmax]` against rounding.
     #[inline]
     fn theta_of(&self, offset: S) -> S {
-        (self.theta0 + offset.rescale(self.inv_scale))
+        (self.theta0 + offset.rescale_pow2(-self.scale_exp))
             .min(self.theta_max)
             .max(self.theta_min)
     }
@@ -254,32 +266,45 @@ impl<M, S: Scalar> AdaptiveObserver<M, S> {
     /// power cycle), projected onto `[θmin, θmax]`; a NaN leaves it as it is.
     pub fn set_theta(&self, state: &mut AdaptiveState<impl Copy, S>, theta: f64) {
         if !theta.is_nan() {
-            let scale = 1.0 / self.inv_scale.to_f64();
+            let scale = libm::exp2(f64::from(self.scale_exp));
             let offset = S::from_f64((theta - self.theta0.to_f64()) * scale);
             state.offset = offset.min(self.high).max(self.low);
         }
     }
 
     /// Adapts `θ^` from the error `e` and the model's estimate `f`, then
-    /// returns `θ^ f` within `±θmax bound`.
+    /// returns `θ^ f`.
+    ///
+    /// The observer clips `F^` to its force bound `B(v)` and `θ^ <= θmax`,
+    /// so `|θ^ F^| <= θmax B(v)` (rounding is monotone) with no clamp here.
     #[inline]
-    fn adapt<T>(&self, state: &mut AdaptiveState<T, S>, e: S, f: S, bound: S) -> S {
+    fn adapt<T>(&self, state: &mut AdaptiveState<T, S>, e: S, f: S) -> S {
         // each gain's product is clamped before it meets f, so no product
         // is inf * 0
-        let limit = S::VELOCITY_LIMIT;
+        let limit = self.signal_limit;
         let de = if state.primed {
             (e - state.last_error).sat(limit)
         } else {
             S::ZERO
         };
-        let signal = ((self.gamma_h * e).sat(limit) + (self.gamma_d * de).sat(limit)).sat(limit);
-        let step = signal * f + self.leakage_h * state.offset;
+        let signal =
+            (self.gamma_h.times(e).sat(limit) + self.gamma_d.times(de).sat(limit)).sat(limit);
+        let step = if self.leakage_h == S::ZERO {
+            signal * f
+        } else {
+            signal * f + self.leakage_h * state.offset
+        };
         state.offset = (state.offset - step).min(self.high).max(self.low);
         state.last_error = e;
         state.primed = true;
-        scaled(self.theta_of(state.offset), f).sat(self.theta_max * bound)
+        scaled(self.theta_of(state.offset), f)
     }
 }
+
+/// The bound on the scaled adaptation signal `γ h e + γd Δe` (and on
+/// `Δe`), so that its product with a force stays finite in floating point;
+/// fixed point saturates at its own limit (32768 in Q16.16).
+const SIGNAL_LIMIT: f64 = 1e6;
 
 /// `θ f`, or `f` where the product overflows a float (a `θmax` times a
 /// force bound beyond the scalar's range): always finite for finite `f`.
@@ -321,8 +346,7 @@ impl<S: Scalar, M: Observable<S>> AdaptiveObserver<M, S> {
         }
         let v = v.sat(S::VELOCITY_LIMIT);
         let f = self.observer.step(&mut state.model, v, e, h);
-        let bound = self.observer.model().force_bound(v);
-        self.adapt(state, e.sat(S::VELOCITY_LIMIT), f, bound)
+        self.adapt(state, e.sat(S::VELOCITY_LIMIT), f)
     }
 }
 
@@ -339,8 +363,7 @@ impl<S: Scalar, M: FixedStepObservable<S>> AdaptiveObserver<M, S> {
         }
         let v = v.sat(S::VELOCITY_LIMIT);
         let f = self.observer.step_at(&mut state.model, v, e);
-        let bound = self.observer.model().force_bound(v);
-        self.adapt(state, e.sat(S::VELOCITY_LIMIT), f, bound)
+        self.adapt(state, e.sat(S::VELOCITY_LIMIT), f)
     }
 }
 
@@ -364,6 +387,7 @@ impl<S: Scalar, M: FixedStepObservable<S>> Compensation<S>
     for crate::AtPeriod<AdaptiveObserver<M, S>>
 {
     type State = AdaptiveState<M::State, S>;
+    const USES_H: bool = false;
     #[inline]
     fn estimate(&self, state: &mut Self::State, v: S, e: S, _h: S) -> S {
         self.0.step_at(state, v, e)

@@ -107,31 +107,44 @@ impl Mul for Fixed32 {
     /// accumulated state by half a step per operation.
     #[inline]
     fn mul(self, rhs: Self) -> Self {
-        let p = (wide_product(self.to_bits(), rhs.to_bits()) + 0x8000) >> 16;
+        let p = rounded_product(self.to_bits(), rhs.to_bits());
         Self::from_bits(p.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32)
     }
 }
 
-/// `a b` exactly, where the core multiplies 32 by 32 bits into 64.
+/// `(a b + 2^15) >> 16` exactly, where the core multiplies 32 by 32 bits
+/// into 64.
 #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
 #[inline]
-fn wide_product(a: i32, b: i32) -> i64 {
-    i64::from(a) * i64::from(b)
+fn rounded_product(a: i32, b: i32) -> i64 {
+    (i64::from(a) * i64::from(b) + 0x8000) >> 16
 }
 
-/// `a b` exactly from four 16 by 16-bit products, on ARMv6-M (Cortex-M0,
-/// M0+; told apart from ARMv7-M by its missing 32-bit atomics), whose
-/// multiplier keeps only the low 32 bits of a product: this avoids a call
-/// to the 64 by 64-bit `__aeabi_lmul`.
+/// `(a b + 2^15) >> 16` exactly from four 16 by 16-bit products, on
+/// ARMv6-M (Cortex-M0, M0+; told apart from ARMv7-M by its missing 32-bit
+/// atomics), whose multiplier keeps only the low 32 bits of a product: this
+/// avoids a call to the 64 by 64-bit `__aeabi_lmul`. With `a = ah 2^16 + al`
+/// (`ah` signed, `al` in `0..2^16`) and `b` alike, the low 16 bits of the
+/// high and middle products are whole, so only `al bl` is rounded, and one
+/// 64-bit shift remains.
 #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
 #[inline]
-fn wide_product(a: i32, b: i32) -> i64 {
+fn rounded_product(a: i32, b: i32) -> i64 {
+    split_product(a, b)
+}
+
+/// [`rounded_product`] for ARMv6-M (tested on the host against the 64-bit
+/// product).
+#[cfg(any(test, all(target_arch = "arm", not(target_has_atomic = "32"))))]
+#[inline]
+fn split_product(a: i32, b: i32) -> i64 {
     let (ah, al) = (a >> 16, (a as u32) & 0xffff);
     let (bh, bl) = (b >> 16, (b as u32) & 0xffff);
-    // each partial product fits in 32 bits: |ah bl| < 2^31, al bl < 2^32
-    (i64::from(ah * bh) << 32)
-        + ((i64::from(ah * bl as i32) + i64::from(al as i32 * bh)) << 16)
-        + i64::from(al * bl)
+    // |ah bh| <= 2^30; |ah bl|, |al bh| < 2^31; al bl + 2^15 < 2^32
+    (i64::from(ah * bh) << 16)
+        + i64::from(ah * bl as i32)
+        + i64::from(al as i32 * bh)
+        + i64::from((al * bl + 0x8000) >> 16)
 }
 
 impl Div for Fixed32 {
@@ -242,6 +255,27 @@ impl Scalar for Fixed32 {
     const VELOCITY_LIMIT: Self = Self::from_bits(4 << 16);
     const SCALES_FORCES: bool = true;
 
+    /// A shift in 32-bit arithmetic (a 64-bit shift is a library call on
+    /// ARMv6-M): right rounds to nearest (ties up), left saturates.
+    #[inline]
+    fn rescale_pow2(self, exp: i8) -> Self {
+        let bits = self.to_bits();
+        if exp >= 0 {
+            let k = u32::from(exp.unsigned_abs()).min(31);
+            let limit = i32::MAX >> k;
+            if bits > limit {
+                Self::MAX
+            } else if bits < -limit {
+                Self::MIN
+            } else {
+                Self::from_bits(bits << k)
+            }
+        } else {
+            let k = u32::from(exp.unsigned_abs()).min(31);
+            Self::from_bits(bits.saturating_add(1 << (k - 1)) >> k)
+        }
+    }
+
     /// Rounds to nearest, saturating; NaN gives 0.
     fn from_f64(x: f64) -> Self {
         if x.is_nan() {
@@ -315,6 +349,48 @@ impl Scalar for Fixed32 {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn the_armv6m_product_is_exact() {
+        let edges = [
+            i32::MIN,
+            i32::MIN + 1,
+            -65537,
+            -65536,
+            -65535,
+            -32769,
+            -32768,
+            -1,
+            0,
+            1,
+            32767,
+            32768,
+            65535,
+            65536,
+            65537,
+            i32::MAX - 1,
+            i32::MAX,
+        ];
+        let mut rng = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            (rng >> 32) as i32 >> (rng % 31)
+        };
+        let check = |a: i32, b: i32| {
+            let want = (i64::from(a) * i64::from(b) + 0x8000) >> 16;
+            assert_eq!(super::split_product(a, b), want, "{a} x {b}");
+        };
+        for &a in &edges {
+            for &b in &edges {
+                check(a, b);
+            }
+        }
+        for _ in 0..200_000 {
+            check(next(), next());
+        }
+    }
+
     use super::*;
 
     #[test]

@@ -18,6 +18,7 @@ pub mod compensator;
 #[cfg(feature = "fixed")]
 pub mod fixed_point;
 pub mod fixed_step;
+mod gain;
 pub mod model;
 pub mod models;
 pub mod observer;

@@ -294,6 +294,7 @@ impl<S: Scalar> RlsFeedForward<S> {
 impl<S: Scalar> Compensation<S> for RlsFeedForward<S> {
     type State = RlsState<S>;
     const LEARNS: bool = true;
+    const USES_H: bool = false;
     #[inline]
     fn estimate(&self, state: &mut RlsState<S>, v: S, _e: S, _h: S) -> S {
         self.force(state, v)

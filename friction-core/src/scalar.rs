@@ -115,6 +115,20 @@ pub trait Scalar:
         }
     }
 
+    /// `self 2^exp` for a power of two derived from
+    /// [`Scalar::force_scale`] (`exp` in -31..=31), skipped like
+    /// [`Scalar::rescale`] where forces are never scaled. Fixed point
+    /// overrides it with a shift (rounding to nearest, saturating), which
+    /// costs a core without a 64-bit multiply far less than a product.
+    #[inline]
+    fn rescale_pow2(self, exp: i8) -> Self {
+        if Self::SCALES_FORCES {
+            self * Self::from_f64(libm::exp2(f64::from(exp)))
+        } else {
+            self
+        }
+    }
+
     /// `e^-x` for `x >= 0` (a negative `x` counts as 0; NaN stays NaN): the
     /// bounded-range exponential of the fixed-step forms. `f64` calls
     /// `libm::exp`; `f32` uses a range-reduced polynomial in `f32` alone

@@ -135,7 +135,6 @@ fn theta_converges_in_f32_too() {
 
 #[cfg(feature = "fixed")]
 #[test]
-#[ignore = "a Q16.16 compensator cannot yet hold h = 1e-3 (Underflow(\"h\")): the scaled fixed-point compensator of issue 18"]
 fn theta_adapts_in_fixed_point() {
     // Q16.16 with the loop of a real drive at 1 kHz: theta^ must move (its
     // offset is carried scaled, so per-tick increments do not round to 0)
@@ -148,7 +147,8 @@ fn theta_adapts_in_fixed_point() {
     run(&ctl, scaled_lugre(1.5), 40.0, |_, s| {
         theta = ctl.compensation().0.theta(s.friction()).to_f64();
     });
-    assert!((theta - 1.5).abs() < 0.1 * 1.5, "{theta}");
+    // measured 1.4993
+    assert!((theta - 1.5).abs() < 0.05 * 1.5, "{theta}");
 }
 
 #[test]
@@ -374,4 +374,102 @@ fn rls_finds_a_coulomb_viscous_plant() {
     let none = loop_params().build::<f64, _>(NoCompensation).unwrap();
     let rms_none = run(&none, plant, 20.0, |_, _| {});
     assert!(rms < 0.5 * rms_none, "{rms} vs {rms_none}");
+}
+
+/// The Q16.16 servo builds for 1 kHz to 40 kHz loops and inertias from
+/// 1e-6 to 1 (issue 18: it failed with `Underflow("h")` at 1 kHz and with
+/// `J / kc = 0.0023`), and its gains act within 0.1 % of the f64 servo's.
+#[cfg(feature = "fixed")]
+#[test]
+fn the_fixed_point_servo_builds_from_1_to_40_khz() {
+    for hz in [1e3, 2e3, 5e3, 1e4, 2e4, 4e4] {
+        for inertia in [1e-6, 1e-5, 1e-4, 0.0023, 0.05, 1.0] {
+            let p = CompensatorParams {
+                h: 1.0 / hz,
+                inertia,
+                ..loop_params()
+            };
+            let fixed = p.build::<Fixed32, _>(NoCompensation).unwrap();
+            let float = p.build::<f64, _>(NoCompensation).unwrap();
+            // a tick whose terms each stay within the limit: the commands agree
+            // to the gains' 0.1 % plus a few units of the last place per term
+            let (x0, x1) = (0.0, 1e-4 / hz);
+            let r = Setpoint {
+                x: 2e-3,
+                v: 0.1,
+                a: 1.0,
+            };
+            let mut sf = CompensatorState::default();
+            let mut sd = CompensatorState::default();
+            fixed.tick(
+                &mut sf,
+                Fixed32::from_f64(x0),
+                Setpoint {
+                    x: Fixed32::from_f64(r.x),
+                    v: Fixed32::from_f64(r.v),
+                    a: Fixed32::from_f64(r.a),
+                },
+            );
+            float.tick(&mut sd, x0, r);
+            let cf = fixed
+                .tick(
+                    &mut sf,
+                    Fixed32::from_f64(x1),
+                    Setpoint {
+                        x: Fixed32::from_f64(r.x),
+                        v: Fixed32::from_f64(r.v),
+                        a: Fixed32::from_f64(r.a),
+                    },
+                )
+                .command
+                .to_f64();
+            let cd = float.tick(&mut sd, x1, r).command;
+            assert!(
+                (cf - cd).abs() < 1e-3 * cd.abs() + 1e-3,
+                "{hz} Hz, J {inertia}: {cf} vs {cd}"
+            );
+        }
+    }
+    // with the fixed-step LuGre observer at the drive's 1 kHz and 10 kHz
+    for hz in [1e3, 1e4] {
+        let model = LuGreParams::OLSSON_1998
+            .build_at::<Fixed32>(1.0 / hz)
+            .unwrap();
+        let p = CompensatorParams {
+            h: 1.0 / hz,
+            ..loop_params()
+        };
+        assert!(p
+            .build(AtPeriod(Observer::new(model, 20.0).unwrap()))
+            .is_ok());
+    }
+}
+
+/// The Q16.16 servo with the fixed-step observer tracks like the f32 one at
+/// 1 kHz: the position's resolution (1.5e-5 rad) is the limit.
+#[cfg(feature = "fixed")]
+#[test]
+fn the_fixed_point_servo_tracks_like_f32() {
+    fn observer_servo<S: Scalar>() -> Compensator<S, AtPeriod<Observer<LuGreAt<S>, S>>> {
+        let model = LuGreParams::OLSSON_1998.build_at::<S>(1e-3).unwrap();
+        loop_params()
+            .build(AtPeriod(Observer::new(model, 20.0).unwrap()))
+            .unwrap()
+    }
+    let fixed = run(
+        &observer_servo::<Fixed32>(),
+        scaled_lugre(1.0),
+        20.0,
+        |_, _| {},
+    );
+    let float = run(&observer_servo::<f32>(), scaled_lugre(1.0), 20.0, |_, _| {});
+    let none = run(
+        &loop_params().build::<Fixed32, _>(NoCompensation).unwrap(),
+        scaled_lugre(1.0),
+        20.0,
+        |_, _| {},
+    );
+    eprintln!("rms: fixed {fixed:e}, f32 {float:e}, none {none:e}");
+    assert!(fixed < 0.1 * none, "fixed {fixed} vs none {none}");
+    assert!(fixed < float + 5e-5, "fixed {fixed} vs f32 {float}");
 }

@@ -500,6 +500,16 @@ type ServoAdaptive = Compensator<f32, AtPeriod<AdaptiveObserver<LuGreAt<f32>, f3
 type ServoAdaptiveState = CompensatorState<f32, AdaptiveState<LuGreAtState<f32>, f32>>;
 step_fn!(step_servo_adaptive_at_f32, ServoAdaptive, ServoAdaptiveState, (f32, Setpoint<f32>) => f32,
     |m, s, input| m.tick(s, input.0, input.1).command);
+// both ticks in Q16.16, for cores without an FPU
+type ServoAtQ16 = Compensator<Fixed32, AtPeriod<LuGreAtObserver<Fixed32>>>;
+type ServoAtStateQ16 = CompensatorState<Fixed32, LuGreAtState<Fixed32>>;
+step_fn!(step_servo_lugre_at_q16, ServoAtQ16, ServoAtStateQ16,
+    (Fixed32, Setpoint<Fixed32>) => Fixed32, |m, s, input| m.tick(s, input.0, input.1).command);
+type ServoAdaptiveQ16 = Compensator<Fixed32, AtPeriod<AdaptiveObserver<LuGreAt<Fixed32>, Fixed32>>>;
+type ServoAdaptiveStateQ16 =
+    CompensatorState<Fixed32, AdaptiveState<LuGreAtState<Fixed32>, Fixed32>>;
+step_fn!(step_servo_adaptive_at_q16, ServoAdaptiveQ16, ServoAdaptiveStateQ16,
+    (Fixed32, Setpoint<Fixed32>) => Fixed32, |m, s, input| m.tick(s, input.0, input.1).command);
 
 /// One row per fixed-step form in scalar `$S` (label `$label`).
 macro_rules! fixed_step_rows {
@@ -649,6 +659,20 @@ fn servo_sweep(k: usize) -> (f32, Setpoint<f32>) {
         a: 0.0,
     };
     (x, r)
+}
+
+/// A servo tick's input in Q16.16.
+fn q16(input: (f32, Setpoint<f32>)) -> (Fixed32, Setpoint<Fixed32>) {
+    let q = |x: f32| Fixed32::from_f64(f64::from(x));
+    let (x, r) = input;
+    (
+        q(x),
+        Setpoint {
+            x: q(r.x),
+            v: q(r.v),
+            a: q(r.a),
+        },
+    )
 }
 
 /// The servo tick's stress: position errors and reference velocities from
@@ -919,6 +943,46 @@ fn main() -> ! {
     if !(tick_adaptive.avg > 0.0 && tick_adaptive.worst >= tick_adaptive.avg) {
         fail("implausible adaptive servo tick count");
     }
+    // the same two ticks in Q16.16
+    let lugre_q16 = NOMINAL
+        .build_at::<Fixed32>(f64::from(H))
+        .unwrap_or_else(|_| fail("fixed-step LuGre parameters in Q16.16"));
+    let observer_q16 =
+        Observer::new(lugre_q16, OBSERVER_GAIN).unwrap_or_else(|_| fail("observer gain"));
+    let servo_q16 = controller
+        .build(AtPeriod(observer_q16))
+        .unwrap_or_else(|_| fail("servo gains in Q16.16"));
+    row(
+        pt,
+        "servo-lugre",
+        "step_servo_lugre_at_q16",
+        "fixed",
+        Form::Fixed,
+        &servo_q16,
+        step_servo_lugre_at_q16,
+        |k| q16(servo_sweep(k)),
+        |k| q16(servo_stress(k)),
+        STRESS_LEN,
+    );
+    let servo_adaptive_q16 = controller
+        .build(AtPeriod(
+            adaptation()
+                .build(observer_q16, f64::from(H))
+                .unwrap_or_else(|_| fail("adaptation parameters in Q16.16")),
+        ))
+        .unwrap_or_else(|_| fail("servo gains in Q16.16"));
+    row(
+        pt,
+        "servo-adaptive",
+        "step_servo_adaptive_at_q16",
+        "fixed",
+        Form::Fixed,
+        &servo_adaptive_q16,
+        step_servo_adaptive_at_q16,
+        |k| q16(servo_sweep(k)),
+        |k| q16(servo_stress(k)),
+        STRESS_LEN,
+    );
     // the parts: e^(-(v/vs)^2) of the Stribeck curve and e^(-a h) - 1 of the
     // relaxation (a h = sigma0 |v| h / g, about 0.01 on the sweep)
     let stribeck_arg = |v: f64| -(v / curve.vs) * (v / curve.vs);
