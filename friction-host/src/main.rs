@@ -157,12 +157,12 @@ struct IdentifyArgs {
     /// Cut-off of the zero-phase Butterworth low-pass (Hz) [default: sample rate / 10].
     #[arg(long)]
     cutoff: Option<f64>,
-    /// Order of the Butterworth low-pass.
-    #[arg(long, default_value_t = 4)]
-    filter_order: usize,
-    /// Decimation factor [default: largest keeping Nyquist >= 2.5 cut-off].
-    #[arg(long)]
-    decimate: Option<usize>,
+    /// Order of the Butterworth low-pass, 1 to 16.
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=16))]
+    filter_order: u32,
+    /// Decimation factor, at least 1 [default: largest keeping Nyquist >= 2.5 cut-off].
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    decimate: Option<u64>,
     /// Stribeck exponent (fixed during the fit).
     #[arg(long, default_value_t = 2.0)]
     stribeck_exponent: f64,
@@ -368,8 +368,8 @@ fn run(cli: Cli) -> Result<bool> {
                 inertia: a.inertia,
                 conditioning: identify::Conditioning {
                     cutoff: a.cutoff,
-                    order: a.filter_order,
-                    decimate: a.decimate,
+                    order: a.filter_order as usize,
+                    decimate: a.decimate.map(|d| usize::try_from(d).unwrap_or(usize::MAX)),
                 },
                 stribeck_exponent: a.stribeck_exponent,
                 lugre_static: a.lugre_static,

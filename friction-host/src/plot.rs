@@ -30,9 +30,18 @@ const COLORS: [RGBColor; 6] = [
     RGBColor(23, 190, 207),
 ];
 
+/// Values beyond this magnitude are drawn at it: a span between two
+/// finite values near `f64::MAX` would overflow to infinity, and plotters
+/// loops forever on an infinite or vanishing axis.
+const AXIS_LIMIT: f64 = 1e300;
+
+/// The axis range of `values` (finite ones; positive ones for a log axis),
+/// padded by 5 % of the span, at least 1e-9 of the largest magnitude and
+/// 1e-100, so that the range is finite and wide enough to place ticks.
 fn range(values: impl Iterator<Item = f64>, axis: Axis) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for v in values.filter(|v| v.is_finite() && (axis == Axis::Linear || *v > 0.0)) {
+        let v = v.clamp(-AXIS_LIMIT, AXIS_LIMIT);
         lo = lo.min(v);
         hi = hi.max(v);
     }
@@ -40,12 +49,15 @@ fn range(values: impl Iterator<Item = f64>, axis: Axis) -> (f64, f64) {
         return (0.0, 1.0);
     }
     if axis == Axis::Log {
-        return (lo, if hi > lo { hi } else { lo * 10.0 });
+        let lo = lo.max(1e-300);
+        return (lo, if hi > 1.01 * lo { hi } else { lo * 10.0 });
     }
+    let magnitude = lo.abs().max(hi.abs());
     let pad = if hi > lo {
-        0.05 * (hi - lo)
+        // 0.05 hi - 0.05 lo cannot overflow within the limit
+        (0.05 * hi - 0.05 * lo).max(1e-9 * magnitude).max(1e-100)
     } else {
-        lo.abs().max(1e-12) * 0.1
+        (0.1 * magnitude).max(1e-12)
     };
     (lo - pad, hi + pad)
 }
@@ -172,7 +184,12 @@ fn draw_chart<DB: DrawingBackend>(
                 } else {
                     pts.collect()
                 };
-                let pts = thin(pts);
+                // beyond AXIS_LIMIT, drawn at the axis' edge (plotters'
+                // pixel arithmetic overflows far outside its range)
+                let pts = thin(pts)
+                    .into_iter()
+                    .map(|(x, y)| (x.clamp(x0, x1), y.clamp(y0, y1)))
+                    .collect::<Vec<_>>();
                 chart
                     .draw_series(LineSeries::new(pts, color.stroke_width(2)))
                     .map_err(|e| err(&e))?
@@ -248,4 +265,42 @@ fn thin(points: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
 /// Pairs two columns into plot points.
 pub fn zip(x: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
     x.iter().copied().zip(y.iter().copied()).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 18: plots looped forever when an axis range overflowed or
+    /// vanished. Each case must finish (within a minute, on a thread).
+    #[test]
+    fn hostile_ranges_give_a_plot() {
+        let cases: Vec<Vec<(f64, f64)>> = vec![
+            vec![(0.0, -1.5e308), (1.0, 1.5e308)],
+            vec![(-1.7e308, 0.0), (1.7e308, 1.0)],
+            vec![(0.0, 1e-300), (1.0, 2e-300)],
+            vec![(0.0, 1.0), (1.0, 1.0 + 1e-15)],
+            vec![(0.0, 1e300), (1.0, 1e300)],
+            vec![(0.0, f64::NAN), (1.0, f64::INFINITY)],
+        ];
+        let dir = tempfile::tempdir().unwrap();
+        for (i, points) in cases.into_iter().enumerate() {
+            for axis in [Axis::Linear, Axis::Log] {
+                let path = dir.path().join(format!("{i}.svg"));
+                let (tx, rx) = std::sync::mpsc::channel();
+                let p = path.clone();
+                let pts = points.clone();
+                std::thread::spawn(move || {
+                    let s = [Series {
+                        label: "s",
+                        points: pts,
+                    }];
+                    let _ = tx.send(line_plot(&p, "t", ("x", axis), "y", &s).is_ok());
+                });
+                let done = rx.recv_timeout(std::time::Duration::from_secs(60));
+                assert_eq!(done, Ok(true), "case {i}: {points:?}");
+                assert!(path.exists());
+            }
+        }
+    }
 }

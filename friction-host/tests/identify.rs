@@ -404,7 +404,7 @@ fn bad_input_exits_2_with_a_clear_message() {
         rows.push_str(&format!("{t},{},{}\n", (t * 3.0).sin(), (t * 3.0).cos()));
     }
     let good = write(dir.path(), "good.csv", &rows);
-    let cases: [(&str, String, &[&str], &str); 5] = [
+    let cases: [(&str, String, &[&str], &str); 8] = [
         (
             "missing column",
             good.clone(),
@@ -439,6 +439,26 @@ fn bad_input_exits_2_with_a_clear_message() {
             &["--cutoff", "600"],
             "Nyquist",
         ),
+        // issue 18: an index wrapped and panicked
+        (
+            "cut-off far below the record's length",
+            good.clone(),
+            &["--cutoff", "1e-20"],
+            "raise --cutoff",
+        ),
+        // issue 18: an unbounded order took tens of GB
+        (
+            "filter order beyond 16",
+            good.clone(),
+            &["--filter-order", "100000000"],
+            "--filter-order",
+        ),
+        (
+            "decimation 0",
+            good.clone(),
+            &["--decimate", "0"],
+            "--decimate",
+        ),
     ];
     for (what, input, extra, message) in cases {
         let model = if what == "model not there" {
@@ -469,8 +489,11 @@ fn a_parameter_beyond_its_bound_exits_1() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(err.contains("`fc` ends at its bound (fc > 0)"), "{err}");
-    assert!(out.join("report.md").exists() && !out.join("params.toml").exists());
-    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    // a rejected fit's report goes to rejected/, nothing beside it
+    let rejected = out.join("rejected");
+    assert!(rejected.join("report.md").exists() && !out.join("params.toml").exists());
+    assert!(!out.join("report.md").exists());
+    let report = std::fs::read_to_string(rejected.join("report.md")).unwrap();
     assert!(report.contains("**Rejected:**"), "{report}");
     // a good file: exit 0, every output written
     let ok = identify_cli(&input, "coulomb", &out, &["--quiet", "--force-gain", "-1"]);
@@ -489,4 +512,47 @@ fn a_parameter_beyond_its_bound_exits_1() {
     ] {
         assert!(out.join(f).exists(), "{f}");
     }
+    assert!(
+        !rejected.exists(),
+        "an earlier rejection is stale beside an accepted fit"
+    );
+    // issue 18: a rejected run leaves the accepted outputs as they were
+    let params = std::fs::read(out.join("params.toml")).unwrap();
+    let report = std::fs::read(out.join("report.md")).unwrap();
+    let again = identify_cli(&input, "coulomb-viscous", &out, &["--quiet"]);
+    assert_eq!(again.status.code(), Some(1));
+    assert_eq!(std::fs::read(out.join("params.toml")).unwrap(), params);
+    assert_eq!(std::fs::read(out.join("report.md")).unwrap(), report);
+    assert!(rejected.join("report.md").exists());
+    // and input that fails outright writes nothing
+    let bad = write(dir.path(), "bad.csv", "t,x,f\n0,0,0\n");
+    let failed = identify_cli(&bad, "coulomb", &out, &["--quiet"]);
+    assert_eq!(failed.status.code(), Some(2));
+    assert_eq!(std::fs::read(out.join("params.toml")).unwrap(), params);
+    assert!(rejected.join("report.md").exists());
+    // a run with --validate, then one without: no stale validation.svg
+    let with = identify_cli(
+        &input,
+        "coulomb",
+        &out,
+        &["--quiet", "--force-gain", "-1", "--validate", &input],
+    );
+    assert_eq!(
+        with.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&with.stderr)
+    );
+    assert!(out.join("validation.svg").exists());
+    let without = identify_cli(&input, "coulomb", &out, &["--quiet", "--force-gain", "-1"]);
+    assert_eq!(without.status.code(), Some(0));
+    assert!(!out.join("validation.svg").exists());
+    assert!(!rejected.exists());
+    // no staging folder left behind
+    let left: Vec<_> = std::fs::read_dir(&out)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().starts_with('.'))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
 }

@@ -293,10 +293,11 @@ pub fn prepare(path: &Path, cols: &Columns, cond: &Conditioning) -> Result<Signa
     // drop the ends, where the filtered position depends on the padding
     // (three periods of the cut-off, and at least the one-sided differences)
     let edge = lp.settle().max(1);
-    if n <= 2 * edge + MIN_SAMPLES {
+    let needed = edge.saturating_mul(2).saturating_add(MIN_SAMPLES);
+    if n <= needed {
         bail!(
-            "{origin}: {n} samples; with the filter's settling time ({edge} samples at each end, dropped) identification needs at least {}",
-            2 * edge + MIN_SAMPLES + 1
+            "{origin}: {n} samples; with the filter's settling time ({edge} samples at each end, dropped) identification needs at least {} (raise --cutoff, now {cutoff} Hz)",
+            needed.saturating_add(1)
         );
     }
     let inner = edge..n - edge;
@@ -382,9 +383,36 @@ fn progress_bar(show: bool, model: &str) -> indicatif::ProgressBar {
     bar
 }
 
-/// Fits the model and writes `params.toml` (when the fit is accepted),
-/// `report.md`, `fit.csv` and the plots into the output folder. Bad input
-/// is an error; a rejected fit is reported in [`Outcome::rejected`].
+/// What `identify` writes into its output folder.
+const OUTPUTS: [&str; 6] = [
+    "params.toml",
+    "report.md",
+    "fit.csv",
+    "force.svg",
+    "friction.svg",
+    "validation.svg",
+];
+
+/// Where a rejected fit's report goes, inside the output folder.
+pub const REJECTED: &str = "rejected";
+
+/// A folder the run writes into first, removed when dropped (after an
+/// error: earlier outputs stay as they were).
+struct Staging(PathBuf);
+
+impl Drop for Staging {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Fits the model and writes its outputs, all or nothing. An accepted fit:
+/// `params.toml`, `report.md`, `fit.csv` and the plots replace the output
+/// folder's earlier ones (an output this run does not produce, e.g.
+/// `validation.svg` without `--validate`, is removed). A rejected fit
+/// ([`Outcome::rejected`]) leaves them as they were and writes its report
+/// and plots into `rejected/` inside the output folder. Bad input is an
+/// error and writes nothing.
 pub fn identify(o: &Options) -> Result<Outcome> {
     check_model(&o.model)?;
     if !(o.stribeck_exponent.is_finite() && o.stribeck_exponent > 0.0) {
@@ -395,15 +423,9 @@ pub fn identify(o: &Options) -> Result<Outcome> {
     if let Some(v) = &o.validate {
         inputs.push(v);
     }
-    for name in [
-        "params.toml",
-        "report.md",
-        "fit.csv",
-        "force.svg",
-        "friction.svg",
-        "validation.svg",
-    ] {
+    for name in OUTPUTS {
         crate::io::refuse_overwrite("--output", &o.output.join(name), &inputs)?;
+        crate::io::refuse_overwrite("--output", &o.output.join(REJECTED).join(name), &inputs)?;
     }
     let s = prepare(&o.input, &o.columns, &o.conditioning)?;
     let val = match &o.validate {
@@ -428,6 +450,11 @@ pub fn identify(o: &Options) -> Result<Outcome> {
     };
     std::fs::create_dir_all(&o.output)
         .map_err(|e| anyhow::anyhow!("cannot create {}: {e}", o.output.display()))?;
+    let staging = Staging(o.output.join(format!(".identify-{}", std::process::id())));
+    let _ = std::fs::remove_dir_all(&staging.0);
+    std::fs::create_dir(&staging.0)
+        .map_err(|e| anyhow::anyhow!("cannot create {}: {e}", staging.0.display()))?;
+    let dir = staging.0.as_path();
     let fo = fit::FitOptions {
         inertia: o.inertia,
         stribeck_exponent: o.stribeck_exponent,
@@ -442,7 +469,22 @@ pub fn identify(o: &Options) -> Result<Outcome> {
     };
     bar.finish_and_clear();
     let (fit, rejected) = match result {
-        Ok(f) => (Some(f), None),
+        Ok(f) => {
+            let undetermined = f
+                .params
+                .iter()
+                .find(|p| !(p.value.is_finite() && p.std.is_finite()));
+            match undetermined {
+                Some(p) => {
+                    let why = format!(
+                        "`{}` = {:e} with standard deviation {:e}: the data do not determine it",
+                        p.name, p.value, p.std
+                    );
+                    (Some(f), Some(why))
+                }
+                None => (Some(f), None),
+            }
+        }
         Err(r) => (r.fit.map(|b| *b), Some(r.reason)),
     };
     let mut out = Outcome {
@@ -457,7 +499,7 @@ pub fn identify(o: &Options) -> Result<Outcome> {
         if let Some(pred) = fit.predict(&s) {
             out.estimation = Some(report::ErrorStats::new(&s.f, &pred));
             report::force_plot(
-                &o.output.join("force.svg"),
+                &dir.join("force.svg"),
                 &format!("{}: measured and predicted force", o.model),
                 &s,
                 &pred,
@@ -468,13 +510,13 @@ pub fn identify(o: &Options) -> Result<Outcome> {
             ));
             let fr = report::measured_friction(fit, &s);
             crate::io::write_columns(
-                &o.output.join("fit.csv"),
+                &dir.join("fit.csv"),
                 &["t", "v", "a", "f", "f_pred", "friction"],
                 &[&s.t, &s.v, &s.a, &s.f, &pred, &fr],
             )?;
         }
         report::friction_plot(
-            &o.output.join("friction.svg"),
+            &dir.join("friction.svg"),
             &format!("{}: friction against velocity", o.model),
             fit,
             &s,
@@ -487,7 +529,7 @@ pub fn identify(o: &Options) -> Result<Outcome> {
             if let Some(pred) = fit.predict(v) {
                 out.validation = Some(report::ErrorStats::new(&v.f, &pred));
                 report::force_plot(
-                    &o.output.join("validation.svg"),
+                    &dir.join("validation.svg"),
                     &format!("{}: cross-validation", o.model),
                     v,
                     &pred,
@@ -499,16 +541,23 @@ pub fn identify(o: &Options) -> Result<Outcome> {
             }
         }
     }
-    let params_path = o.output.join("params.toml");
+    if out.rejected.is_none() {
+        if let Some(e) = out
+            .estimation
+            .filter(|e| !(e.rms.is_finite() && e.relative.is_finite()))
+        {
+            out.rejected = Some(format!(
+                "the prediction error is not finite (RMS {:e}, relative {:e} %)",
+                e.rms, e.relative
+            ));
+        }
+    }
     if out.rejected.is_none() {
         if let Some(fit) = &out.fit {
             let text = report::params_toml(fit, o);
             crate::params::ParamFile::parse(&text, "identified parameters")?;
-            crate::io::write_bytes(&params_path, text.as_bytes())?;
+            crate::io::write_bytes(&dir.join("params.toml"), text.as_bytes())?;
         }
-    } else if params_path.exists() {
-        // a stale file from an earlier run must not pass for this one's result
-        std::fs::remove_file(&params_path)?;
     }
     let md = report::markdown(&report::Report {
         options: o,
@@ -519,9 +568,35 @@ pub fn identify(o: &Options) -> Result<Outcome> {
         validation: out.validation,
         plots,
     });
-    crate::io::write_bytes(&o.output.join("report.md"), md.as_bytes())?;
+    crate::io::write_bytes(&dir.join("report.md"), md.as_bytes())?;
+    publish(dir, &o.output, out.rejected.is_some())?;
     out.signals = s;
     Ok(out)
+}
+
+/// Moves the staged outputs into `output`: for an accepted fit, each
+/// replaces its earlier version and an earlier output this run did not
+/// produce (and an earlier `rejected/`) is removed; for a rejected one, the
+/// whole staging folder becomes `rejected/`, the accepted outputs untouched.
+fn publish(staged: &Path, output: &Path, rejected: bool) -> Result<()> {
+    let fail =
+        |what: &Path, e: std::io::Error| anyhow::anyhow!("cannot write {}: {e}", what.display());
+    let rejected_dir = output.join(REJECTED);
+    if rejected_dir.exists() {
+        std::fs::remove_dir_all(&rejected_dir).map_err(|e| fail(&rejected_dir, e))?;
+    }
+    if rejected {
+        return std::fs::rename(staged, &rejected_dir).map_err(|e| fail(&rejected_dir, e));
+    }
+    for name in OUTPUTS {
+        let (from, to) = (staged.join(name), output.join(name));
+        if from.exists() {
+            std::fs::rename(&from, &to).map_err(|e| fail(&to, e))?;
+        } else if to.exists() {
+            std::fs::remove_file(&to).map_err(|e| fail(&to, e))?;
+        }
+    }
+    Ok(())
 }
 
 /// The command: runs [`identify`] and prints a summary. `Ok(false)` when the
@@ -560,7 +635,12 @@ pub fn run(o: &Options) -> Result<bool> {
             e.relative, e.rms
         );
     }
-    println!("  report: {}", o.output.join("report.md").display());
+    let folder = if out.rejected.is_some() {
+        o.output.join(REJECTED)
+    } else {
+        o.output.clone()
+    };
+    println!("  report: {}", folder.join("report.md").display());
     match out.rejected {
         Some(why) => {
             eprintln!("error: fit rejected: {why}");
