@@ -31,7 +31,7 @@
 //! ([`Observer::with_damping`]).
 
 use crate::fixed_step::FixedStepObservable;
-use crate::model::{checked_inputs, non_negative, FrictionModel, ParamError};
+use crate::model::{checked_inputs, convert, non_negative, FrictionModel, ParamError};
 use crate::Scalar;
 
 /// A state model whose elastic input accepts an observer's velocity offset.
@@ -82,13 +82,29 @@ pub struct Observer<M, S> {
 
 impl<S: Scalar, M> Observer<M, S> {
     /// Wraps `model` with correction gain `k >= 0` (1/s; parameter `gain`).
-    /// The `sigma1 dz^/dt` term is included by default.
+    /// The `sigma1 dz^/dt` term is included by default. A gain the scalar
+    /// cannot hold within 0.1 % is refused, naming `gain`: too large
+    /// (`NotRepresentable`, e.g. 1e9 in Q16.16) or too small (`Underflow`,
+    /// e.g. 1e-6 in Q16.16), never saturated or zeroed.
+    ///
+    /// ```
+    /// # #[cfg(feature = "fixed")] {
+    /// use friction_core::{Fixed32, LuGreParams, Observer, ParamError};
+    /// let model = LuGreParams::OLSSON_1998.build_at::<Fixed32>(1e-3)?;
+    /// type Q = Observer<friction_core::LuGreAt<Fixed32>, Fixed32>;
+    /// assert!(Q::new(model, 200.0).is_ok());
+    /// assert_eq!(Q::new(model, 1e9).err(), Some(ParamError::NotRepresentable("gain")));
+    /// assert_eq!(Q::new(model, 1e-6).err(), Some(ParamError::Underflow("gain")));
+    /// # }
+    /// # Ok::<(), friction_core::ParamError>(())
+    /// ```
     pub fn new(model: M, gain: f64) -> Result<Self, ParamError> {
         non_negative("gain", gain)?;
-        let gain = S::from_f64(gain);
-        if !gain.is_finite() {
-            return Err(ParamError::NotRepresentable("gain"));
-        }
+        let gain = if gain == 0.0 {
+            S::ZERO
+        } else {
+            convert("gain", gain)?
+        };
         Ok(Self {
             model,
             gain,
