@@ -731,21 +731,32 @@ pub const OUTPUTS: [&str; 5] = [
     "adaptation.svg",
 ];
 
+/// The parameter file of a servo command (or the built-in
+/// `olsson1998-servo` set) and the name its messages use, after checking
+/// that none of `outputs` in `output` is that file.
+pub(crate) fn load(
+    params: Option<&Path>,
+    output: &Path,
+    outputs: &[&str],
+) -> Result<(ParamFile, String)> {
+    match params {
+        Some(p) => {
+            for name in outputs {
+                crate::io::refuse_overwrite("--output", &output.join(name), &[p])?;
+            }
+            Ok((ParamFile::load(p)?, p.display().to_string()))
+        }
+        None => Ok((
+            crate::params::param_set("olsson1998-servo")?,
+            "params/olsson1998-servo.toml".to_string(),
+        )),
+    }
+}
+
 /// `friction servo`: runs, prints the lines and the table, writes the trace
 /// and plots. `params` = `None` uses the built-in `olsson1998-servo` set.
 pub fn run(params: Option<&Path>, output: &Path) -> Result<bool> {
-    if let Some(p) = params {
-        for name in OUTPUTS {
-            crate::io::refuse_overwrite("--output", &output.join(name), &[p])?;
-        }
-    }
-    let (file, origin) = match params {
-        Some(p) => (ParamFile::load(p)?, p.display().to_string()),
-        None => (
-            crate::params::param_set("olsson1998-servo")?,
-            "params/olsson1998-servo.toml".to_string(),
-        ),
-    };
+    let (file, origin) = load(params, output, &OUTPUTS)?;
     let bench = benchmark(&file, &origin)?;
     for line in bench.lines() {
         println!("{line}");

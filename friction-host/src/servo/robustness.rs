@@ -476,18 +476,7 @@ fn colour(ratio: f64) -> RGBColor {
 /// heat map.
 pub fn run(params: Option<&Path>, output: &Path, points: usize) -> Result<bool> {
     let grid = Grid::new(points)?;
-    if let Some(p) = params {
-        for name in OUTPUTS {
-            crate::io::refuse_overwrite("--output", &output.join(name), &[p])?;
-        }
-    }
-    let (file, origin) = match params {
-        Some(p) => (ParamFile::load(p)?, p.display().to_string()),
-        None => (
-            crate::params::param_set("olsson1998-servo")?,
-            "params/olsson1998-servo.toml".to_string(),
-        ),
-    };
+    let (file, origin) = super::load(params, output, &OUTPUTS)?;
     let bar = progress_bar();
     let result = map(&file, &origin, &grid, &|done, total| {
         bar.set_length(total as u64);
