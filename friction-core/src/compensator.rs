@@ -44,7 +44,7 @@
 
 use crate::fixed_step::FixedStepObservable;
 use crate::gain::Gain;
-use crate::model::{convert, non_negative, positive, FrictionModel, ParamError};
+use crate::model::{convert, magnitude, magnitude_or_zero, positive, FrictionModel, ParamError};
 use crate::observer::{Observable, Observer};
 use crate::Scalar;
 use core::fmt::Debug;
@@ -211,15 +211,17 @@ pub struct CompensatorParams {
 
 impl CompensatorParams {
     /// Checks `h > 0`, gains and `inertia` `>= 0`, `torque_constant > 0`,
-    /// `limit > 0`, all finite.
+    /// `limit > 0`, all finite and (where not 0) within
+    /// [`PARAM_RANGE`](crate::PARAM_RANGE), so that the ratios the tick
+    /// carries (`J/kc`, `ki h`, `1/h`) stay normal numbers.
     pub fn validate(&self) -> Result<(), ParamError> {
-        positive("h", self.h)?;
-        non_negative("kp", self.kp)?;
-        non_negative("ki", self.ki)?;
-        non_negative("kd", self.kd)?;
-        non_negative("inertia", self.inertia)?;
-        positive("torque_constant", self.torque_constant)?;
-        positive("limit", self.limit)?;
+        magnitude("h", self.h)?;
+        magnitude_or_zero("kp", self.kp)?;
+        magnitude_or_zero("ki", self.ki)?;
+        magnitude_or_zero("kd", self.kd)?;
+        magnitude_or_zero("inertia", self.inertia)?;
+        magnitude("torque_constant", self.torque_constant)?;
+        magnitude("limit", self.limit)?;
         Ok(())
     }
 
@@ -260,6 +262,9 @@ impl CompensatorParams {
             S::from_f64(self.h)
         };
         let zero = Gain::new("inertia", 0.0)?;
+        // 1/kc first: a torque constant beyond the gains' range is named as
+        // such, not as the inertia of the ratio J/kc it also spoils
+        let inv_kc = Gain::new("torque_constant", 1.0 / self.torque_constant)?;
         Ok(Compensator {
             compensation,
             h,
@@ -268,7 +273,7 @@ impl CompensatorParams {
             ki_h: Gain::new("ki", self.ki * self.h)?,
             kd: Gain::new("kd", self.kd)?,
             feed_forward: Gain::new("inertia", self.inertia / self.torque_constant)?,
-            inv_kc: Gain::new("torque_constant", 1.0 / self.torque_constant)?,
+            inv_kc,
             limit,
             term_limit: convert("limit", 4.0 * self.limit)?,
             signal_limit: S::VELOCITY_LIMIT,

@@ -57,7 +57,7 @@ pub trait FixedStepObservable<S: Scalar>: FixedStepModel<S> {
 
 /// Checks a design-time sample period: finite and `> 0`.
 pub(crate) fn period(h: f64) -> Result<f64, crate::ParamError> {
-    crate::model::positive("h", h)
+    crate::model::magnitude("h", h)
 }
 
 /// The fixed-step forms' input check: `Some(v)` clamped to

@@ -35,7 +35,7 @@ pub use compensator::{
 #[cfg(feature = "fixed")]
 pub use fixed_point::Fixed32;
 pub use fixed_step::{FixedStepModel, FixedStepObservable};
-pub use model::{FrictionModel, ParamError, VELOCITY_LIMIT};
+pub use model::{FrictionModel, ParamError, PARAM_RANGE, VELOCITY_LIMIT};
 pub use models::bristle::{Bristle, BristleParams, BristleState};
 pub use models::dahl::{Dahl, DahlAt, DahlParams, DahlState};
 pub use models::elasto_plastic::{ElastoPlastic, ElastoPlasticAt, ElastoPlasticParams};

@@ -34,6 +34,10 @@ pub enum ParamError {
     /// A force term carrying this parameter overflows the chosen scalar type
     /// for some `|v| <= VELOCITY_LIMIT` (e.g. `sigma2 * 1e6`).
     ForceOverflow(&'static str),
+    /// The parameter's magnitude lies outside [`PARAM_RANGE`] (it may be 0
+    /// where 0 is allowed): beyond it a product or ratio of parameters
+    /// could leave the scalar's range inside a step.
+    OutOfRange(&'static str),
     /// The parameter (an exponent) must be `>= 1`.
     BelowOne(&'static str),
     /// The weights named by the parameter (one per element) must sum to 1
@@ -74,6 +78,10 @@ impl fmt::Display for ParamError {
                 f,
                 "a force term with parameter `{name}` overflows the chosen scalar type at the velocity limit"
             ),
+            Self::OutOfRange(name) => write!(
+                f,
+                "parameter `{name}` must lie within 1e-20 ..= 1e20 in magnitude"
+            ),
             Self::BelowOne(name) => write!(f, "parameter `{name}` must be >= 1"),
             Self::WeightsNotOne(name) => write!(
                 f,
@@ -103,6 +111,33 @@ pub(crate) fn positive(name: &'static str, value: f64) -> Result<f64, ParamError
     }
 }
 
+/// The magnitudes a model parameter may take, whatever its unit: 1e-20 to
+/// 1e20, far beyond any mechanism (stiffnesses to 1e9 N/m, deflections and
+/// Stribeck velocities to 1e-9) and narrow enough that a product or ratio
+/// of a few parameters, a velocity up to [`VELOCITY_LIMIT`] and a period
+/// stays finite and normal in `f64` (the whole-range property test,
+/// `tests/whole_range.rs`, draws parameters over all of `f64`).
+pub const PARAM_RANGE: (f64, f64) = (1e-20, 1e20);
+
+/// A model parameter: finite, `> 0`, within [`PARAM_RANGE`].
+pub(crate) fn magnitude(name: &'static str, value: f64) -> Result<f64, ParamError> {
+    let value = positive(name, value)?;
+    if (PARAM_RANGE.0..=PARAM_RANGE.1).contains(&value) {
+        Ok(value)
+    } else {
+        Err(ParamError::OutOfRange(name))
+    }
+}
+
+/// A model parameter that may be 0: finite, `>= 0`, 0 or within [`PARAM_RANGE`].
+pub(crate) fn magnitude_or_zero(name: &'static str, value: f64) -> Result<f64, ParamError> {
+    if non_negative(name, value)? == 0.0 {
+        Ok(0.0)
+    } else {
+        magnitude(name, value)
+    }
+}
+
 /// Checks that `value` is finite and `>= 0`.
 pub(crate) fn non_negative(name: &'static str, value: f64) -> Result<f64, ParamError> {
     if !value.is_finite() {
@@ -123,6 +158,17 @@ pub(crate) fn convert<S: Scalar>(name: &'static str, value: f64) -> Result<S, Pa
         Conversion::Overflow => ParamError::NotRepresentable(name),
         Conversion::Underflow | Conversion::Rounding => ParamError::Underflow(name),
     })
+}
+
+/// Converts a quantity derived in `f64` from validated non-zero parameters
+/// (a ratio such as `Fc / sigma0`, a product such as `sigma0 h`): besides
+/// [`convert`]'s checks, a result that already underflowed in `f64` (to zero
+/// or a subnormal) is [`ParamError::Underflow`], not a silent zero.
+pub(crate) fn convert_derived<S: Scalar>(name: &'static str, value: f64) -> Result<S, ParamError> {
+    if value.is_finite() && !value.is_normal() {
+        return Err(ParamError::Underflow(name));
+    }
+    convert(name, value)
 }
 
 /// Checks that a force magnitude (computed in `f64` from the parameters at

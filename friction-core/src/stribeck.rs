@@ -7,7 +7,8 @@
 //! the simplest compensators.
 
 use crate::model::{
-    check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
+    check_force, checked_inputs, convert, convert_derived, magnitude, magnitude_or_zero,
+    FrictionModel, ParamError,
 };
 use crate::Scalar;
 
@@ -39,10 +40,10 @@ impl StribeckParams {
 
     /// Checks `Fc > 0`, `Fs >= Fc`, `vs > 0`, `delta > 0`, all finite.
     pub fn validate(&self) -> Result<(), ParamError> {
-        positive("fc", self.fc)?;
-        positive("fs", self.fs)?;
-        positive("vs", self.vs)?;
-        positive("stribeck_exponent", self.exponent)?;
+        magnitude("fc", self.fc)?;
+        magnitude("fs", self.fs)?;
+        magnitude("vs", self.vs)?;
+        magnitude("stribeck_exponent", self.exponent)?;
         if self.fs < self.fc {
             return Err(ParamError::StaticBelowCoulomb);
         }
@@ -63,7 +64,7 @@ impl StribeckParams {
             fc: convert("fc", self.fc)?,
             fs: convert("fs", self.fs)?,
             fs_minus_fc: convert("fs", self.fs - self.fc)?,
-            inv_vs: convert("vs", 1.0 / self.vs)?,
+            inv_vs: convert_derived("vs", 1.0 / self.vs)?,
             shape,
         })
     }
@@ -77,7 +78,7 @@ enum Shape<S> {
     Power(S),
 }
 
-/// The built Stribeck curve `g(v)`: positive, even, between `Fc` and `Fs`.
+/// The built Stribeck curve `g(v)`: magnitude, even, between `Fc` and `Fs`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct StribeckCurve<S> {
@@ -164,8 +165,8 @@ pub struct CoulombViscousParams {
 impl CoulombViscousParams {
     /// Validates and builds the map.
     pub fn build<S: Scalar>(&self) -> Result<CoulombViscous<S>, ParamError> {
-        positive("fc", self.fc)?;
-        non_negative("sigma2", self.sigma2)?;
+        magnitude("fc", self.fc)?;
+        magnitude_or_zero("sigma2", self.sigma2)?;
         check_force::<S>("sigma2", self.sigma2 * S::VELOCITY_LIMIT.to_f64())?;
         Ok(CoulombViscous {
             fc: convert("fc", self.fc)?,
@@ -225,7 +226,7 @@ impl StribeckMapParams {
     /// Validates and builds the map.
     pub fn build<S: Scalar>(&self) -> Result<StribeckMap<S>, ParamError> {
         let curve = self.curve.build()?;
-        non_negative("sigma2", self.sigma2)?;
+        magnitude_or_zero("sigma2", self.sigma2)?;
         check_force::<S>("sigma2", self.sigma2 * S::VELOCITY_LIMIT.to_f64())?;
         Ok(StribeckMap {
             curve,
@@ -290,7 +291,7 @@ pub struct Karnopp<S> {
 impl<S: Scalar> Karnopp<S> {
     /// Builds the model from a Stribeck map and the stick band `dv > 0` (parameter `dv`).
     pub fn new(map: StribeckMap<S>, dv: f64) -> Result<Self, ParamError> {
-        positive("dv", dv)?;
+        magnitude("dv", dv)?;
         Ok(Self {
             map,
             dv: convert("dv", dv)?,

@@ -98,10 +98,11 @@ fn build_at_rejects_bad_periods_and_overflow() {
         p.build_at::<f32>(0.0).err(),
         Some(ParamError::NotPositive("h"))
     );
-    // sigma0 h 1e6 overflows f32
-    let stiff = LuGreParams { sigma0: 1e36, ..p };
+    // sigma0 h 1e6 overflows f32 (sigma0 and h at the top of PARAM_RANGE)
+    let stiff = LuGreParams { sigma0: 1e20, ..p };
+    assert!(stiff.build_at::<f32>(1e-3).is_ok());
     assert_eq!(
-        stiff.build_at::<f32>(1e-3).err(),
+        stiff.build_at::<f32>(1e20).err(),
         Some(ParamError::ForceOverflow("sigma0"))
     );
 }
@@ -428,32 +429,33 @@ fn new_build_at_reject_bad_periods_and_overflow() {
         assert_eq!(xiong.build_at::<f32>(h).err(), expect, "xiong h {h}");
     }
     // a correction's sigma h c, k_i h (v - c), (sigma_i + h K_i) (v - c)
-    // overflowing f32 at the velocity limit
+    // overflowing f32 at the velocity limit (a stiffness and h near the
+    // top of PARAM_RANGE)
     let stiff = DahlParams {
-        sigma: 1e36,
+        sigma: 1e20,
         ..dahl
     };
     assert_eq!(
-        stiff.build_at::<f32>(1e-3).err(),
+        stiff.build_at::<f32>(1e20).err(),
         Some(ParamError::ForceOverflow("sigma"))
     );
     let mut stiff = ep;
-    stiff.lugre.sigma0 = 1e36;
-    stiff.z_ba = 0.5 / 1e36;
+    stiff.lugre.sigma0 = 1e19;
+    stiff.z_ba = 0.5 / 1e19;
     assert_eq!(
-        stiff.build_at::<f32>(1e-3).err(),
+        stiff.build_at::<f32>(1e20).err(),
         Some(ParamError::ForceOverflow("sigma0"))
     );
     let mut stiff = gms;
-    stiff.elements[3].k = 1e36;
+    stiff.elements[3].k = 1e20;
     assert_eq!(
-        stiff.build_at::<f32>(1e-3).err(),
+        stiff.build_at::<f32>(1e20).err(),
         Some(ParamError::ForceOverflow("k"))
     );
     let mut stiff = xiong;
-    stiff.elements[3].k = 1e36;
+    stiff.elements[3].k = 1e20;
     assert_eq!(
-        stiff.build_at::<f32>(1e-3).err(),
+        stiff.build_at::<f32>(1e20).err(),
         Some(ParamError::ForceOverflow("k"))
     );
     // the same parameter sets at a sane h build

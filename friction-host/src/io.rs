@@ -147,6 +147,21 @@ pub fn parse_cell(s: &str, origin: &str, line: u64, index: usize, name: &str) ->
     Ok(x)
 }
 
+/// Refuses a header that names a column twice (which of the two would be
+/// read is a guess): the error names both positions.
+pub fn check_header(headers: &csv::StringRecord, origin: &str) -> Result<()> {
+    for (i, a) in headers.iter().enumerate() {
+        if let Some(j) = headers.iter().skip(i + 1).position(|b| b == a) {
+            bail!(
+                "{origin}:1: column `{a}` is named twice (columns {} and {})",
+                i + 1,
+                i + 2 + j
+            );
+        }
+    }
+    Ok(())
+}
+
 /// A stream of `(line, t, v)` rows from CSV text with a header naming `t`
 /// and `v`: time strictly increasing, every value finite. Errors name the
 /// origin, the line and the column.
@@ -176,6 +191,7 @@ impl<R: Read> TvRows<R> {
             .headers()
             .with_context(|| format!("{origin}: cannot read the header"))?
             .clone();
+        check_header(&headers, origin)?;
         let col = |name: &str| headers.iter().position(|h| h == name);
         let (Some(it), Some(iv)) = (col("t"), col("v")) else {
             bail!(
@@ -201,8 +217,10 @@ impl<R: Read> TvRows<R> {
         if let Some(prev) = self.last_t {
             if tk <= prev {
                 bail!(
-                    "{origin}:{line}: column {} (`t`): time {tk} does not increase (previous {prev})",
-                    self.it + 1
+                    "{origin}:{line}: column {} (`t`): time {} does not increase (previous {})",
+                    self.it + 1,
+                    num(tk),
+                    num(prev)
                 );
             }
         }
@@ -247,6 +265,44 @@ pub fn parse_tv(text: &str, origin: &str) -> Result<(Vec<f64>, Vec<f64>)> {
     Ok((t, v))
 }
 
+/// A number exactly as given (the shortest form that reads back to the same
+/// value), in exponent form outside `1e-5 ..= 1e15` so that `1e300` is not
+/// printed with 301 digits: for echoing a user's value in a message.
+pub fn num(x: f64) -> String {
+    let a = x.abs();
+    if !x.is_finite() || x == 0.0 || (1e-5..=1e15).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// A computed figure to four significant digits, trailing zeros dropped,
+/// in exponent form outside `1e-3 .. 1e5`: `0.7407`, `25`, `1.5e-7`.
+pub fn short(x: f64) -> String {
+    let a = x.abs();
+    if !x.is_finite() || x == 0.0 {
+        return format!("{x}");
+    }
+    let trim = |s: String| {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    };
+    if (1e-3..1e5).contains(&a) {
+        let digits = (3 - a.log10().floor() as i32).clamp(0, 6) as usize;
+        trim(format!("{x:.digits$}"))
+    } else {
+        let s = format!("{x:.3e}");
+        match s.split_once('e') {
+            Some((m, e)) => format!("{}e{e}", trim(m.to_string())),
+            None => s,
+        }
+    }
+}
+
 /// A fraction as a readable percentage: `2.5 %`, `0.031 %`, `1.0e-7 %`.
 pub fn pct(x: f64) -> String {
     let p = 100.0 * x;
@@ -268,6 +324,19 @@ mod tests {
     use super::*;
 
     #[test]
+    fn numbers_stay_short() {
+        assert_eq!(num(1e300), "1e300");
+        assert_eq!(num(-2.5e-300), "-2.5e-300");
+        assert_eq!(num(0.046154), "0.046154");
+        assert_eq!(num(1e15), "1000000000000000");
+        assert_eq!(short(0.7407407407), "0.7407");
+        assert_eq!(short(25.0), "25");
+        assert_eq!(short(1.5e-7), "1.5e-7");
+        assert_eq!(short(-1.23456e300), "-1.235e300");
+        assert_eq!(short(99999.0), "99999");
+    }
+
+    #[test]
     fn parses_and_names_bad_lines() {
         let (t, v) = parse_tv("t,v\n0,0\n0.001, 0.5\n", "in.csv").unwrap();
         assert_eq!(t, vec![0.0, 0.001]);
@@ -281,6 +350,13 @@ mod tests {
             .to_string();
         assert!(
             e.contains("in.csv:3") && e.contains("does not increase"),
+            "{e}"
+        );
+        let e = parse_tv("t,v,t\n0,0,1\n", "in.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("in.csv:1: column `t` is named twice (columns 1 and 3)"),
             "{e}"
         );
         let e = parse_tv("time,v\n0,0\n", "in.csv").unwrap_err().to_string();

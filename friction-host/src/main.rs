@@ -58,10 +58,11 @@ enum Command {
         /// Parameter file; rig experiments read its `[rig]` table.
         #[arg(long)]
         params: PathBuf,
-        /// Sample period of the core's step (s); each experiment has a default.
+        /// Sample period of the core's step (s), 1e-9 to 10; each experiment
+        /// has a default, and a run takes 100 to 5e6 samples.
         #[arg(long)]
         dt: Option<f64>,
-        /// Duration (s) of time-based experiments.
+        /// Duration (s) of time-based experiments, 1e-6 to 1e7.
         #[arg(long)]
         duration: Option<f64>,
         /// Output folder.
@@ -145,7 +146,8 @@ struct IdentifyArgs {
     /// Force column.
     #[arg(long, default_value = "f")]
     force: String,
-    /// Factor from the force column to force (e.g. motor constant; negative flips the sign).
+    /// Factor from the force column to force (e.g. motor constant; negative
+    /// flips the sign), magnitude 1e-12 to 1e12.
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     force_gain: f64,
     /// Normal-force column: the friction parameters become coefficients.
@@ -154,7 +156,8 @@ struct IdentifyArgs {
     /// Also estimate the moving mass and a force offset (a driven axis).
     #[arg(long)]
     inertia: bool,
-    /// Cut-off of the zero-phase Butterworth low-pass (Hz) [default: sample rate / 10].
+    /// Cut-off of the zero-phase Butterworth low-pass (Hz), 1e-6 to 1e9 and
+    /// below the Nyquist frequency [default: sample rate / 10].
     #[arg(long)]
     cutoff: Option<f64>,
     /// Order of the Butterworth low-pass, 1 to 16.
@@ -163,7 +166,7 @@ struct IdentifyArgs {
     /// Decimation factor, at least 1 [default: largest keeping Nyquist >= 2.5 cut-off].
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     decimate: Option<u64>,
-    /// Stribeck exponent (fixed during the fit).
+    /// Stribeck exponent (fixed during the fit), 1 to 100.
     #[arg(long, default_value_t = 2.0)]
     stribeck_exponent: f64,
     /// Steady-state law of the `lugre` fit's first stage.
@@ -177,11 +180,30 @@ struct IdentifyArgs {
     quiet: bool,
 }
 
-fn positive(name: &str, x: Option<f64>) -> Result<()> {
+/// The documented ranges of the numeric options (checked before anything
+/// runs: exit 2, the option named).
+mod ranges {
+    /// `experiment --dt` (s); the run must also take 100 to 5e6 samples.
+    pub const DT: (f64, f64) = (1e-9, 10.0);
+    /// `experiment --duration` (s).
+    pub const DURATION: (f64, f64) = (1e-6, 1e7);
+    /// `identify --cutoff` (Hz); also below the Nyquist frequency.
+    pub const CUTOFF: (f64, f64) = (1e-6, 1e9);
+    /// `identify --force-gain`, in magnitude (either sign).
+    pub const FORCE_GAIN: (f64, f64) = (1e-12, 1e12);
+    /// `identify --stribeck-exponent`.
+    pub const STRIBECK_EXPONENT: (f64, f64) = (1.0, 100.0);
+}
+
+/// Checks numeric option `--name` against its range `lo ..= hi`.
+fn within(name: &str, x: Option<f64>, (lo, hi): (f64, f64)) -> Result<()> {
     match x {
-        Some(v) if !(v.is_finite() && v > 0.0) => {
-            anyhow::bail!("--{name} must be a positive number, got {v}")
-        }
+        Some(v) if !(lo..=hi).contains(&v) => anyhow::bail!(
+            "--{name} {}: must be within {} ..= {}",
+            io::num(v),
+            io::num(lo),
+            io::num(hi)
+        ),
         _ => Ok(()),
     }
 }
@@ -260,7 +282,7 @@ fn simulate(params: &Path, input: &Path, output: &Path, scalar: SimScalar) -> Re
             let h: f64 = prev_t.map_or(0.0, |p| t - p);
             if !h.is_finite() {
                 anyhow::bail!(
-                    "{}:{line}: the time step from the previous row overflows ({h})",
+                    "{}:{line}: the time step from the previous row overflows ({h:e})",
                     input.display()
                 );
             }
@@ -328,8 +350,8 @@ fn run(cli: Cli) -> Result<bool> {
             duration,
             output,
         } => {
-            positive("dt", dt)?;
-            positive("duration", duration)?;
+            within("dt", dt, ranges::DT)?;
+            within("duration", duration, ranges::DURATION)?;
             let file = ParamFile::load(&params)?;
             for out in ["trace.csv".to_string(), format!("{name}.svg")] {
                 io::refuse_overwrite("--output", &output.join(out), &[&params])?;
@@ -352,7 +374,20 @@ fn run(cli: Cli) -> Result<bool> {
             Ok(out.pass != Some(false))
         }
         Command::Identify(a) => {
-            positive("cutoff", a.cutoff)?;
+            within("cutoff", a.cutoff, ranges::CUTOFF)?;
+            within(
+                "stribeck-exponent",
+                Some(a.stribeck_exponent),
+                ranges::STRIBECK_EXPONENT,
+            )?;
+            if !(ranges::FORCE_GAIN.0..=ranges::FORCE_GAIN.1).contains(&a.force_gain.abs()) {
+                anyhow::bail!(
+                    "--force-gain {}: its magnitude must be within {} ..= {} (either sign)",
+                    io::num(a.force_gain),
+                    io::num(ranges::FORCE_GAIN.0),
+                    io::num(ranges::FORCE_GAIN.1)
+                );
+            }
             let o = identify::Options {
                 input: a.input,
                 model: a.model,

@@ -484,7 +484,7 @@ fn runs_too_long_or_rigs_out_of_range_fail_up_front() {
         all.extend(["--output", out_dir.to_str().unwrap()]);
         friction(&all)
     };
-    let out = run(&["stick-slip", "--params", &params(), "--duration", "1e9"]);
+    let out = run(&["stick-slip", "--params", &params(), "--duration", "1e6"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(
         stderr(&out).contains("--duration") && stderr(&out).contains("samples"),
@@ -806,12 +806,54 @@ fn review_findings_exit_2_with_a_clear_error() {
         "--params",
         &params(),
         "--dt",
-        "1e300",
+        "5",
         "--output",
         dir.path().join("d").to_str().unwrap(),
     ]);
     assert_eq!(out.status.code(), Some(2));
     assert!(stderr(&out).contains("only"), "{}", stderr(&out));
+    // beyond the documented range: named, with the value as given
+    for (option, value) in [("--dt", "1e300"), ("--duration", "0"), ("--dt", "NaN")] {
+        let out = friction(&[
+            "experiment",
+            "drift",
+            "--params",
+            &params(),
+            option,
+            value,
+            "--output",
+            dir.path().join("d").to_str().unwrap(),
+        ]);
+        assert_eq!(out.status.code(), Some(2));
+        let e = stderr(&out);
+        assert!(
+            e.contains(&format!("{option} {value}: must be within")),
+            "{e}"
+        );
+    }
+    // a refusal up front writes nothing
+    let drift_rig = dir.path().join("drift.toml");
+    std::fs::write(
+        &drift_rig,
+        "model = \"lugre\"\nfc = 1\nfs = 1.5\nvs = 0.001\nsigma0 = 1e5\nsigma1 = 316\nsigma2 = 0.4\n[rig]\nforce = 0.5\nfrequency = 1\ncycles = 2\n",
+    )
+    .unwrap();
+    let refused = dir.path().join("refused");
+    let out = friction(&[
+        "experiment",
+        "stick-slip",
+        "--params",
+        drift_rig.to_str().unwrap(),
+        "--output",
+        refused.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("needs a spring rig"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!refused.exists());
     // validate into a file
     let file = dir.path().join("afile");
     std::fs::write(&file, "x").unwrap();
@@ -826,7 +868,7 @@ fn review_findings_exit_2_with_a_clear_error() {
     .unwrap();
     std::fs::write(
         &p,
-        format!("{base}\n[servo]\ninertia = 1e-300\nduration = 0.5\n"),
+        format!("{base}\n[servo]\ninertia = 1e-12\nduration = 0.5\n"),
     )
     .unwrap();
     let out = friction(&[
@@ -841,6 +883,22 @@ fn review_findings_exit_2_with_a_clear_error() {
     assert!(
         stdout.contains("servo none unstable") && stdout.contains("servo rls unstable"),
         "{stdout}"
+    );
+    // a torque constant beyond the range is named as such (it used to be
+    // reported as an inertia underflow), with the file and the value as given
+    std::fs::write(&p, format!("{base}\n[servo]\ntorque_constant = 1e308\n")).unwrap();
+    let out = friction(&[
+        "servo",
+        "--params",
+        p.to_str().unwrap(),
+        "--output",
+        dir.path().join("s").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let e = stderr(&out);
+    assert!(
+        e.contains("servo.toml") && e.contains("`torque_constant`") && !e.contains("inertia"),
+        "{e}"
     );
 }
 

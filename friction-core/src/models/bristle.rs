@@ -33,7 +33,7 @@
 //! let m = p.build::<f32, 0>(); // error: N = 0 bristles
 //! ```
 
-use crate::model::{check_force, checked_inputs, convert, positive, FrictionModel, ParamError};
+use crate::model::{check_force, checked_inputs, convert, magnitude, FrictionModel, ParamError};
 use crate::observer::Observable;
 use crate::random::CounterRng;
 use crate::Scalar;
@@ -66,8 +66,8 @@ pub struct BristleParams {
 impl BristleParams {
     /// Checks every parameter; the error names the first offending one.
     pub fn validate(&self) -> Result<(), ParamError> {
-        positive("sigma0", self.sigma0)?;
-        positive("delta_s", self.delta_s)?;
+        magnitude("sigma0", self.sigma0)?;
+        magnitude("delta_s", self.delta_s)?;
         Ok(())
     }
 

@@ -22,7 +22,8 @@
 
 use crate::fixed_step::{checked_velocity, period, signed, FixedStepModel, FixedStepObservable};
 use crate::model::{
-    check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
+    check_force, checked_inputs, convert, convert_derived, magnitude, magnitude_or_zero,
+    FrictionModel, ParamError,
 };
 use crate::models::lugre::{phi_series, relax};
 use crate::observer::Observable;
@@ -57,13 +58,13 @@ pub struct DahlParams {
 impl DahlParams {
     /// Checks every parameter; the error names the first offending one.
     pub fn validate(&self) -> Result<(), ParamError> {
-        positive("sigma", self.sigma)?;
-        positive("fc", self.fc)?;
-        positive("delta", self.delta)?;
+        magnitude("sigma", self.sigma)?;
+        magnitude("fc", self.fc)?;
+        magnitude("delta", self.delta)?;
         if self.delta < 1.0 {
             return Err(ParamError::BelowOne("delta"));
         }
-        non_negative("sigma2", self.sigma2)?;
+        magnitude_or_zero("sigma2", self.sigma2)?;
         Ok(())
     }
 
@@ -76,7 +77,7 @@ impl DahlParams {
         Ok(Dahl {
             fc: convert("fc", self.fc)?,
             sigma: convert("sigma", self.sigma)?,
-            sigma_over_fc: convert("sigma", self.sigma / self.fc)?,
+            sigma_over_fc: convert_derived("sigma", self.sigma / self.fc)?,
             delta_minus_one: convert("delta", self.delta - 1.0)?,
             sigma2: convert("sigma2", self.sigma2)?,
         })
@@ -110,12 +111,12 @@ impl DahlParams {
         check_force::<S>("sigma", k * sigma_h * v_max)?;
         Ok(DahlAt {
             fc: convert("fc", k * self.fc)?,
-            inv_fc: convert("fc", 1.0 / self.fc)?,
+            inv_fc: convert_derived("fc", 1.0 / self.fc)?,
             sigma_h: convert("sigma", k * sigma_h)?,
-            sigma_h_over_fc: convert("sigma", sigma_h / self.fc)?,
+            sigma_h_over_fc: convert_derived("sigma", sigma_h / self.fc)?,
             delta_minus_one: convert("delta", self.delta - 1.0)?,
             sigma2: convert("sigma2", k * self.sigma2)?,
-            inv_scale: convert("fc", 1.0 / k)?,
+            inv_scale: convert_derived("fc", 1.0 / k)?,
             h,
         })
     }
@@ -154,7 +155,12 @@ impl<S: Scalar> Dahl<S> {
             if y > S::ZERO {
                 let d = self.delta_minus_one;
                 let l = if d > S::ZERO {
-                    (d * k * y.powf(d)).ln_1p() / d
+                    let q = d * k * y.powf(d);
+                    if q.is_finite() {
+                        q.ln_1p() / d
+                    } else {
+                        overflowed_step(d, k, y)
+                    }
                 } else {
                     k
                 };
@@ -246,6 +252,21 @@ pub struct DahlAt<S> {
     h: f64,
 }
 
+/// The exponent `L = ln(1 + q) / d` of a step whose `q = d k y^d`
+/// overflows (a large `delta` after a reversal, where `y > 1`):
+/// `ln(1 + q) ~ ln q`, so `L = ln y + (ln d + ln k) / d`, formed from
+/// logarithms that stay finite; never below 0.
+#[inline]
+fn overflowed_step<S: Scalar>(d: S, k: S, y: S) -> S {
+    let ln = |x: S| (x - S::ONE).ln_1p();
+    let l = ln(y) + (ln(d) + ln(k)) / d;
+    if l > S::ZERO {
+        l
+    } else {
+        S::ZERO
+    }
+}
+
 /// `ln(1 + q) / q` for `q >= 0` (1 at 0): in a coarse scalar (`f32`, fixed point)
 /// below `q = 0.1` from the series `sum_n (-q)^n / (n + 1)` to `n = 6`
 /// (truncation under `q^7 / 8 < 1.3e-8`), so that a small `q` is not
@@ -284,13 +305,18 @@ impl<S: Scalar> DahlAt<S> {
                 let incr = if d > S::ZERO {
                     let y_d = y.powf(d);
                     let q = d * k * y_d;
-                    // L = ln(1 + q) / d = k y^d ln(1 + q) / q
-                    let r = ln_1p_ratio(q);
-                    let l = k * y_d * r;
-                    if l < S::from_f64(0.1) {
-                        p * y * y_d * r * phi_series(l)
+                    if !q.is_finite() {
+                        // a large delta after a reversal (y > 1): y^d overflows
+                        gap * -(-overflowed_step(d, k, y)).exp_m1()
                     } else {
-                        gap * -(-l).exp_m1()
+                        // L = ln(1 + q) / d = k y^d ln(1 + q) / q
+                        let r = ln_1p_ratio(q);
+                        let l = k * y_d * r;
+                        if l < S::from_f64(0.1) {
+                            p * y * y_d * r * phi_series(l)
+                        } else {
+                            gap * -(-l).exp_m1()
+                        }
                     }
                 } else if k < S::from_f64(0.1) {
                     // Fc y (1 - e^-k) = sigma h |v| y phi(k)

@@ -50,7 +50,7 @@
 //! against 84,238 for the former implicit-Euler step with `sinf`.
 
 use crate::fixed_step::{checked_velocity, signed, FixedStepModel, FixedStepObservable};
-use crate::model::{checked_inputs, convert, positive, FrictionModel, ParamError};
+use crate::model::{checked_inputs, convert, magnitude, FrictionModel, ParamError};
 use crate::models::lugre::{relax, LuGre, LuGreAt, LuGreAtState, LuGreParams, LuGreState};
 use crate::observer::Observable;
 use crate::Scalar;
@@ -83,7 +83,7 @@ impl ElastoPlasticParams {
     /// Checks every parameter; the error names the first offending one.
     pub fn validate(&self) -> Result<(), ParamError> {
         self.lugre.validate()?;
-        positive("z_ba", self.z_ba)?;
+        magnitude("z_ba", self.z_ba)?;
         if self.z_ba >= self.lugre.curve.fc / self.lugre.sigma0 {
             return Err(ParamError::NotBelow {
                 name: "z_ba",

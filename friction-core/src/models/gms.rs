@@ -39,7 +39,8 @@
 
 use crate::fixed_step::{checked_velocity, period, signed, FixedStepModel, FixedStepObservable};
 use crate::model::{
-    check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
+    check_force, checked_inputs, convert, convert_derived, magnitude, magnitude_or_zero,
+    FrictionModel, ParamError,
 };
 use crate::models::lugre::phi_series;
 use crate::observer::Observable;
@@ -96,13 +97,13 @@ impl<const N: usize> GmsParams<N> {
     /// Checks every parameter; the error names the first offending one.
     pub fn validate(&self) -> Result<(), ParamError> {
         self.curve.validate()?;
-        non_negative("sigma2", self.sigma2)?;
-        positive("c", self.c)?;
+        magnitude_or_zero("sigma2", self.sigma2)?;
+        magnitude("c", self.c)?;
         let mut sum = 0.0;
         for e in &self.elements {
-            positive("k", e.k)?;
-            positive("alpha", e.alpha)?;
-            non_negative("sigma1", e.sigma1)?;
+            magnitude("k", e.k)?;
+            magnitude("alpha", e.alpha)?;
+            magnitude_or_zero("sigma1", e.sigma1)?;
             sum += e.alpha;
         }
         if (sum - 1.0).abs() > WEIGHT_TOLERANCE {
@@ -139,13 +140,13 @@ impl<const N: usize> GmsParams<N> {
         for (out, e) in elements.iter_mut().zip(&self.elements) {
             let alpha = e.alpha / sum;
             convert::<S>("alpha", alpha * fc)?;
-            convert::<S>("c", self.c / (alpha * fc))?;
+            convert_derived::<S>("c", self.c / (alpha * fc))?;
             *out = Element {
                 k: convert("k", e.k)?,
-                inv_k: convert("k", 1.0 / e.k)?,
+                inv_k: convert_derived("k", 1.0 / e.k)?,
                 alpha: convert("alpha", alpha)?,
                 f_max: convert("alpha", alpha * fs)?,
-                c_over_alpha: convert("c", self.c / alpha)?,
+                c_over_alpha: convert_derived("c", self.c / alpha)?,
                 sigma1: convert("sigma1", e.sigma1)?,
             };
         }
@@ -217,7 +218,10 @@ impl<const N: usize> GmsParams<N> {
             let k_h = e.k * h;
             check_force::<S>("k", k * k_h * 2.0 * v_max)?;
             let c_over_alpha = self.c / alpha;
-            convert::<S>("c", c_over_alpha * h / fc)?;
+            convert_derived::<S>("c", c_over_alpha * h / fc)?;
+            // the slip damping factor sigma1_i C / (alpha_i k_i) / g, formed
+            // before its small force difference
+            check_force::<S>("c", e.sigma1 * c_over_alpha / e.k / fc)?;
             *out = ElementAt {
                 k_h: convert("k", k * k_h)?,
                 alpha: convert("alpha", alpha)?,
@@ -233,7 +237,7 @@ impl<const N: usize> GmsParams<N> {
             elements,
             sigma1_sum: convert("sigma1", k * sigma1_sum)?,
             slip_damping: convert("c", k * slip_damping)?,
-            inv_scale: convert("fs", 1.0 / k)?,
+            inv_scale: convert_derived("fs", 1.0 / k)?,
             scale_s: convert("fs", k)?,
             h,
         })

@@ -94,8 +94,8 @@
 //! ```
 
 use crate::model::{
-    check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
-    VELOCITY_LIMIT,
+    check_force, checked_inputs, convert, convert_derived, magnitude, magnitude_or_zero,
+    FrictionModel, ParamError, VELOCITY_LIMIT,
 };
 use crate::observer::Observable;
 use crate::stribeck::{StribeckCurve, StribeckParams};
@@ -144,15 +144,15 @@ impl LeuvenParams {
     /// Checks every parameter; the error names the first offending one.
     pub fn validate(&self) -> Result<(), ParamError> {
         self.curve.validate()?;
-        non_negative("sigma1", self.sigma1)?;
-        non_negative("sigma2", self.sigma2)?;
+        magnitude_or_zero("sigma1", self.sigma1)?;
+        magnitude_or_zero("sigma2", self.sigma2)?;
         if !self.n.is_finite() {
             return Err(ParamError::NotFinite("n"));
         }
         if self.n < 1.0 {
             return Err(ParamError::BelowOne("n"));
         }
-        positive("xs", self.xs)?;
+        magnitude("xs", self.xs)?;
         Ok(())
     }
 
@@ -204,9 +204,9 @@ impl LeuvenParams {
             fs: convert("fs", fs)?,
             fm: convert("fs", 2.0 * fs)?,
             width: convert("xs", 2.0 * xs)?,
-            inv_width: convert("xs", 0.5 / xs)?,
+            inv_width: convert_derived("xs", 0.5 / xs)?,
             keep: convert("fs", 1.0 - CAP)?,
-            stiffness: convert("xs", fs / xs)?,
+            stiffness: convert_derived("xs", fs / xs)?,
             tol: convert("xs", eps * xs)?,
             slide: S::from_f64(1.0 - SLIDE_TOL),
             rate_factor: convert("n", (ratio - 1.0).max(1.0))?,
@@ -726,11 +726,11 @@ mod tests {
         );
         assert_eq!(
             LeuvenParams { xs: 1e-50, ..P }.build::<f32, 4>(),
-            Err(ParamError::Underflow("xs"))
+            Err(ParamError::OutOfRange("xs"))
         );
         assert_eq!(
             LeuvenParams { sigma1: 1e32, ..P }.build::<f32, 4>(),
-            Err(ParamError::ForceOverflow("sigma1"))
+            Err(ParamError::OutOfRange("sigma1"))
         );
         // (Fs/Fc)^n |v| overflows f32 at the velocity limit
         assert_eq!(

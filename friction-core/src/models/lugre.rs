@@ -18,7 +18,8 @@
 
 use crate::fixed_step::{checked_velocity, period, signed, FixedStepModel, FixedStepObservable};
 use crate::model::{
-    check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
+    check_force, checked_inputs, convert, convert_derived, magnitude, magnitude_or_zero,
+    FrictionModel, ParamError,
 };
 use crate::observer::Observable;
 use crate::stribeck::{StribeckCurve, StribeckParams};
@@ -84,11 +85,11 @@ impl LuGreParams {
     /// Checks every parameter; the error names the first offending one.
     pub fn validate(&self) -> Result<(), ParamError> {
         self.curve.validate()?;
-        positive("sigma0", self.sigma0)?;
-        non_negative("sigma1", self.sigma1)?;
-        non_negative("sigma2", self.sigma2)?;
+        magnitude("sigma0", self.sigma0)?;
+        magnitude_or_zero("sigma1", self.sigma1)?;
+        magnitude_or_zero("sigma2", self.sigma2)?;
         if let Some(vd) = self.vd {
-            positive("vd", vd)?;
+            magnitude("vd", vd)?;
         }
         Ok(())
     }
@@ -103,24 +104,26 @@ impl LuGreParams {
         let curve = self.curve.build()?;
         let (fc, fs) = (self.curve.fc, self.curve.fs);
         // the steady deflection g(v)/sigma0 lies in [Fc, Fs]/sigma0
-        convert::<S>("sigma0", fc / self.sigma0)?;
+        convert_derived::<S>("sigma0", fc / self.sigma0)?;
         // |dz/dt| <= |v| (1 + Fs/Fc), plus an observer's correction up to the limit
         check_force::<S>(
             "sigma1",
             self.sigma1 * S::VELOCITY_LIMIT.to_f64() * (2.0 + fs / fc),
         )?;
         check_force::<S>("sigma2", self.sigma2 * S::VELOCITY_LIMIT.to_f64())?;
+        // dz/dt itself, |v| (1 + Fs/Fc), before sigma1 multiplies it
+        check_force::<S>("fs", S::VELOCITY_LIMIT.to_f64() * (2.0 + fs / fc))?;
         Ok(LuGre {
             curve,
             sigma0: convert("sigma0", self.sigma0)?,
             sigma1: convert("sigma1", self.sigma1)?,
             sigma2: convert("sigma2", self.sigma2)?,
             inv_vd_sq: match self.vd {
-                Some(vd) => convert("vd", 1.0 / (vd * vd))?,
+                Some(vd) => convert_derived("vd", 1.0 / (vd * vd))?,
                 None => S::ZERO,
             },
-            z_max: convert("sigma0", fs / self.sigma0)?,
-            rate_factor: convert("fs", 1.0 + fs / fc)?,
+            z_max: convert_derived("sigma0", fs / self.sigma0)?,
+            rate_factor: convert_derived("fs", 1.0 + fs / fc)?,
         })
     }
 
@@ -152,6 +155,9 @@ impl LuGreParams {
         let viscous_max = self.sigma2 * v_max;
         let k = S::force_scale(fs.max(damping_max).max(elastic_max).max(viscous_max));
         check_force::<S>("sigma1", k * damping_max)?;
+        check_force::<S>("fs", v_max * (2.0 + fs / fc))?;
+        // the damping factor sigma1 |v| / g, formed before its small gap
+        check_force::<S>("sigma1", self.sigma1 * v_max / fc)?;
         check_force::<S>("sigma2", k * viscous_max)?;
         check_force::<S>("sigma0", k * elastic_max)?;
         check_force::<S>("fs", k * fs)?;
@@ -167,12 +173,12 @@ impl LuGreParams {
             sigma1: convert("sigma1", k * self.sigma1)?,
             sigma2: convert("sigma2", k * self.sigma2)?,
             inv_vd_sq: match self.vd {
-                Some(vd) => convert("vd", 1.0 / (vd * vd))?,
+                Some(vd) => convert_derived("vd", 1.0 / (vd * vd))?,
                 None => S::ZERO,
             },
             fs: convert("fs", k * fs)?,
-            rate_factor: convert("fs", 1.0 + fs / fc)?,
-            inv_scale: convert("fs", 1.0 / k)?,
+            rate_factor: convert_derived("fs", 1.0 + fs / fc)?,
+            inv_scale: convert_derived("fs", 1.0 / k)?,
             scale_s: convert("fs", k)?,
             scale: k,
             h,

@@ -16,7 +16,8 @@
 //! step, not at its end). Exact for held `v`.
 
 use crate::model::{
-    check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
+    check_force, checked_inputs, convert, convert_derived, magnitude, magnitude_or_zero,
+    FrictionModel, ParamError,
 };
 use crate::observer::Observable;
 use crate::stribeck::{StribeckCurve, StribeckParams};
@@ -53,10 +54,10 @@ pub struct ResetIntegratorParams {
 impl ResetIntegratorParams {
     /// Checks every parameter; the error names the first offending one.
     pub fn validate(&self) -> Result<(), ParamError> {
-        positive("sigma0", self.sigma0)?;
-        non_negative("sigma1", self.sigma1)?;
-        positive("z0", self.z0)?;
-        non_negative("stiction", self.stiction)?;
+        magnitude("sigma0", self.sigma0)?;
+        magnitude_or_zero("sigma1", self.sigma1)?;
+        magnitude("z0", self.z0)?;
+        magnitude_or_zero("stiction", self.stiction)?;
         if let Some(c) = &self.curve {
             c.validate()?;
         }
@@ -71,7 +72,7 @@ impl ResetIntegratorParams {
         check_force::<S>("sigma0", (1.0 + self.stiction) * self.sigma0 * self.z0)?;
         check_force::<S>("sigma1", self.sigma1 * 2.0 * S::VELOCITY_LIMIT.to_f64())?;
         let (curve, inv_fs) = match &self.curve {
-            Some(c) => (Some(c.build()?), convert("fs", 1.0 / c.fs)?),
+            Some(c) => (Some(c.build()?), convert_derived("fs", 1.0 / c.fs)?),
             None => (None, S::ONE),
         };
         Ok(ResetIntegrator {

@@ -49,7 +49,8 @@
 
 use crate::fixed_step::{checked_velocity, period, FixedStepModel, FixedStepObservable};
 use crate::model::{
-    check_force, checked_inputs, convert, non_negative, positive, FrictionModel, ParamError,
+    check_force, checked_inputs, convert, convert_derived, magnitude, magnitude_or_zero,
+    FrictionModel, ParamError,
 };
 use crate::models::gms::WEIGHT_TOLERANCE;
 use crate::observer::Observable;
@@ -101,13 +102,13 @@ impl<const N: usize> XiongParams<N> {
     /// Checks every parameter; the error names the first offending one.
     pub fn validate(&self) -> Result<(), ParamError> {
         self.curve.validate()?;
-        positive("tau", self.tau)?;
-        non_negative("sigma2", self.sigma2)?;
+        magnitude("tau", self.tau)?;
+        magnitude_or_zero("sigma2", self.sigma2)?;
         let mut sum = 0.0;
         for e in &self.elements {
-            positive("k", e.k)?;
-            positive("sigma", e.sigma)?;
-            positive("lambda", e.lambda)?;
+            magnitude("k", e.k)?;
+            magnitude("sigma", e.sigma)?;
+            magnitude("lambda", e.lambda)?;
             sum += e.lambda;
         }
         if (sum - 1.0).abs() > WEIGHT_TOLERANCE {
@@ -132,18 +133,18 @@ impl<const N: usize> XiongParams<N> {
         for (out, e) in elements.iter_mut().zip(&self.elements) {
             let lambda = e.lambda / sum;
             convert::<S>("lambda", lambda * fc)?;
-            convert::<S>("k", lambda * fc / e.k)?;
+            convert_derived::<S>("k", lambda * fc / e.k)?;
             *out = Element {
                 k: convert("k", e.k)?,
-                inv_k: convert("k", 1.0 / e.k)?,
+                inv_k: convert_derived("k", 1.0 / e.k)?,
                 sigma: convert("sigma", e.sigma)?,
-                k_over_sigma: convert("sigma", e.k / e.sigma)?,
+                k_over_sigma: convert_derived("sigma", e.k / e.sigma)?,
                 lambda: convert("lambda", lambda)?,
             };
         }
         Ok(Xiong {
             curve,
-            inv_tau: convert("tau", 1.0 / self.tau)?,
+            inv_tau: convert_derived("tau", 1.0 / self.tau)?,
             sigma2: convert("sigma2", self.sigma2)?,
             fs_minus_fc: convert("fs", self.curve.fs - self.curve.fc)?,
             elements,
@@ -203,7 +204,7 @@ impl<const N: usize> XiongParams<N> {
             let x = h * (e.k / e.sigma);
             *out = ElementAt {
                 scale: convert("k", k * scale)?,
-                one_minus_r: convert("sigma", x / (1.0 + x))?,
+                one_minus_r: convert_derived("sigma", x / (1.0 + x))?,
                 lambda: convert("lambda", lambda)?,
             };
         }
@@ -213,7 +214,7 @@ impl<const N: usize> XiongParams<N> {
             sigma2: convert("sigma2", k * self.sigma2)?,
             fs: convert("fs", k * fs)?,
             fs_minus_fc: convert("fs", k * (fs - fc))?,
-            inv_scale: convert("fs", 1.0 / k)?,
+            inv_scale: convert_derived("fs", 1.0 / k)?,
             elements,
             h,
         })

@@ -102,6 +102,38 @@ fn rig_defaults(name: &str, file: &ParamFile) -> Vec<String> {
         .collect()
 }
 
+/// An experiment that does not apply to a parameter file, refused before
+/// anything runs, with the reason (the command line exits with 2).
+#[derive(Clone, Debug)]
+pub struct Refusal(pub String);
+
+impl std::fmt::Display for Refusal {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Refusal {}
+
+/// Why experiment `name` does not apply to `file`, if it does not.
+fn refusal(name: &str, file: &ParamFile) -> Option<Refusal> {
+    let r = &file.rig;
+    let drift_rig = r.force.is_some() || r.frequency.is_some() || r.cycles.is_some();
+    let spring_rig = r.stiffness.is_some() || r.pull_velocity.is_some();
+    if name == "stick-slip" && drift_rig && !spring_rig {
+        return Some(Refusal(
+            "experiment `stick-slip` needs a spring rig, and this file's [rig] is the drift rig (`force`, `frequency`, `cycles`, no spring): a mass driven by a force has nothing to slip against. Give [rig] `stiffness` and `pull_velocity`, or run `drift`".into(),
+        ));
+    }
+    if name != "stribeck" && !file.model.has_state() {
+        return Some(Refusal(format!(
+            "experiment `{name}` does not apply to the static map `{}`: it needs a model with internal state",
+            file.model.name()
+        )));
+    }
+    None
+}
+
 /// Optional overrides of an experiment's sample period and duration.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Options {
@@ -151,14 +183,11 @@ impl Outcome {
 /// Runs experiment `name` for the model of `file`, writing into `dir`.
 pub fn run(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
     use anyhow::Context;
+    if let Some(refusal) = refusal(name, file) {
+        return Err(refusal.into());
+    }
     std::fs::create_dir_all(dir)
         .with_context(|| format!("--output {}: cannot create the folder", dir.display()))?;
-    if name != "stribeck" && !file.model.has_state() {
-        bail!(
-            "experiment `{name}` does not apply to the static map `{}`: it needs a model with internal state",
-            file.model.name()
-        );
-    }
     if opts.duration.is_some() && FIXED_LENGTH.contains(&name) {
         bail!("--duration does not apply to experiment `{name}`: its length is fixed by its definition");
     }

@@ -39,6 +39,7 @@ pub fn parse_columns(text: &str, origin: &str, names: &[&str]) -> Result<Columns
         .headers()
         .with_context(|| format!("{origin}: cannot read the header"))?
         .clone();
+    crate::io::check_header(&headers, origin)?;
     let mut index = Vec::with_capacity(names.len());
     for name in names {
         match headers.iter().position(|h| h == *name) {
@@ -82,8 +83,8 @@ pub fn check_time(t: &[f64], origin: &str, name: &str) -> Result<()> {
             bail!(
                 "{origin}:{}: column `{name}`: time {} does not increase (previous {})",
                 k + 2,
-                t[k],
-                t[k - 1]
+                crate::io::num(t[k]),
+                crate::io::num(t[k - 1])
             );
         }
     }

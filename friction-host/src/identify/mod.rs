@@ -296,8 +296,9 @@ pub fn prepare(path: &Path, cols: &Columns, cond: &Conditioning) -> Result<Signa
     let needed = edge.saturating_mul(2).saturating_add(MIN_SAMPLES);
     if n <= needed {
         bail!(
-            "{origin}: {n} samples; with the filter's settling time ({edge} samples at each end, dropped) identification needs at least {} (raise --cutoff, now {cutoff} Hz)",
-            needed.saturating_add(1)
+            "{origin}: {n} samples; with the filter's settling time ({edge} samples at each end, dropped) identification needs at least {} (raise --cutoff, now {} Hz)",
+            needed.saturating_add(1),
+            crate::io::num(cutoff)
         );
     }
     let inner = edge..n - edge;

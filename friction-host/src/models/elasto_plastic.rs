@@ -111,6 +111,9 @@ impl HostModel for ElastoPlasticParams {
     fn presliding_scale(&self) -> f64 {
         self.lugre.curve.fs / self.lugre.sigma0
     }
+    fn stribeck_velocity(&self) -> Option<f64> {
+        Some(self.lugre.curve.vs)
+    }
     fn sigma2(&self) -> f64 {
         self.lugre.sigma2
     }

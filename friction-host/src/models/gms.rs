@@ -243,6 +243,18 @@ impl HostModel for GmsSpec {
             .map(|e| e.alpha * self.curve.fs / e.k)
             .fold(0.0, f64::max)
     }
+    fn stribeck_velocity(&self) -> Option<f64> {
+        Some(self.curve.vs)
+    }
+    /// The sum of the element stiffnesses (all stick at rest).
+    fn rest_stiffness(&self) -> f64 {
+        self.elements.iter().map(|e| e.k).sum()
+    }
+    /// The slowest slipping element's `alpha_i g(v) / C`.
+    fn lag_time(&self, v: f64) -> f64 {
+        let alpha = self.elements.iter().map(|e| e.alpha).fold(0.0, f64::max);
+        alpha * curve_g(&self.curve, v) / self.c
+    }
     fn sigma2(&self) -> f64 {
         self.sigma2
     }

@@ -199,6 +199,9 @@ impl HostModel for LeuvenSpec {
     fn presliding_scale(&self) -> f64 {
         2.0 * std::f64::consts::LN_2 * self.params.xs
     }
+    fn stribeck_velocity(&self) -> Option<f64> {
+        Some(self.params.curve.vs)
+    }
     fn sigma2(&self) -> f64 {
         self.params.sigma2
     }

@@ -139,6 +139,9 @@ impl HostModel for LuGreParams {
     fn presliding_scale(&self) -> f64 {
         self.curve.fs / self.sigma0
     }
+    fn stribeck_velocity(&self) -> Option<f64> {
+        Some(self.curve.vs)
+    }
     fn sigma2(&self) -> f64 {
         self.sigma2
     }

@@ -217,6 +217,24 @@ pub trait HostModel {
     fn sigma2(&self) -> f64 {
         0.0
     }
+    /// The stiffness of the contact at rest, `dF/dx` for small
+    /// displacements: `Fs / presliding_scale` by default (LuGre's `sigma0`),
+    /// the sum of the element stiffnesses for the multi-element models.
+    fn rest_stiffness(&self) -> f64 {
+        self.max_static_force() / self.presliding_scale()
+    }
+    /// The Stribeck velocity `vs` of the model's curve; `None` where the
+    /// model has no Stribeck curve (Dahl, the bristle model).
+    fn stribeck_velocity(&self) -> Option<f64> {
+        None
+    }
+    /// The time constant with which the friction force follows the curve
+    /// while sliding at speed `v` (frictional lag). Default: the bristle
+    /// relaxation of LuGre, `g(v) / (sigma0 |v|)`, taken as
+    /// `presliding_scale / |v|`.
+    fn lag_time(&self, v: f64) -> f64 {
+        self.presliding_scale() / v.abs()
+    }
     /// Whether the model has internal state.
     fn has_state(&self) -> bool {
         true
@@ -368,6 +386,18 @@ impl ModelSpec {
     /// See [`HostModel::presliding_scale`].
     pub fn presliding_scale(&self) -> f64 {
         self.host().presliding_scale()
+    }
+    /// See [`HostModel::rest_stiffness`].
+    pub fn rest_stiffness(&self) -> f64 {
+        self.host().rest_stiffness()
+    }
+    /// See [`HostModel::stribeck_velocity`].
+    pub fn stribeck_velocity(&self) -> Option<f64> {
+        self.host().stribeck_velocity()
+    }
+    /// See [`HostModel::lag_time`].
+    pub fn lag_time(&self, v: f64) -> f64 {
+        self.host().lag_time(v)
     }
     /// See [`HostModel::sigma2`].
     pub fn sigma2(&self) -> f64 {

@@ -242,6 +242,17 @@ impl HostModel for XiongSpec {
             .map(|e| e.lambda * self.curve.fs / e.k)
             .fold(0.0, f64::max)
     }
+    fn stribeck_velocity(&self) -> Option<f64> {
+        Some(self.curve.vs)
+    }
+    /// The sum of the element stiffnesses (all stick at rest).
+    fn rest_stiffness(&self) -> f64 {
+        self.elements.iter().map(|e| e.k).sum()
+    }
+    /// The lag state's `tau`.
+    fn lag_time(&self, _v: f64) -> f64 {
+        self.tau
+    }
     fn sigma2(&self) -> f64 {
         self.sigma2
     }

@@ -177,7 +177,7 @@ pub const MAX_DELAY_TICKS: f64 = 1000.0;
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ServoError {
     /// A key's value is out of its range.
-    #[error("{file}: [servo] `{key}` must be {rule}, got {value}")]
+    #[error("{file}: [servo] `{key}` must be {rule}, got {}", crate::io::num(*.value))]
     Invalid {
         /// The parameter file.
         file: String,
@@ -189,7 +189,7 @@ pub enum ServoError {
         value: f64,
     },
     /// `plant_rate` is not a whole multiple of `rate`.
-    #[error("{file}: [servo] `plant_rate` ({plant_rate} Hz) must be a whole multiple of `rate` ({rate} Hz)")]
+    #[error("{file}: [servo] `plant_rate` ({} Hz) must be a whole multiple of `rate` ({} Hz)", crate::io::num(*.plant_rate), crate::io::num(*.rate))]
     NotMultiple {
         /// The parameter file.
         file: String,
