@@ -628,22 +628,21 @@ mod tests {
             CompensatorParams { limit: 1e38, ..p }
                 .build::<f32, _>(NoCompensation)
                 .err(),
-            Some(ParamError::NotRepresentable("limit"))
+            Some(ParamError::OutOfRange("limit"))
         );
-        // 1/h = 1e300 does not fit f32
+        // 1/h = 1e300: h is beyond PARAM_RANGE, whatever steps by it
         assert_eq!(
             CompensatorParams { h: 1e-300, ..p }
                 .build::<f32, _>(NoCompensation)
                 .err(),
-            Some(ParamError::NotRepresentable("h"))
+            Some(ParamError::OutOfRange("h"))
         );
-        // and a variable-step compensation steps by h itself
         let lugre = LuGreParams::OLSSON_1998.build::<f32>().unwrap();
         assert_eq!(
             CompensatorParams { h: 1e-300, ..p }
                 .build::<f32, _>(crate::Observer::new(lugre, 20.0).unwrap())
                 .err(),
-            Some(ParamError::Underflow("h"))
+            Some(ParamError::OutOfRange("h"))
         );
         // zero gains and inertia are valid
         let zero = CompensatorParams {
@@ -915,7 +914,7 @@ mod tests {
     }
 
     fn gain() -> impl Strategy<Value = f64> {
-        prop_oneof![Just(0.0), 0.0..1e3, 1e3..1e30]
+        prop_oneof![Just(0.0), 0.0..1e3, 1e3..1e20]
     }
 
     proptest! {
@@ -924,7 +923,7 @@ mod tests {
             inputs in prop::collection::vec(
                 (finite_f32(), finite_f32(), finite_f32(), finite_f32()), 1..40),
             kp in gain(), ki in gain(), kd in gain(), inertia in gain(),
-            limit in prop_oneof![1e-30f64..1.0, 1.0..1e30],
+            limit in prop_oneof![1e-20f64..1.0, 1.0..1e20],
         ) {
             let p = CompensatorParams { kp, ki, kd, inertia, limit, ..params() };
             let model = olsson().build::<f32>().unwrap();
