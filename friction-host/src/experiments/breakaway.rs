@@ -40,15 +40,16 @@ fn peak_friction(tr: &Trace, sigma2: f64) -> f64 {
 }
 
 /// The core's break-away force for a force ramp at `rate` from rest, on
-/// `file`'s rig at step `h` (one run of [`breakaway`]).
-pub(crate) fn breakaway_force(file: &ParamFile, rate: f64, h: f64) -> Result<f64> {
+/// `file`'s rig at step `h` (one run of [`breakaway`]), for experiment
+/// `name` (named in a sample-count error).
+pub(crate) fn breakaway_force(name: &str, file: &ParamFile, rate: f64, h: f64) -> Result<f64> {
     let u = move |t: f64, _x: f64| rate * t;
     let rig = Rig {
         mass: mass(file),
         force: &u,
     };
     let duration = 2.0 * file.model.max_static_force() / rate;
-    check_samples("breakaway", duration, h)?;
+    check_samples(name, duration, h)?;
     let tr = rig_core(core(&file.model)?.as_mut(), &rig, h, duration);
     Ok(peak_friction(&tr, file.model.sigma2()))
 }

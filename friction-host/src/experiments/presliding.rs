@@ -12,7 +12,7 @@ pub(super) fn presliding(file: &ParamFile, opts: Options, dir: &Path) -> Result<
     let h = opts.dt.unwrap_or(1e-3);
     let fs = file.model.max_static_force();
     let rate = file.rig.force_rate.unwrap_or(0.095 * fs);
-    let fb = super::breakaway::breakaway_force(file, rate, h)?;
+    let fb = super::breakaway::breakaway_force("presliding", file, rate, h)?;
     let peak = 0.95 * fs.min(fb);
     let leg = peak / rate;
     let duration = opts.duration.unwrap_or(5.0 * leg);
