@@ -820,12 +820,16 @@ mod fixed_point {
     // Each model either refuses the set with a typed `ParamError` at build
     // time, or runs and agrees with its f64 variable-step form, fed the same
     // Q16.16-rounded velocity, within RANDOM_BOUND of Fs (RMS; Xiong and GMS
-    // their own, below). Measured over 3000 cases each: LuGre 3.2e-4,
-    // elasto-plastic 8.0e-4, Dahl 1.5e-4 of Fs (6.7e-3 before its step
-    // stopped testing the rounded sigma h |v| / Fc for 0). Sets whose damping force
-    // at 4 m/s exceeds 100 Fs are left out: there the force scale must
-    // cover sigma1 v_max and Fs is a few hundred steps of Q16.16 (measured
-    // up to 2.6e-2 of Fs for elasto-plastic with Fc = 0.07 N, sigma1 = 80).
+    // their own, below). Measured over 7 runs of 3000 cases each: LuGre
+    // 3.6e-4, elasto-plastic 1.5e-3, Dahl 1.9e-4 of Fs (6.7e-3 before its step
+    // stopped testing the rounded sigma h |v| / Fc for 0). Sets whose damping
+    // force at 4 m/s exceeds 100 Fs are left out: there one rounding step of
+    // the state (1.5e-5 of the scaled force) is multiplied by sigma1 |v| / Fs
+    // in the damping term (measured over 3000 such cases: LuGre 3.9e-3,
+    // elasto-plastic 1.6e-2 of Fs; 9e-2 before a fully relaxed
+    // elasto-plastic step ended on g(v) exactly, with sigma1 = 95 N s/m
+    // against Fs = 0.063 N at 1 m/s: see
+    // `elasto_plastic_fixed_point_ends_on_the_curve`).
 
     /// The documented agreement bound over the range above (RMS / Fs).
     const RANDOM_BOUND: f64 = 2e-3;
@@ -833,14 +837,16 @@ mod fixed_point {
     /// elements with Fc = 0.13 N: the force scale covers (sigma_i + h K_i)
     /// 2 v_max, 1.5e3 N there).
     const RANDOM_BOUND_XIONG: f64 = 4e-3;
-    /// GMS's: where an element's stick travel k_i h |u| nearly equals its
-    /// room to the bound, a rounding flips the stick/slip decision for one
-    /// period, and the force jumps there by up to sigma1_i |v| (the sticking
-    /// damping against the slipping one; e.g. 11 N against Fs = 20 N at a
-    /// reversal to 0.37 m/s, RMS 2.2e-2 of Fs over the run, where f32 gives
-    /// 2e-7): measured up to 0.18 of Fs over 5000 random cases, while the
-    /// standard signals stay within 1.3e-5 with the same rounded input.
-    const RANDOM_BOUND_GMS: f64 = 0.3;
+    /// GMS's, on the periods where every element's stick/slip mode agrees
+    /// with f64's. Where an element's stick travel k_i h |u| nearly equals
+    /// its room to the bound, a rounding flips that element's decision for
+    /// one period, and the force differs there by up to sigma1_i |v| (the
+    /// sticking damping against none; e.g. 35 N against Fs = 2.8 N at
+    /// 1.08 m/s, which over a 480-period run is 0.57 Fs RMS, where f32 gives
+    /// 2e-7): those periods are bounded by sigma1_i |v| of the flipped
+    /// elements instead (`gms_gap`). The standard signals stay within 1.3e-5
+    /// with the same rounded input.
+    const RANDOM_BOUND_GMS: f64 = 2e-3;
 
     fn log_uniform(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
         (lo.ln()..hi.ln()).prop_map(f64::exp)
@@ -920,6 +926,53 @@ mod fixed_point {
             }
         }
         (sum / n as f64).sqrt() / fs
+    }
+
+    /// GMS's gap: RMS |F_fixed - F_f64| / Fs over the periods where every
+    /// element's mode agrees, after checking that on the others the gap is
+    /// within sigma1_i |v| of the flipped elements (plus the bound). (At
+    /// velocities of one or two Q16.16 steps an element at its bound can
+    /// flip on several periods in a row; there sigma1_i |v| is tiny.)
+    fn gms_gap<const N: usize>(
+        p: &GmsParams<N>,
+        at: GmsAt<Fixed32, N>,
+        h: f64,
+        program: &[(f64, usize)],
+    ) -> Result<f64, TestCaseError> {
+        let var = p.build::<f64>().unwrap();
+        let (mut sv, mut sa) = (
+            GmsState::<f64, N>::default(),
+            GmsState::<Fixed32, N>::default(),
+        );
+        let (mut sum, mut n) = (0.0, 0usize);
+        let fs = p.curve.fs;
+        for &(v, hold) in program {
+            let vq = Fixed32::from_f64(v);
+            for _ in 0..hold {
+                let fv = var.step(&mut sv, vq.to_f64(), h);
+                let fa = at.step(&mut sa, vq).to_f64();
+                prop_assert!(fv.is_finite() && fa.is_finite());
+                let flipped: f64 = (0..N)
+                    .filter(|&i| sv.mode[i] != sa.mode[i])
+                    .map(|i| p.elements[i].sigma1 * vq.to_f64().abs())
+                    .sum();
+                if flipped > 0.0 {
+                    prop_assert!(
+                        (fv - fa).abs() <= flipped + RANDOM_BOUND_GMS * fs,
+                        "gms: a flipped period differs by {} N, sigma1 |v| {flipped} N",
+                        (fv - fa).abs()
+                    );
+                } else {
+                    sum += (fv - fa).powi(2);
+                    n += 1;
+                }
+            }
+        }
+        Ok(if n == 0 {
+            0.0
+        } else {
+            (sum / n as f64).sqrt() / fs
+        })
     }
 
     /// Built: within the bound. Refused: a typed error (the `Result`'s), and
@@ -1011,10 +1064,16 @@ mod fixed_point {
                 e.sigma1 = c.damp * e.k.sqrt();
             }
             p.sigma2 = c.visc * c.curve.fc;
-            let var = p.build::<f64>().unwrap();
-            judge("gms", RANDOM_BOUND_GMS, p.build_at::<Fixed32>(c.h), p.build_at::<f64>(c.h).is_ok(), |at| {
-                random_gap(var, at, c.h, p.curve.fs, &program)
-            })?;
+            match p.build_at::<Fixed32>(c.h) {
+                Ok(at) => {
+                    let g = gms_gap(&p, at, c.h, &program)?;
+                    prop_assert!(g < RANDOM_BOUND_GMS, "gms: rms gap {g} of Fs where the modes agree");
+                }
+                Err(e) => {
+                    prop_assert!(p.build_at::<f64>(c.h).is_ok(), "gms: the f64 form refuses it too");
+                    std::println!("gms: refused in Q16.16: {e}");
+                }
+            }
         }
 
         #[test]
@@ -1034,6 +1093,42 @@ mod fixed_point {
             judge("xiong", RANDOM_BOUND_XIONG, p.build_at::<Fixed32>(c.h), p.build_at::<f64>(c.h).is_ok(), |at| {
                 random_gap(var, at, c.h, p.curve.fs, &program)
             })?;
+        }
+    }
+
+    /// A fully relaxed elasto-plastic step ends on `g(v)` exactly: a gap of
+    /// one rounding step there is multiplied by sigma1 |v| / width in the
+    /// damping term (this set gave 0.069 N against 0.063 N on its first
+    /// period at 1 m/s, 9 % of Fs).
+    #[test]
+    fn elasto_plastic_fixed_point_ends_on_the_curve() {
+        let sigma0 = 191_779.0;
+        let fc = 0.063_257;
+        let lugre = LuGreParams {
+            curve: StribeckParams {
+                fc,
+                fs: fc,
+                vs: 0.1,
+                exponent: 2.0,
+            },
+            sigma0,
+            sigma1: 0.2165 * libm::sqrt(sigma0),
+            sigma2: 0.0,
+            vd: None,
+        };
+        let p = ElastoPlasticParams {
+            lugre,
+            z_ba: 0.3827 * fc / sigma0,
+        };
+        let at = p.build_at::<Fixed32>(1e-3).unwrap();
+        let mut state = LuGreAtState::default();
+        for v in [1.0, 1.0, -1.0, -1.0, 0.5] {
+            let f = at.step(&mut state, Fixed32::from_f64(v)).to_f64();
+            // one rounding step of the scaled force (k = 4) is 3.8e-6 N
+            assert!(
+                (f.abs() - fc).abs() < 1e-3 * fc,
+                "{f} N at {v} m/s, Fs {fc}"
+            );
         }
     }
 

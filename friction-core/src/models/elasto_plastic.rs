@@ -417,9 +417,13 @@ fn sin_over_x<S: Scalar>(x: S) -> S {
 /// as `h width (k1 + 2 k2 + 2 k3 + k4) / 6`, the small tail step as
 /// `u xi (1 - e^-x) / x (eps + b u) / (1 + b u left (1 - e^-x) / x)` with
 /// `x = eps left`), so that in fixed point a short step is not rounded away
-/// in the normalised `u`. The caller clamps `w + rise` to `w_max`. The
-/// tail's exponentials come from [`relax`].
-fn zone_step_at<S: Scalar>(mut u: S, mut xi: S, width: S, eps: S) -> S {
+/// in the normalised `u`. A long tail (`x >= 0.1`) shrinks the gap left to
+/// `w_max` in force units (`gap` is `w_max - w` at entry), so that a fully
+/// relaxed step ends on `w_max` exactly: a gap of one rounding step there is
+/// multiplied by `sigma1 |v| / width` in the damping term (in Q16.16, 9 % of
+/// Fs for `sigma1 = 95`, `Fs = 0.063` at 1 m/s). The caller clamps
+/// `w + rise` to `w_max`. The tail's exponentials come from [`relax`].
+fn zone_step_at<S: Scalar>(mut u: S, mut xi: S, width: S, eps: S, gap: S) -> S {
     // zone widths left (a quotient of scaled forces)
     let mut left = xi / width;
     let (mut r, mut b) = zone_rate(u, eps);
@@ -463,7 +467,9 @@ fn zone_step_at<S: Scalar>(mut u: S, mut xi: S, width: S, eps: S) -> S {
         // (xi = left width): the force-unit distance first
         rise + xi * (eps + b * u) * u * phi / (S::ONE + grown)
     } else {
-        rise + (u - u * (S::ONE - one_minus_e) / (S::ONE + grown)) * width
+        // u+ / u = (1 - one_minus_e) / (1 + grown), applied to the gap
+        let left_gap = (gap - rise).max(S::ZERO);
+        gap - left_gap * (S::ONE - one_minus_e) / (S::ONE + grown)
     }
 }
 
@@ -587,7 +593,7 @@ impl<S: Scalar> ElastoPlasticAt<S> {
         let eps = self.ratio(width, inv_w_max);
         // quotients of scaled forces: 1/width in scaled units is tiny in fixed point
         let u = ((w_max - w) / width).min(S::ONE);
-        (w + zone_step_at(u, xi, width, eps)).min(w_max)
+        (w + zone_step_at(u, xi, width, eps, w_max - w)).min(w_max)
     }
 
     #[inline]

@@ -143,11 +143,12 @@ impl<const N: usize> GmsParams<N> {
             convert_derived::<S>("c", self.c / (alpha * fc))?;
             *out = Element {
                 k: convert("k", e.k)?,
-                inv_k: convert_derived("k", 1.0 / e.k)?,
                 alpha: convert("alpha", alpha)?,
                 f_max: convert("alpha", alpha * fs)?,
                 c_over_alpha: convert_derived("c", self.c / alpha)?,
                 sigma1: convert("sigma1", e.sigma1)?,
+                // at most slip_damping (checked above); a tiny one is 0
+                slip_sigma1: S::from_f64(e.sigma1 * self.c / alpha / e.k),
             };
         }
         Ok(Gms {
@@ -249,7 +250,6 @@ impl<const N: usize> GmsParams<N> {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 struct Element<S> {
     k: S,
-    inv_k: S,
     /// Normalised weight.
     alpha: S,
     /// `alpha_i Fs`, the bound on `|F_i|`.
@@ -257,6 +257,11 @@ struct Element<S> {
     /// `C / alpha_i`.
     c_over_alpha: S,
     sigma1: S,
+    /// `sigma1_i C / (alpha_i k_i)`: the slip damping force per unit of
+    /// `(sign(v) b_i - F_i) / g`, formed at build time so that no product
+    /// of the step overflows where the force itself fits (`C / (alpha_i g)`
+    /// times `F_i` can, in `f32`, for `Fs / Fc` near 1e20).
+    slip_sigma1: S,
 }
 
 /// The built GMS model: immutable, shared by any number of [`GmsState`]s.
@@ -368,14 +373,15 @@ impl<S: Scalar, const N: usize> Gms<S, N> {
             }
             total = total + *f;
             if damping {
-                let dz = if mode.slips_with(v) {
-                    rate * (target - *f) * e.inv_k
-                } else if u != S::ZERO && u.sign() * *f >= b {
-                    S::ZERO // held at the bound by a correction against v
-                } else {
-                    u
-                };
-                total = total + e.sigma1 * dz;
+                // slipping: sigma1_i dz_i/dt = sigma1_i rate (target - F_i) / k_i
+                total = total
+                    + if mode.slips_with(v) {
+                        e.slip_sigma1 * ((target - *f) / g)
+                    } else if u != S::ZERO && u.sign() * *f >= b {
+                        S::ZERO // held at the bound by a correction against v
+                    } else {
+                        e.sigma1 * u
+                    };
             }
         }
         total
