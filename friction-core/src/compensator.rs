@@ -27,7 +27,7 @@
 //! - the command is finite and within `±limit`; each term is clamped to
 //!   `±4 limit` before the sum, so no finite input can overflow it (a term
 //!   that would overflow counts as `±4 limit`); `|v|` and `|e|` are clamped
-//!   to [`VELOCITY_LIMIT`] before use;
+//!   to [`VELOCITY_LIMIT`](crate::VELOCITY_LIMIT) before use;
 //! - a NaN or infinite measured position or setpoint gives the **safe
 //!   output** `command = 0`, `friction = 0`, `accepted = false`, and leaves
 //!   the integral action, the friction state and the last valid position
@@ -56,7 +56,7 @@ pub trait Compensation<S: Scalar> {
     type State: Copy + Default + Debug;
 
     /// Advances the state by `h` and returns the friction estimate. Inputs
-    /// are finite, `|v|` and `|e|` at most [`VELOCITY_LIMIT`], `h > 0`. It
+    /// are finite, `|v|` and `|e|` at most [`VELOCITY_LIMIT`](crate::VELOCITY_LIMIT), `h > 0`. It
     /// should return a finite value (the compensator replaces a non-finite
     /// one by 0).
     fn estimate(&self, state: &mut Self::State, v: S, e: S, h: S) -> S;

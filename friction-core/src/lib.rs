@@ -51,3 +51,32 @@ pub use stribeck::{
     CoulombParams, CoulombViscous, CoulombViscousParams, Karnopp, StribeckCurve, StribeckMap,
     StribeckMapParams, StribeckParams,
 };
+
+/// A compensated servo tick on a fixed-step model's observer, the firmware
+/// case: `Compensator<S, AtPeriod<Observer<M, S>>>` in one name.
+///
+/// ```
+/// use friction_core::{CompensatorParams, LuGreAt, LuGreParams, Observer, ObserverServo, AtPeriod};
+/// let model = LuGreParams::CANUDAS_1995.build_at::<f32>(1e-3)?;
+/// let servo: ObserverServo<LuGreAt<f32>, f32> = CompensatorParams {
+///     h: 1e-3, kp: 400.0, ki: 0.0, kd: 40.0, inertia: 1.0, torque_constant: 1.0, limit: 20.0,
+/// }
+/// .build(AtPeriod(Observer::new(model, 200.0)?))?;
+/// # let _ = servo;
+/// # Ok::<(), friction_core::ParamError>(())
+/// ```
+pub type ObserverServo<M, S> = Compensator<S, AtPeriod<Observer<M, S>>>;
+
+/// [`ObserverServo`] on the fixed-step LuGre model.
+pub type LuGreServo<S> = ObserverServo<LuGreAt<S>, S>;
+
+/// A compensated servo tick on the θ-adaptive observer of a fixed-step
+/// model: `Compensator<S, AtPeriod<AdaptiveObserver<M, S>>>`.
+pub type AdaptiveServo<M, S> = Compensator<S, AtPeriod<AdaptiveObserver<M, S>>>;
+
+/// [`AdaptiveServo`] on the fixed-step LuGre model.
+pub type AdaptiveLuGreServo<S> = AdaptiveServo<LuGreAt<S>, S>;
+
+/// A compensated servo tick with a static feed-forward map `F`, e.g.
+/// `FeedForwardServo<CoulombViscous<f32>, f32>`.
+pub type FeedForwardServo<F, S> = Compensator<S, FeedForward<F>>;

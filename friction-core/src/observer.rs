@@ -17,7 +17,7 @@
 //! the correction destabilises the loop.
 //!
 //! The estimate is bounded by what the model can produce:
-//! - `k e` saturates at [`VELOCITY_LIMIT`] instead of overflowing;
+//! - `k e` saturates at [`VELOCITY_LIMIT`](crate::VELOCITY_LIMIT) instead of overflowing;
 //! - each state is clamped to its bound (`|z^| <= Fs/sigma0` for LuGre), an
 //!   anti-windup the continuous-time observer does not have, and the
 //!   `sigma1 dz^/dt` term uses the rate the state actually took: zero while

@@ -24,7 +24,7 @@ pub enum Conversion {
 /// A real number as the models compute with it.
 ///
 /// Implemented for `f32` and `f64` through `libm`, and (feature `fixed`) for
-/// the Q16.16 [`Fixed32`](crate::Fixed32). Parameters are designed
+/// the Q16.16 `Fixed32`. Parameters are designed
 /// in `f64` and converted once, when a model is built, with [`Scalar::from_f64`].
 pub trait Scalar:
     Copy
@@ -52,6 +52,15 @@ pub trait Scalar:
     /// Converts a design-time `f64`, rounding to the nearest representable
     /// value (saturating where the type cannot overflow to infinity).
     fn from_f64(x: f64) -> Self;
+
+    /// `(m + 0.5) / 2^24` for a 24-bit `m`, rounded once to the type: a
+    /// random unit in `(0, 1)` ([`crate::random::CounterRng::unit`]). The
+    /// floats form it in their own precision (`m` is exact, the sum is
+    /// rounded once, the power of two is exact: the same value as through
+    /// `f64`, without soft-float `f64` arithmetic on an FPU-less or f32-only core).
+    fn from_unit24(m: u32) -> Self {
+        Self::from_f64((f64::from(m) + 0.5) * (1.0 / 16_777_216.0))
+    }
 
     /// Converts a design-time `f64`, checked: [`Conversion::Overflow`] if it
     /// does not fit (or is not finite), [`Conversion::Underflow`] if a
@@ -189,6 +198,10 @@ macro_rules! impl_float_scalar {
             #[inline]
             fn to_f64(self) -> f64 {
                 self as f64
+            }
+            #[inline]
+            fn from_unit24(m: u32) -> Self {
+                ((m & 0xFF_FFFF) as $t + 0.5) * (1.0 / 16_777_216.0)
             }
             #[inline]
             fn abs(self) -> Self {

@@ -31,7 +31,7 @@ use friction_core::{
     AtPeriod, BristleParams, Compensation, Compensator, CompensatorState, CoulombViscousParams,
     DahlParams, ElastoPlasticParams, FeedForward, FixedStepModel, FrictionModel, GmsElement,
     GmsParams, GmsState, LeuvenParams, LeuvenState, LuGre, LuGreAt, LuGreAtState, LuGreParams,
-    LuGreState, NoCompensation, Observer, ResetIntegratorParams, Setpoint, SlipMode,
+    LuGreServo, LuGreState, NoCompensation, Observer, ResetIntegratorParams, Setpoint, SlipMode,
     StribeckParams, XiongElement, XiongParams,
 };
 use hw::{Plant, SimDrive, SimEncoder};
@@ -143,7 +143,7 @@ fn count_instructions(
     observer: &Observer<LuGre<f32>, f32>,
     model_at: &LuGreAt<f32>,
     observer_at: &Observer<LuGreAt<f32>, f32>,
-    servo: &Compensator<f32, AtPeriod<Observer<LuGreAt<f32>, f32>>>,
+    servo: &LuGreServo<f32>,
 ) {
     const N: u32 = 1024;
     let with_loop = ticks(N, || {

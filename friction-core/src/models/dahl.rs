@@ -227,7 +227,7 @@ impl<S: Scalar> Observable<S> for Dahl<S> {
 /// the reference sheet's `dF/dx = sigma sign(y) |y|^delta`), with `c` an
 /// observer's correction (0 for the model). For `delta = 1` it costs one
 /// [`Scalar::exp_neg`] (or a series below `L = 0.1`), no division, no
-/// `powf`; `delta > 1` keeps `powf`, `ln_1p` and `exp_m1` (in [`Fixed32`]
+/// `powf`; `delta > 1` keeps `powf`, `ln_1p` and `exp_m1` (in `Fixed32`
 /// these go through `f32`, software floating point on a core without an FPU).
 ///
 /// Forces (the state `F` included) are carried times a power of two `k`
@@ -237,8 +237,6 @@ impl<S: Scalar> Observable<S> for Dahl<S> {
 /// y^d (ln(1 + q) / q) (1 - e^-L) / L` with `q = d k y^d`: the scaled
 /// `sigma h |v|` first, then factors of order one, so that a small step
 /// keeps its precision in fixed point.
-///
-/// [`Fixed32`]: crate::Fixed32
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct DahlAt<S> {

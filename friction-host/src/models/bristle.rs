@@ -17,6 +17,11 @@ use friction_core::{Bristle, BristleParams, BristleState, ParamError, Scalar};
 /// generic `N` (every count from 1 to this; the core itself takes any `N >= 1`).
 pub const MAX_BRISTLES: usize = 64;
 
+/// Re-bonds per bristle and step the desk allows (the core's default, 2,
+/// bounds a firmware step's worst case): the exact event sequence at any
+/// speed the experiments reach (64 N draws a step).
+const DESK_SNAPS: u32 = 64;
+
 /// Bristle parameters with the number of bristles `N`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BristleSpec {
@@ -71,7 +76,7 @@ fn build_n<S: Scalar + 'static, const K: usize>(
     let names: Vec<String> = (0..K).map(|i| format!("s{i}")).collect();
     let names: Vec<&str> = names.iter().map(String::as_str).collect();
     Ok(boxed::<Bristle<S, K>, S>(
-        p.build::<S, K>()?,
+        p.build::<S, K>()?.with_snap_budget(DESK_SNAPS),
         &names,
         strains::<S, K>,
     ))
@@ -107,6 +112,7 @@ fn observer_n<const K: usize>(
             ..*p
         }
         .build::<f64, K>()
+        .map(|m| m.with_snap_budget(DESK_SNAPS))
     })
 }
 
