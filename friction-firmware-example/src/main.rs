@@ -20,6 +20,7 @@
 mod hw;
 mod servo;
 mod setup;
+mod telemetry;
 
 use core::cell::RefCell;
 use core::hint::black_box;
@@ -34,11 +35,13 @@ use friction_core::{
     LuGreServo, LuGreState, NoCompensation, Observer, ResetIntegratorParams, Setpoint, SlipMode,
     StribeckParams, XiongElement, XiongParams,
 };
+use heapless::spsc::Queue;
 use hw::{Plant, SimDrive, SimEncoder};
 use servo::Servo;
 use setup::{
     adaptation, controller, leuven_nominal, H, INERTIA, NOMINAL, OBSERVER_GAIN, TORQUE_MAX,
 };
+use telemetry::{Sample, Sender, Stats};
 
 /// The plant's "real" friction: 10-20 % away from the nominal model.
 const ACTUAL: LuGreParams = LuGreParams {
@@ -63,6 +66,8 @@ const FREQUENCY: f32 = 0.5; // Hz
 struct Errors {
     rms: f32,
     max: f32,
+    /// Telemetry samples the full queue refused (0: the logging loop kept up).
+    overflows: u32,
 }
 
 fn run<C: Compensation<f32>>(compensator: Compensator<f32, C>) -> Errors {
@@ -95,7 +100,12 @@ fn run_on<M: FrictionModel<f32>, C: Compensation<f32>>(
         counts_per_rad: COUNTS_PER_RAD,
     };
     let mut servo = Servo::new(drive, encoder, COUNTS_PER_RAD, TORQUE_MAX, compensator);
-    let (mut sum_sq, mut max) = (0.0f32, 0.0f32);
+    // the tick's samples reach the statistics through the telemetry queue
+    // (capacity N - 1 in heapless 0.9)
+    let mut queue: Queue<Sample, { telemetry::CAPACITY + 1 }> = Queue::new();
+    let (producer, mut consumer) = queue.split();
+    let mut sender = Sender::new(producer);
+    let mut stats = Stats::default();
     let wt = 2.0 * core::f32::consts::PI * FREQUENCY;
     for k in 0..TICKS {
         let t = k as f32 * H;
@@ -113,14 +123,22 @@ fn run_on<M: FrictionModel<f32>, C: Compensation<f32>>(
                 fail("servo");
             }
         };
-        let e = x - x_ref;
-        sum_sq += e * e;
-        max = max.max(libm::fabsf(e));
+        // the control tick's side: enqueue, never wait
+        sender.send(Sample { error: x - x_ref });
         plant.borrow_mut().advance(H, SUBSTEPS);
+        // the logging loop's side, at its own pace
+        if k % telemetry::DRAIN_EVERY == telemetry::DRAIN_EVERY - 1 {
+            stats.drain(&mut consumer);
+        }
+    }
+    stats.drain(&mut consumer);
+    if stats.count + sender.overflows != TICKS {
+        fail("telemetry lost samples without counting them");
     }
     Errors {
-        rms: libm::sqrtf(sum_sq / TICKS as f32),
-        max,
+        rms: stats.rms(),
+        max: stats.max,
+        overflows: sender.overflows,
     }
 }
 
@@ -410,6 +428,10 @@ fn main() -> ! {
     cp.SYST.clear_current();
     cp.SYST.enable_counter();
 
+    if !telemetry::self_check() {
+        fail("telemetry queue self-check");
+    }
+
     // the loop runs at one rate: the fixed-step form, built for H
     let (Ok(model), Ok(model_at), Ok(coulomb)) = (
         NOMINAL.build::<f32>(),
@@ -521,7 +543,20 @@ fn main() -> ! {
             1e3 * e.rms,
             1e3 * e.max
         );
+        if e.overflows > 0 {
+            defmt::error!(
+                "{=str}: {=u32} telemetry samples lost to a full queue",
+                name,
+                e.overflows
+            );
+            debug::exit(EXIT_FAILURE);
+        }
     }
+    defmt::info!(
+        "telemetry: every tick's sample through a heapless spsc queue of {=usize}, drained every {=u32} ticks, none lost",
+        telemetry::CAPACITY,
+        telemetry::DRAIN_EVERY
+    );
     let best = obs_damped.rms.min(obs_plain.rms);
     defmt::info!(
         "observer / uncompensated rms ratio: {=f32}",
