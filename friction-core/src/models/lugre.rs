@@ -463,7 +463,10 @@ impl<S: Scalar> LuGreAt<S> {
         }
     }
 
-    #[inline]
+    // always inlined: the model's step (c = 0, damping on) then carries no
+    // correction or damping-switch branch and no call (Cortex-M4F, f32:
+    // 124.7 -> 108.7 instructions a step, the observer 187.7 -> 174.7)
+    #[inline(always)]
     fn advance(&self, state: &mut LuGreAtState<S>, v: S, c: S, damping: bool) -> S {
         let g = self.curve.eval_fast(v); // scaled, >= Fc scaled > 0
                                          // 1/g unscaled: in fixed point a scaled g of hundreds has a
