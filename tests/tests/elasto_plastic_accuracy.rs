@@ -90,7 +90,7 @@ fn reversals_against_the_reference_for_every_z_ba_and_lugre() {
 }
 
 #[test]
-#[ignore = "known to fail: with the velocity held over each step the fast signals miss 3 %/1 % for z_ba >= 0.9 Fc/sigma0 (README, elasto-plastic accuracy); run with --ignored to see the figures"]
+#[ignore = "known to fail: with the velocity held over each step the fast signals miss 3 %/1 % for z_ba >= 0.9 Fc/sigma0 (docs/guide/accuracy.md, elasto-plastic); run with --ignored to see the figures"]
 fn issue_bounds_3_percent_at_1_khz_and_1_percent_at_10_khz_for_every_z_ba() {
     // The issue's bounds with the sampled velocity held. Not met for z_ba >=
     // 0.9 Fc/sigma0 on the fast signals (nor on the two-tone at 1 kHz for 0.1
