@@ -1204,3 +1204,37 @@ mod fixed_point {
         );
     }
 }
+
+/// `ElastoPlasticAt::with_max_substeps`: one step from rest that crosses
+/// the transition zone, against the full step, over zone shapes and
+/// distances; the worst gap of the state `w` in zone widths
+/// `g(v) - sigma0 z_ba` stays within the documented bound for each `k`.
+#[test]
+fn bounded_zone_substeps_stay_within_their_documented_error() {
+    let h = 1e-3;
+    for (k, bound) in [(3u8, 0.028), (4, 0.015), (6, 0.004), (12, 1e-4)] {
+        let mut worst = 0.0f64;
+        for frac in [0.01, 0.1, 0.3, 0.5, 0.7, 0.9, 0.99] {
+            let lugre = LuGreParams::CANUDAS_1995;
+            let p = ElastoPlasticParams {
+                lugre,
+                z_ba: frac * lugre.curve.fc / lugre.sigma0,
+            };
+            let full = p.build_at::<f64>(h).unwrap();
+            let bounded = p.build_at::<f64>(h).unwrap().with_max_substeps(k);
+            for i in 0..200 {
+                // slid distance sigma0 h |v| from 1e-3 to 1e3 zone widths past z_ba
+                let v = 1e-6 * 10f64.powf(i as f64 / 200.0 * 6.0);
+                let g = lugre.curve.fc
+                    + (lugre.curve.fs - lugre.curve.fc) * (-(v / lugre.curve.vs).powi(2)).exp();
+                let width = g - frac * lugre.curve.fc;
+                let (mut a, mut b) = (LuGreAtState::default(), LuGreAtState::default());
+                full.step(&mut a, v);
+                bounded.step(&mut b, v);
+                worst = worst.max((a.w - b.w).abs() / width);
+            }
+        }
+        std::println!("max_substeps {k}: worst gap {worst:.2e} of the zone width");
+        assert!(worst <= bound, "k = {k}: {worst} > {bound}");
+    }
+}

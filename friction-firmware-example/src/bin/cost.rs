@@ -533,13 +533,21 @@ macro_rules! fixed_step_rows {
         .build_at::<$S>(h)
         .unwrap_or_else(|_| fail("fixed-step Dahl parameters"));
         row!($pt, "dahl", $label, f, &dahl, $dahl, $S);
-        for (name, frac) in [("elasto-plastic", 0.5), ("elasto-plastic-z99", 0.99)] {
+        // the full step, and the bounded one a real-time loop can choose
+        // (`with_max_substeps(3)`: at most three RK4 sub-steps of the zone)
+        for (name, frac, k) in [
+            ("elasto-plastic", 0.5, 24),
+            ("elasto-plastic-z99", 0.99, 24),
+            ("elasto-plastic-k3", 0.5, 3),
+            ("elasto-plastic-z99-k3", 0.99, 3),
+        ] {
             let ep = ElastoPlasticParams {
                 lugre: NOMINAL,
                 z_ba: frac * NOMINAL.curve.fc / NOMINAL.sigma0,
             }
             .build_at::<$S>(h)
-            .unwrap_or_else(|_| fail("fixed-step elasto-plastic parameters"));
+            .unwrap_or_else(|_| fail("fixed-step elasto-plastic parameters"))
+            .with_max_substeps(k);
             row!($pt, name, $label, f, &ep, $ep, $S);
         }
         if let Some(m) = gms_at::<$S, 1>($label) {
