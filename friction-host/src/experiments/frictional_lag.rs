@@ -6,6 +6,9 @@ use super::*;
 /// against its lag time `T = 0.01 s` at the mean speed.
 const W_T: [f64; 3] = [0.01, 0.1, 0.25];
 
+/// Periods of the velocity run at each frequency (the loop is the last).
+const PERIODS: f64 = 2.0;
+
 /// The speed `v0` and the frequencies `w` for the model: the sheet's
 /// `v0 = 1e-3 m/s` and `w = 1, 10, 25 rad/s` are canudas1995's Stribeck
 /// velocity and `W_T` over its lag time at the mean speed `1.5 v0`. Another
@@ -30,22 +33,23 @@ pub(super) fn frictional_lag(file: &ParamFile, opts: Options, dir: &Path) -> Res
     let (v0, ws) = lag_scales(&file.model);
     // 0.01 of the lag time at w T = 1 (1e-4 s for canudas1995)
     let h = opts.dt.unwrap_or(0.01 / ws[0] * W_T[0]);
-    // three periods at each w
-    let duration: f64 = ws.iter().map(|w| 6.0 * std::f64::consts::PI / w).sum();
+    // two periods at each w: the first settles the state (within a few lag
+    // times, a small part of a period), the loop is read on the second
+    let duration: f64 = ws.iter().map(|w| 4.0 * std::f64::consts::PI / w).sum();
     check_samples("frictional-lag", duration, h)?;
     let mut series = Vec::new();
     let mut areas = Vec::new();
     let (mut cw, mut ct, mut cv, mut cf, mut cr) = (vec![], vec![], vec![], vec![], vec![]);
     let mut worst = 0.0f64;
     for w in ws {
-        let s = Signal::lag(v0, w, 3.0);
+        let s = Signal::lag(v0, w, PERIODS);
         let t = s.times(h);
         let v: Vec<f64> = t.iter().map(|&ti| s.v(ti)).collect();
         let f = drive_core(core(&file.model)?.as_mut(), &t, &v);
         let fr = drive_reference(&file.model, &s, &t)?.force;
         worst = worst.max(rms_diff(&f, &fr) / file.model.max_static_force());
         // loop area over the last period: closed integral of F dv
-        let start = t.len() * 2 / 3;
+        let start = t.len() / 2;
         let area: f64 = (start + 1..t.len())
             .map(|k| 0.5 * (f[k] + f[k - 1]) * (v[k] - v[k - 1]))
             .sum();
