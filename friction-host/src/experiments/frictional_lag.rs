@@ -35,7 +35,10 @@ pub(super) fn frictional_lag(file: &ParamFile, opts: Options, dir: &Path) -> Res
     let h = opts.dt.unwrap_or(0.01 / ws[0] * W_T[0]);
     // two periods at each w: the first settles the state (within a few lag
     // times, a small part of a period), the loop is read on the second
-    let duration: f64 = ws.iter().map(|w| 4.0 * std::f64::consts::PI / w).sum();
+    let duration: f64 = ws
+        .iter()
+        .map(|w| PERIODS * 2.0 * std::f64::consts::PI / w)
+        .sum();
     check_samples("frictional-lag", duration, h)?;
     let mut series = Vec::new();
     let mut areas = Vec::new();
