@@ -1,0 +1,504 @@
+//! Models: one C object per scalar type (`friction_model_f32`,
+//! `friction_model_f64`) holding any core model and its state.
+//!
+//! A constructor per model validates the parameters (the core's `build`
+//! or, for `h > 0`, `build_at(h)`: the fixed-step form) and, only on
+//! success, overwrites the object; on failure the object is left as it
+//! was. `friction_model_step_*` advances the state by `h` with `v` held.
+
+use crate::any::{Fixed, FixedState, StaticMap, Variable, VariableState};
+use crate::params::*;
+use crate::slot::{self, opaque};
+use crate::status::{friction_error, friction_status, report};
+use friction_core::{
+    BristleParams, CoulombViscousParams, DahlParams, ElastoPlasticParams, FixedStepModel,
+    FrictionModel, GmsParams, LeuvenParams, LuGreParams, ParamError, ResetIntegratorParams, Scalar,
+    StribeckMapParams, XiongParams,
+};
+
+/// Words (8 bytes each) of a `float` model object, room for the largest
+/// value it holds (a compile-time check keeps it so).
+pub const FRICTION_MODEL_F32_WORDS: usize = 40;
+/// Words (8 bytes each) of a `double` model object.
+pub const FRICTION_MODEL_F64_WORDS: usize = 80;
+
+/// A model in `float` (caller-allocated; initialise with a constructor
+/// such as [`friction_lugre_init_f32`]).
+#[repr(C)]
+pub struct friction_model_f32 {
+    /// Private: written by the constructor, read by the other calls.
+    pub opaque: [u64; FRICTION_MODEL_F32_WORDS],
+}
+
+/// A model in `double` (caller-allocated; initialise with a constructor
+/// such as [`friction_lugre_init_f64`]).
+#[repr(C)]
+pub struct friction_model_f64 {
+    /// Private: written by the constructor, read by the other calls.
+    pub opaque: [u64; FRICTION_MODEL_F64_WORDS],
+}
+
+opaque!(friction_model_f32, Model<f32>, 0x4652_4943_4D46_3332);
+opaque!(friction_model_f64, Model<f64>, 0x4652_4943_4D46_3634);
+
+/// Any core model with its state.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Model<S: Scalar> {
+    /// A static map (no state).
+    Static(StaticMap<S>),
+    /// A variable-step state model.
+    Variable(Variable<S>, VariableState<S>),
+    /// A fixed-step state model.
+    Fixed(Fixed<S>, FixedState<S>),
+}
+
+/// Whether a step's period `h` is the fixed-step model's own (to 1e-6).
+pub(crate) fn same_period(h: f64, period: f64) -> bool {
+    (h - period).abs() <= 1e-6 * period
+}
+
+impl<S: Scalar> Model<S> {
+    fn variable(model: Variable<S>) -> Self {
+        Self::Variable(model, VariableState::Rest)
+    }
+
+    fn fixed(model: Fixed<S>) -> Self {
+        Self::Fixed(model, FixedState::Rest)
+    }
+
+    /// Steps by `h` with `v` held; `Err` leaves the state as it was and
+    /// carries the force it holds.
+    fn step(&mut self, v: S, h: S) -> (S, friction_status) {
+        let accepted = v.is_finite() && h.is_finite() && h >= S::ZERO;
+        let status = if accepted {
+            friction_status::FRICTION_OK
+        } else {
+            friction_status::FRICTION_INPUT_REJECTED
+        };
+        match self {
+            Self::Static(m) => (m.step(&mut (), v, h), status),
+            Self::Variable(m, s) => (m.step(s, v, h), status),
+            Self::Fixed(m, s) => {
+                if accepted && !same_period(h.to_f64(), m.period()) {
+                    (m.hold_force(s), friction_status::FRICTION_PERIOD_MISMATCH)
+                } else {
+                    (m.step(s, v), status)
+                }
+            }
+        }
+    }
+
+    fn reset(&mut self) {
+        match self {
+            Self::Static(_) => {}
+            Self::Variable(_, s) => *s = VariableState::Rest,
+            Self::Fixed(_, s) => *s = FixedState::Rest,
+        }
+    }
+}
+
+/// Builds `O::Value` from `params` into `out`; writes nothing on failure.
+pub(crate) fn init<O: slot::Opaque, P>(
+    out: Option<&mut O>,
+    params: Option<&P>,
+    error: Option<&mut friction_error>,
+    build: impl FnOnce(&P) -> Result<O::Value, friction_error>,
+) -> friction_status {
+    let (Some(out), Some(params)) = (out, params) else {
+        let which = if params.is_none() { "params" } else { "out" };
+        return report(
+            error,
+            friction_error::new(friction_status::FRICTION_NULL_POINTER, which),
+        );
+    };
+    match build(params) {
+        Ok(value) => {
+            slot::put(out, value);
+            report(error, friction_error::new(friction_status::FRICTION_OK, ""))
+        }
+        Err(e) => report(error, e),
+    }
+}
+
+fn param(e: ParamError) -> friction_error {
+    friction_error::from_param(e)
+}
+
+/// The variable-step form for `h == 0`, else the fixed-step form for `h`.
+fn at<S: Scalar>(
+    h: f64,
+    variable: impl FnOnce() -> Result<Variable<S>, ParamError>,
+    fixed: impl FnOnce(f64) -> Result<Fixed<S>, ParamError>,
+) -> Result<Model<S>, friction_error> {
+    if h == 0.0 {
+        variable().map(Model::variable).map_err(param)
+    } else {
+        fixed(h).map(Model::fixed).map_err(param)
+    }
+}
+
+fn coulomb_viscous<S: Scalar>(
+    p: &friction_coulomb_viscous_params,
+) -> Result<Model<S>, friction_error> {
+    let model = CoulombViscousParams::from(p).build().map_err(param)?;
+    Ok(Model::Static(StaticMap::CoulombViscous(model)))
+}
+
+fn stribeck_map<S: Scalar>(p: &friction_stribeck_map_params) -> Result<Model<S>, friction_error> {
+    let model = StribeckMapParams::from(p).build().map_err(param)?;
+    Ok(Model::Static(StaticMap::StribeckMap(model)))
+}
+
+fn bristle<S: Scalar>(p: &friction_bristle_params) -> Result<Model<S>, friction_error> {
+    let model = BristleParams::from(p).build().map_err(param)?;
+    Ok(Model::variable(Variable::Bristle(model)))
+}
+
+fn reset_integrator<S: Scalar>(
+    p: &friction_reset_integrator_params,
+) -> Result<Model<S>, friction_error> {
+    let model = ResetIntegratorParams::from(p).build().map_err(param)?;
+    Ok(Model::variable(Variable::ResetIntegrator(model)))
+}
+
+fn dahl<S: Scalar>(p: &friction_dahl_params, h: f64) -> Result<Model<S>, friction_error> {
+    let p = DahlParams::from(p);
+    at(
+        h,
+        || p.build().map(Variable::Dahl),
+        |h| p.build_at(h).map(Fixed::Dahl),
+    )
+}
+
+fn lugre<S: Scalar>(p: &friction_lugre_params, h: f64) -> Result<Model<S>, friction_error> {
+    let p = LuGreParams::from(p);
+    at(
+        h,
+        || p.build().map(Variable::LuGre),
+        |h| p.build_at(h).map(Fixed::LuGre),
+    )
+}
+
+fn elasto_plastic<S: Scalar>(
+    p: &friction_elasto_plastic_params,
+    h: f64,
+) -> Result<Model<S>, friction_error> {
+    let p = ElastoPlasticParams::from(p);
+    at(
+        h,
+        || p.build().map(Variable::ElastoPlastic),
+        |h| p.build_at(h).map(Fixed::ElastoPlastic),
+    )
+}
+
+fn leuven<S: Scalar>(p: &friction_leuven_params) -> Result<Model<S>, friction_error> {
+    let model = LeuvenParams::from(p).build().map_err(param)?;
+    Ok(Model::variable(Variable::Leuven(model)))
+}
+
+fn gms<S: Scalar>(p: &friction_gms_params, h: f64) -> Result<Model<S>, friction_error> {
+    let p = GmsParams::from(p);
+    at(
+        h,
+        || p.build().map(Variable::Gms),
+        |h| p.build_at(h).map(Fixed::Gms),
+    )
+}
+
+fn xiong<S: Scalar>(p: &friction_xiong_params, h: f64) -> Result<Model<S>, friction_error> {
+    let p = XiongParams::from(p);
+    at(
+        h,
+        || p.build().map(Variable::Xiong),
+        |h| p.build_at(h).map(Fixed::Xiong),
+    )
+}
+
+fn step<O, S>(model: Option<&mut O>, v: S, h: S, force: Option<&mut S>) -> friction_status
+where
+    O: slot::Opaque<Value = Model<S>>,
+    S: Scalar,
+{
+    let (Some(model), Some(force)) = (model, force) else {
+        return friction_status::FRICTION_NULL_POINTER;
+    };
+    let Some(model) = slot::get(model) else {
+        return friction_status::FRICTION_NOT_INITIALISED;
+    };
+    let (f, status) = model.step(v, h);
+    *force = f;
+    status
+}
+
+fn reset<O, S>(model: Option<&mut O>) -> friction_status
+where
+    O: slot::Opaque<Value = Model<S>>,
+    S: Scalar,
+{
+    let Some(model) = model else {
+        return friction_status::FRICTION_NULL_POINTER;
+    };
+    let Some(model) = slot::get(model) else {
+        return friction_status::FRICTION_NOT_INITIALISED;
+    };
+    model.reset();
+    friction_status::FRICTION_OK
+}
+
+// The C entry points: one per model and scalar type, each a line over the
+// generic builders above (cbindgen reads them as written, so no macro).
+
+/// Coulomb plus viscous friction in `float`.
+#[no_mangle]
+pub extern "C" fn friction_coulomb_viscous_init_f32(
+    out: Option<&mut friction_model_f32>,
+    params: Option<&friction_coulomb_viscous_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, coulomb_viscous)
+}
+
+/// Coulomb plus viscous friction in `double`.
+#[no_mangle]
+pub extern "C" fn friction_coulomb_viscous_init_f64(
+    out: Option<&mut friction_model_f64>,
+    params: Option<&friction_coulomb_viscous_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, coulomb_viscous)
+}
+
+/// The static Stribeck map in `float`.
+#[no_mangle]
+pub extern "C" fn friction_stribeck_map_init_f32(
+    out: Option<&mut friction_model_f32>,
+    params: Option<&friction_stribeck_map_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, stribeck_map)
+}
+
+/// The static Stribeck map in `double`.
+#[no_mangle]
+pub extern "C" fn friction_stribeck_map_init_f64(
+    out: Option<&mut friction_model_f64>,
+    params: Option<&friction_stribeck_map_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, stribeck_map)
+}
+
+/// The bristle model in `float` (re-bonds at most 2 per bristle a step,
+/// the core's firmware default).
+#[no_mangle]
+pub extern "C" fn friction_bristle_init_f32(
+    out: Option<&mut friction_model_f32>,
+    params: Option<&friction_bristle_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, bristle)
+}
+
+/// The bristle model in `double` (re-bonds at most 2 per bristle a step).
+#[no_mangle]
+pub extern "C" fn friction_bristle_init_f64(
+    out: Option<&mut friction_model_f64>,
+    params: Option<&friction_bristle_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, bristle)
+}
+
+/// The reset integrator in `float`.
+#[no_mangle]
+pub extern "C" fn friction_reset_integrator_init_f32(
+    out: Option<&mut friction_model_f32>,
+    params: Option<&friction_reset_integrator_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, reset_integrator)
+}
+
+/// The reset integrator in `double`.
+#[no_mangle]
+pub extern "C" fn friction_reset_integrator_init_f64(
+    out: Option<&mut friction_model_f64>,
+    params: Option<&friction_reset_integrator_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, reset_integrator)
+}
+
+/// The Dahl model in `float`: `h == 0` the variable-step form, `h > 0` the
+/// fixed-step form for period `h` (s).
+#[no_mangle]
+pub extern "C" fn friction_dahl_init_f32(
+    out: Option<&mut friction_model_f32>,
+    params: Option<&friction_dahl_params>,
+    h: f64,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, |p| dahl(p, h))
+}
+
+/// The Dahl model in `double` (`h` as in [`friction_dahl_init_f32`]).
+#[no_mangle]
+pub extern "C" fn friction_dahl_init_f64(
+    out: Option<&mut friction_model_f64>,
+    params: Option<&friction_dahl_params>,
+    h: f64,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, |p| dahl(p, h))
+}
+
+/// The LuGre model in `float`: `h == 0` the variable-step form, `h > 0` the
+/// fixed-step form for period `h` (s), the firmware's choice.
+#[no_mangle]
+pub extern "C" fn friction_lugre_init_f32(
+    out: Option<&mut friction_model_f32>,
+    params: Option<&friction_lugre_params>,
+    h: f64,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, |p| lugre(p, h))
+}
+
+/// The LuGre model in `double` (`h` as in [`friction_lugre_init_f32`]).
+#[no_mangle]
+pub extern "C" fn friction_lugre_init_f64(
+    out: Option<&mut friction_model_f64>,
+    params: Option<&friction_lugre_params>,
+    h: f64,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, |p| lugre(p, h))
+}
+
+/// The elasto-plastic model in `float` (`h` as in [`friction_lugre_init_f32`]).
+#[no_mangle]
+pub extern "C" fn friction_elasto_plastic_init_f32(
+    out: Option<&mut friction_model_f32>,
+    params: Option<&friction_elasto_plastic_params>,
+    h: f64,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, |p| elasto_plastic(p, h))
+}
+
+/// The elasto-plastic model in `double` (`h` as in [`friction_lugre_init_f32`]).
+#[no_mangle]
+pub extern "C" fn friction_elasto_plastic_init_f64(
+    out: Option<&mut friction_model_f64>,
+    params: Option<&friction_elasto_plastic_params>,
+    h: f64,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, |p| elasto_plastic(p, h))
+}
+
+/// The Leuven model in `float`.
+#[no_mangle]
+pub extern "C" fn friction_leuven_init_f32(
+    out: Option<&mut friction_model_f32>,
+    params: Option<&friction_leuven_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, leuven)
+}
+
+/// The Leuven model in `double`.
+#[no_mangle]
+pub extern "C" fn friction_leuven_init_f64(
+    out: Option<&mut friction_model_f64>,
+    params: Option<&friction_leuven_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, leuven)
+}
+
+/// The GMS model in `float` (`h` as in [`friction_lugre_init_f32`]).
+#[no_mangle]
+pub extern "C" fn friction_gms_init_f32(
+    out: Option<&mut friction_model_f32>,
+    params: Option<&friction_gms_params>,
+    h: f64,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, |p| gms(p, h))
+}
+
+/// The GMS model in `double` (`h` as in [`friction_lugre_init_f32`]).
+#[no_mangle]
+pub extern "C" fn friction_gms_init_f64(
+    out: Option<&mut friction_model_f64>,
+    params: Option<&friction_gms_params>,
+    h: f64,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, |p| gms(p, h))
+}
+
+/// The Xiong model in `float` (`h` as in [`friction_lugre_init_f32`]).
+#[no_mangle]
+pub extern "C" fn friction_xiong_init_f32(
+    out: Option<&mut friction_model_f32>,
+    params: Option<&friction_xiong_params>,
+    h: f64,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, |p| xiong(p, h))
+}
+
+/// The Xiong model in `double` (`h` as in [`friction_lugre_init_f32`]).
+#[no_mangle]
+pub extern "C" fn friction_xiong_init_f64(
+    out: Option<&mut friction_model_f64>,
+    params: Option<&friction_xiong_params>,
+    h: f64,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, error, |p| xiong(p, h))
+}
+
+/// Advances `model` by `h` (s) with velocity `v` held and writes the force.
+/// A fixed-step model needs `h` equal to its period (to 1e-6, else
+/// `FRICTION_PERIOD_MISMATCH` and no step). A NaN or infinite `v` or `h`,
+/// or `h < 0`: `FRICTION_INPUT_REJECTED`, state unchanged, the force the
+/// state holds.
+#[no_mangle]
+pub extern "C" fn friction_model_step_f32(
+    model: Option<&mut friction_model_f32>,
+    v: f32,
+    h: f32,
+    force: Option<&mut f32>,
+) -> friction_status {
+    step(model, v, h, force)
+}
+
+/// [`friction_model_step_f32`] in `double`.
+#[no_mangle]
+pub extern "C" fn friction_model_step_f64(
+    model: Option<&mut friction_model_f64>,
+    v: f64,
+    h: f64,
+    force: Option<&mut f64>,
+) -> friction_status {
+    step(model, v, h, force)
+}
+
+/// Puts `model` back at rest (unstrained), keeping its parameters.
+#[no_mangle]
+pub extern "C" fn friction_model_reset_f32(
+    model: Option<&mut friction_model_f32>,
+) -> friction_status {
+    reset(model)
+}
+
+/// [`friction_model_reset_f32`] in `double`.
+#[no_mangle]
+pub extern "C" fn friction_model_reset_f64(
+    model: Option<&mut friction_model_f64>,
+) -> friction_status {
+    reset(model)
+}

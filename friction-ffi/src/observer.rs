@@ -1,0 +1,203 @@
+//! Observers: the core's `Observer` around a state model, stepped with the
+//! measured velocity `v` and position error `e = x - x_ref`; the estimate
+//! `F^` is what a compensator feeds forward.
+
+use crate::any::{Fixed, FixedState, Variable, VariableState};
+use crate::model::{friction_model_f32, friction_model_f64, init, same_period, Model};
+use crate::slot::{self, opaque};
+use crate::status::{friction_error, friction_status};
+use friction_core::{FixedStepModel, Observer, Scalar};
+
+/// Words (8 bytes each) of a `float` observer object, room for the largest
+/// value it holds (a compile-time check keeps it so).
+pub const FRICTION_OBSERVER_F32_WORDS: usize = 40;
+/// Words (8 bytes each) of a `double` observer object.
+pub const FRICTION_OBSERVER_F64_WORDS: usize = 80;
+
+/// An observer in `float` (caller-allocated; see [`friction_observer_init_f32`]).
+#[repr(C)]
+pub struct friction_observer_f32 {
+    /// Private: written by the constructor, read by the other calls.
+    pub opaque: [u64; FRICTION_OBSERVER_F32_WORDS],
+}
+
+/// An observer in `double` (caller-allocated; see [`friction_observer_init_f64`]).
+#[repr(C)]
+pub struct friction_observer_f64 {
+    /// Private: written by the constructor, read by the other calls.
+    pub opaque: [u64; FRICTION_OBSERVER_F64_WORDS],
+}
+
+opaque!(friction_observer_f32, Estimator<f32>, 0x4652_4943_4F42_3332);
+opaque!(friction_observer_f64, Estimator<f64>, 0x4652_4943_4F42_3634);
+
+/// An observer with the state of its model.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Estimator<S: Scalar> {
+    Variable(Observer<Variable<S>, S>, VariableState<S>),
+    Fixed(Observer<Fixed<S>, S>, FixedState<S>),
+}
+
+/// The observer of `model` (its parameters; the observer starts at rest).
+fn build<S: Scalar>(
+    model: &Model<S>,
+    gain: f64,
+    damping: bool,
+) -> Result<Estimator<S>, friction_error> {
+    let param = friction_error::from_param;
+    match model {
+        Model::Static(_) => Err(friction_error::new(
+            friction_status::FRICTION_NOT_SUPPORTED,
+            "model",
+        )),
+        Model::Variable(m, _) => Ok(Estimator::Variable(
+            Observer::new(*m, gain)
+                .map_err(param)?
+                .with_damping(damping),
+            VariableState::Rest,
+        )),
+        Model::Fixed(m, _) => Ok(Estimator::Fixed(
+            Observer::new(*m, gain)
+                .map_err(param)?
+                .with_damping(damping),
+            FixedState::Rest,
+        )),
+    }
+}
+
+/// Builds the observer of an initialised `model` into `out`.
+fn new<O, M, S>(
+    out: Option<&mut O>,
+    model: Option<&M>,
+    gain: f64,
+    damping: bool,
+    error: Option<&mut friction_error>,
+) -> friction_status
+where
+    O: slot::Opaque<Value = Estimator<S>>,
+    M: slot::Opaque<Value = Model<S>>,
+    S: Scalar,
+{
+    init(out, model, error, |m| match slot::get_ref(m) {
+        Some(m) => build(m, gain, damping),
+        None => Err(friction_error::new(
+            friction_status::FRICTION_NOT_INITIALISED,
+            "model",
+        )),
+    })
+}
+
+fn step<O, S>(observer: Option<&mut O>, v: S, e: S, h: S, force: Option<&mut S>) -> friction_status
+where
+    O: slot::Opaque<Value = Estimator<S>>,
+    S: Scalar,
+{
+    let (Some(observer), Some(force)) = (observer, force) else {
+        return friction_status::FRICTION_NULL_POINTER;
+    };
+    let Some(observer) = slot::get(observer) else {
+        return friction_status::FRICTION_NOT_INITIALISED;
+    };
+    let accepted = v.is_finite() && e.is_finite() && h.is_finite() && h >= S::ZERO;
+    let status = if accepted {
+        friction_status::FRICTION_OK
+    } else {
+        friction_status::FRICTION_INPUT_REJECTED
+    };
+    match observer {
+        Estimator::Variable(o, s) => *force = o.step(s, v, e, h),
+        Estimator::Fixed(o, s) => {
+            if accepted && !same_period(h.to_f64(), o.model().period()) {
+                *force = o.model().hold_force(s);
+                return friction_status::FRICTION_PERIOD_MISMATCH;
+            }
+            *force = o.step_at(s, v, e);
+        }
+    }
+    status
+}
+
+fn reset<O, S>(observer: Option<&mut O>) -> friction_status
+where
+    O: slot::Opaque<Value = Estimator<S>>,
+    S: Scalar,
+{
+    let Some(observer) = observer else {
+        return friction_status::FRICTION_NULL_POINTER;
+    };
+    match slot::get(observer) {
+        Some(Estimator::Variable(_, s)) => *s = VariableState::Rest,
+        Some(Estimator::Fixed(_, s)) => *s = FixedState::Rest,
+        None => return friction_status::FRICTION_NOT_INITIALISED,
+    }
+    friction_status::FRICTION_OK
+}
+
+/// The observer of `model`'s parameters in `float`, with correction gain
+/// `gain >= 0` (1/s) and, if `damping`, the `sigma1 dz/dt` term in the
+/// estimate. A static map has no state to observe: `FRICTION_NOT_SUPPORTED`.
+/// The observer keeps its own copy of the model; it starts at rest.
+#[no_mangle]
+pub extern "C" fn friction_observer_init_f32(
+    out: Option<&mut friction_observer_f32>,
+    model: Option<&friction_model_f32>,
+    gain: f64,
+    damping: bool,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    new(out, model, gain, damping, error)
+}
+
+/// [`friction_observer_init_f32`] in `double`.
+#[no_mangle]
+pub extern "C" fn friction_observer_init_f64(
+    out: Option<&mut friction_observer_f64>,
+    model: Option<&friction_model_f64>,
+    gain: f64,
+    damping: bool,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    new(out, model, gain, damping, error)
+}
+
+/// Advances the observer by `h` (s) with measured velocity `v` and position
+/// error `e = x - x_ref`; writes the friction estimate. Period and input
+/// checks as in [`crate::model::friction_model_step_f32`].
+#[no_mangle]
+pub extern "C" fn friction_observer_step_f32(
+    observer: Option<&mut friction_observer_f32>,
+    v: f32,
+    e: f32,
+    h: f32,
+    force: Option<&mut f32>,
+) -> friction_status {
+    step(observer, v, e, h, force)
+}
+
+/// [`friction_observer_step_f32`] in `double`.
+#[no_mangle]
+pub extern "C" fn friction_observer_step_f64(
+    observer: Option<&mut friction_observer_f64>,
+    v: f64,
+    e: f64,
+    h: f64,
+    force: Option<&mut f64>,
+) -> friction_status {
+    step(observer, v, e, h, force)
+}
+
+/// Puts the observer's model state back at rest.
+#[no_mangle]
+pub extern "C" fn friction_observer_reset_f32(
+    observer: Option<&mut friction_observer_f32>,
+) -> friction_status {
+    reset(observer)
+}
+
+/// [`friction_observer_reset_f32`] in `double`.
+#[no_mangle]
+pub extern "C" fn friction_observer_reset_f64(
+    observer: Option<&mut friction_observer_f64>,
+) -> friction_status {
+    reset(observer)
+}

@@ -1,0 +1,395 @@
+//! The compensated servo tick: the core's `Compensator` (PID, acceleration
+//! feed-forward, command limit) with no compensation, a static
+//! feed-forward, an observer, or the theta-adaptive observer.
+
+use crate::any::{Fixed, FixedState, StaticMap, Variable, VariableState};
+use crate::model::{friction_model_f32, friction_model_f64, Model};
+use crate::params::{friction_adaptive_params, friction_servo_params};
+use crate::slot::{self, opaque};
+use crate::status::{friction_error, friction_status, report};
+use friction_core::{
+    AdaptiveObserver, AdaptiveParams, AdaptiveState, AtPeriod, Compensator, CompensatorParams,
+    CompensatorState, FeedForward, NoCompensation, Observer, Scalar, Setpoint,
+};
+
+/// Words (8 bytes each) of a `float` servo object, room for the largest
+/// value it holds (a compile-time check keeps it so).
+pub const FRICTION_SERVO_F32_WORDS: usize = 80;
+/// Words (8 bytes each) of a `double` servo object.
+pub const FRICTION_SERVO_F64_WORDS: usize = 144;
+
+/// A compensated servo axis in `float` (caller-allocated; see [`friction_servo_init_f32`]).
+#[repr(C)]
+pub struct friction_servo_f32 {
+    /// Private: written by the constructor, read by the other calls.
+    pub opaque: [u64; FRICTION_SERVO_F32_WORDS],
+}
+
+/// A compensated servo axis in `double` (caller-allocated; see [`friction_servo_init_f64`]).
+#[repr(C)]
+pub struct friction_servo_f64 {
+    /// Private: written by the constructor, read by the other calls.
+    pub opaque: [u64; FRICTION_SERVO_F64_WORDS],
+}
+
+opaque!(friction_servo_f32, Servo<f32>, 0x4652_4943_5356_3332);
+opaque!(friction_servo_f64, Servo<f64>, 0x4652_4943_5356_3634);
+
+/// The desired motion at a tick, in `float`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct friction_setpoint_f32 {
+    /// Position `x_ref`.
+    pub x: f32,
+    /// Velocity `v_ref`.
+    pub v: f32,
+    /// Acceleration `a_ref` (feed-forward `J a_ref / kc`).
+    pub a: f32,
+}
+
+/// The desired motion at a tick, in `double`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct friction_setpoint_f64 {
+    /// Position `x_ref`.
+    pub x: f64,
+    /// Velocity `v_ref`.
+    pub v: f64,
+    /// Acceleration `a_ref`.
+    pub a: f64,
+}
+
+/// What a tick produced, in `float`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct friction_tick_f32 {
+    /// The command, finite and within `±limit`.
+    pub command: f32,
+    /// The friction estimate or feed-forward (force units).
+    pub friction: f32,
+}
+
+/// What a tick produced, in `double`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct friction_tick_f64 {
+    /// The command, finite and within `±limit`.
+    pub command: f64,
+    /// The friction estimate or feed-forward (force units).
+    pub friction: f64,
+}
+
+type AdaptiveAt<S> = AtPeriod<AdaptiveObserver<Fixed<S>, S>>;
+
+/// A compensator with its state, one variant per kind of compensation.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Servo<S: Scalar> {
+    None(Compensator<S, NoCompensation>, CompensatorState<S, ()>),
+    FeedForward(
+        Compensator<S, FeedForward<StaticMap<S>>>,
+        CompensatorState<S, ()>,
+    ),
+    Observer(
+        Compensator<S, Observer<Variable<S>, S>>,
+        CompensatorState<S, VariableState<S>>,
+    ),
+    ObserverAt(
+        Compensator<S, AtPeriod<Observer<Fixed<S>, S>>>,
+        CompensatorState<S, FixedState<S>>,
+    ),
+    Adaptive(
+        Compensator<S, AdaptiveObserver<Variable<S>, S>>,
+        CompensatorState<S, AdaptiveState<VariableState<S>, S>>,
+    ),
+    AdaptiveAt(
+        Compensator<S, AdaptiveAt<S>>,
+        CompensatorState<S, AdaptiveState<FixedState<S>, S>>,
+    ),
+}
+
+fn build<S: Scalar>(
+    p: &CompensatorParams,
+    model: Option<&Model<S>>,
+    gain: f64,
+    adaptive: Option<&AdaptiveParams>,
+) -> Result<Servo<S>, friction_core::ParamError> {
+    let state = CompensatorState::default();
+    Ok(match (model, adaptive) {
+        (None, _) => Servo::None(p.build(NoCompensation)?, state),
+        (Some(Model::Static(m)), _) => Servo::FeedForward(p.build(FeedForward(*m))?, state),
+        (Some(Model::Variable(m, _)), None) => {
+            Servo::Observer(p.build(Observer::new(*m, gain)?)?, Default::default())
+        }
+        (Some(Model::Fixed(m, _)), None) => Servo::ObserverAt(
+            p.build(AtPeriod(Observer::new(*m, gain)?))?,
+            Default::default(),
+        ),
+        (Some(Model::Variable(m, _)), Some(a)) => Servo::Adaptive(
+            p.build(a.build(Observer::new(*m, gain)?, p.h)?)?,
+            Default::default(),
+        ),
+        (Some(Model::Fixed(m, _)), Some(a)) => Servo::AdaptiveAt(
+            p.build(AtPeriod(a.build(Observer::new(*m, gain)?, p.h)?))?,
+            Default::default(),
+        ),
+    })
+}
+
+fn new<O, M, S>(
+    out: Option<&mut O>,
+    params: Option<&friction_servo_params>,
+    model: Option<&M>,
+    gain: f64,
+    adaptive: Option<&friction_adaptive_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status
+where
+    O: slot::Opaque<Value = Servo<S>>,
+    M: slot::Opaque<Value = Model<S>>,
+    S: Scalar,
+{
+    let (Some(out), Some(params)) = (out, params) else {
+        let which = if params.is_none() { "params" } else { "out" };
+        return report(
+            error,
+            friction_error::new(friction_status::FRICTION_NULL_POINTER, which),
+        );
+    };
+    let model = match model.map(slot::get_ref) {
+        None => None,
+        Some(Some(m)) => Some(m),
+        Some(None) => {
+            return report(
+                error,
+                friction_error::new(friction_status::FRICTION_NOT_INITIALISED, "model"),
+            )
+        }
+    };
+    if matches!(model, Some(Model::Static(_))) && adaptive.is_some() {
+        return report(
+            error,
+            friction_error::new(friction_status::FRICTION_NOT_SUPPORTED, "adaptive"),
+        );
+    }
+    let adaptive = adaptive.map(AdaptiveParams::from);
+    match build(&params.into(), model, gain, adaptive.as_ref()) {
+        Ok(servo) => {
+            slot::put(out, servo);
+            report(error, friction_error::new(friction_status::FRICTION_OK, ""))
+        }
+        Err(e) => report(error, friction_error::from_param(e)),
+    }
+}
+
+impl<S: Scalar> Servo<S> {
+    #[inline]
+    fn tick(&mut self, x: S, r: Setpoint<S>) -> friction_core::Tick<S> {
+        match self {
+            Self::None(c, s) => c.tick(s, x, r),
+            Self::FeedForward(c, s) => c.tick(s, x, r),
+            Self::Observer(c, s) => c.tick(s, x, r),
+            Self::ObserverAt(c, s) => c.tick(s, x, r),
+            Self::Adaptive(c, s) => c.tick(s, x, r),
+            Self::AdaptiveAt(c, s) => c.tick(s, x, r),
+        }
+    }
+
+    fn reset(&mut self) {
+        match self {
+            Self::None(_, s) | Self::FeedForward(_, s) => *s = CompensatorState::default(),
+            Self::Observer(_, s) => *s = CompensatorState::default(),
+            Self::ObserverAt(_, s) => *s = CompensatorState::default(),
+            Self::Adaptive(_, s) => *s = CompensatorState::default(),
+            Self::AdaptiveAt(_, s) => *s = CompensatorState::default(),
+        }
+    }
+
+    fn theta(&self) -> Option<S> {
+        match self {
+            Self::Adaptive(c, s) => Some(c.compensation().theta(s.friction())),
+            Self::AdaptiveAt(c, s) => Some(c.compensation().0.theta(s.friction())),
+            _ => None,
+        }
+    }
+}
+
+fn tick<O, S>(
+    servo: Option<&mut O>,
+    x: S,
+    r: Setpoint<S>,
+) -> Result<friction_core::Tick<S>, friction_status>
+where
+    O: slot::Opaque<Value = Servo<S>>,
+    S: Scalar,
+{
+    let servo = servo.ok_or(friction_status::FRICTION_NULL_POINTER)?;
+    let servo = slot::get(servo).ok_or(friction_status::FRICTION_NOT_INITIALISED)?;
+    Ok(servo.tick(x, r))
+}
+
+fn reset<O, S>(servo: Option<&mut O>) -> friction_status
+where
+    O: slot::Opaque<Value = Servo<S>>,
+    S: Scalar,
+{
+    let Some(servo) = servo else {
+        return friction_status::FRICTION_NULL_POINTER;
+    };
+    let Some(servo) = slot::get(servo) else {
+        return friction_status::FRICTION_NOT_INITIALISED;
+    };
+    servo.reset();
+    friction_status::FRICTION_OK
+}
+
+fn read_theta<O, S>(servo: Option<&mut O>, out: Option<&mut S>) -> friction_status
+where
+    O: slot::Opaque<Value = Servo<S>>,
+    S: Scalar,
+{
+    let (Some(servo), Some(out)) = (servo, out) else {
+        return friction_status::FRICTION_NULL_POINTER;
+    };
+    let Some(servo) = slot::get(servo) else {
+        return friction_status::FRICTION_NOT_INITIALISED;
+    };
+    match servo.theta() {
+        Some(t) => {
+            *out = t;
+            friction_status::FRICTION_OK
+        }
+        None => friction_status::FRICTION_NOT_SUPPORTED,
+    }
+}
+
+/// The status of a tick, writing the tick into `out`.
+fn finish<S: Copy, T>(
+    result: Result<friction_core::Tick<S>, friction_status>,
+    out: &mut T,
+    convert: impl FnOnce(friction_core::Tick<S>) -> T,
+) -> friction_status {
+    match result {
+        Ok(t) => {
+            let accepted = t.accepted;
+            *out = convert(t);
+            if accepted {
+                friction_status::FRICTION_OK
+            } else {
+                friction_status::FRICTION_INPUT_REJECTED
+            }
+        }
+        Err(status) => status,
+    }
+}
+
+/// A servo axis in `float`: the loop `params` around a compensation chosen
+/// by `model`: NULL for none, a static map for its feed-forward, a state
+/// model for its observer with correction gain `gain` (1/s), or, with
+/// `adaptive` not NULL, the theta-adaptive observer (state models only).
+/// A fixed-step model must be built for `params->h`.
+#[no_mangle]
+pub extern "C" fn friction_servo_init_f32(
+    out: Option<&mut friction_servo_f32>,
+    params: Option<&friction_servo_params>,
+    model: Option<&friction_model_f32>,
+    gain: f64,
+    adaptive: Option<&friction_adaptive_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    new(out, params, model, gain, adaptive, error)
+}
+
+/// [`friction_servo_init_f32`] in `double`.
+#[no_mangle]
+pub extern "C" fn friction_servo_init_f64(
+    out: Option<&mut friction_servo_f64>,
+    params: Option<&friction_servo_params>,
+    model: Option<&friction_model_f64>,
+    gain: f64,
+    adaptive: Option<&friction_adaptive_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    new(out, params, model, gain, adaptive, error)
+}
+
+/// One servo tick: measured position `x`, setpoint `r`; writes the command
+/// and the friction term. A NaN or infinite input: `FRICTION_INPUT_REJECTED`
+/// and the safe output (all zero), state unchanged.
+#[no_mangle]
+pub extern "C" fn friction_servo_tick_f32(
+    servo: Option<&mut friction_servo_f32>,
+    x: f32,
+    r: friction_setpoint_f32,
+    out: Option<&mut friction_tick_f32>,
+) -> friction_status {
+    let Some(out) = out else {
+        return friction_status::FRICTION_NULL_POINTER;
+    };
+    let r = Setpoint {
+        x: r.x,
+        v: r.v,
+        a: r.a,
+    };
+    finish(tick(servo, x, r), out, |t| friction_tick_f32 {
+        command: t.command,
+        friction: t.friction,
+    })
+}
+
+/// [`friction_servo_tick_f32`] in `double`.
+#[no_mangle]
+pub extern "C" fn friction_servo_tick_f64(
+    servo: Option<&mut friction_servo_f64>,
+    x: f64,
+    r: friction_setpoint_f64,
+    out: Option<&mut friction_tick_f64>,
+) -> friction_status {
+    let Some(out) = out else {
+        return friction_status::FRICTION_NULL_POINTER;
+    };
+    let r = Setpoint {
+        x: r.x,
+        v: r.v,
+        a: r.a,
+    };
+    finish(tick(servo, x, r), out, |t| friction_tick_f64 {
+        command: t.command,
+        friction: t.friction,
+    })
+}
+
+/// Puts the servo axis back before its first tick (integral, memory and
+/// compensation state cleared), keeping its parameters.
+#[no_mangle]
+pub extern "C" fn friction_servo_reset_f32(
+    servo: Option<&mut friction_servo_f32>,
+) -> friction_status {
+    reset(servo)
+}
+
+/// [`friction_servo_reset_f32`] in `double`.
+#[no_mangle]
+pub extern "C" fn friction_servo_reset_f64(
+    servo: Option<&mut friction_servo_f64>,
+) -> friction_status {
+    reset(servo)
+}
+
+/// The adaptive servo's current `theta` (the learnt scale of the model's
+/// friction); `FRICTION_NOT_SUPPORTED` for other compensations.
+#[no_mangle]
+pub extern "C" fn friction_servo_theta_f32(
+    servo: Option<&mut friction_servo_f32>,
+    theta: Option<&mut f32>,
+) -> friction_status {
+    read_theta(servo, theta)
+}
+
+/// [`friction_servo_theta_f32`] in `double`.
+#[no_mangle]
+pub extern "C" fn friction_servo_theta_f64(
+    servo: Option<&mut friction_servo_f64>,
+    theta: Option<&mut f64>,
+) -> friction_status {
+    read_theta(servo, theta)
+}

@@ -1,0 +1,797 @@
+//! The C ABI called as C would call it: every constructor with valid and
+//! invalid parameters, NULL and never-initialised objects, hostile step
+//! inputs, and agreement with the core called directly (bit for bit: the
+//! ABI adds no arithmetic).
+
+#![allow(clippy::unwrap_used, clippy::indexing_slicing)]
+
+use friction_core::{
+    AdaptiveParams, AtPeriod, CompensatorParams, FixedStepModel, FrictionModel, LuGreAtState,
+    LuGreParams, LuGreServo, LuGreState, Observer, Setpoint,
+};
+use friction_ffi::*;
+use friction_status::*;
+
+const CURVE: friction_stribeck = friction_stribeck {
+    fc: 1.0,
+    fs: 1.5,
+    vs: 1e-3,
+    exponent: 2.0,
+};
+
+const LUGRE: friction_lugre_params = friction_lugre_params {
+    curve: CURVE,
+    sigma0: 1e5,
+    sigma1: 316.227_766_016_837_94,
+    sigma2: 0.4,
+    vd: 0.0,
+};
+
+fn model_f64() -> friction_model_f64 {
+    friction_model_f64 {
+        opaque: [0; FRICTION_MODEL_F64_WORDS],
+    }
+}
+
+fn model_f32() -> friction_model_f32 {
+    friction_model_f32 {
+        opaque: [0; FRICTION_MODEL_F32_WORDS],
+    }
+}
+
+fn no_error() -> friction_error {
+    friction_error {
+        status: FRICTION_OK,
+        parameter: [0; FRICTION_NAME_LEN],
+    }
+}
+
+fn name(e: &friction_error) -> &str {
+    let end = e.parameter.iter().position(|&b| b == 0).unwrap_or(0);
+    std::str::from_utf8(&e.parameter[..end]).unwrap()
+}
+
+/// A velocity sweep through zero with reversals, and its sample periods.
+fn signal(k: usize) -> (f64, f64) {
+    let t = k as f64 * 1e-4;
+    (2e-3 * (2.0 * std::f64::consts::PI * 5.0 * t).sin(), 1e-4)
+}
+
+/// Every constructor, f32 and f64, on a valid set (the shipped parameter
+/// files' values, GMS and Xiong with 4 elements): OK, and a finite force
+/// over 2,000 steps of the sweep.
+#[test]
+fn every_model_builds_and_steps_finite() {
+    let gms = friction_gms_params {
+        curve: CURVE,
+        sigma2: 0.4,
+        c: 20.0,
+        elements: [
+            (2.5e4, 0.4, 2.5),
+            (5e4, 0.3, 5.0),
+            (1e5, 0.2, 10.0),
+            (2e5, 0.1, 20.0),
+        ]
+        .map(|(k, alpha, sigma1)| friction_gms_element { k, alpha, sigma1 }),
+    };
+    let xiong = friction_xiong_params {
+        curve: CURVE,
+        tau: 0.01,
+        sigma2: 0.4,
+        elements: [
+            (2.5e4, 2.5, 0.4),
+            (5e4, 5.0, 0.3),
+            (1e5, 10.0, 0.2),
+            (2e5, 20.0, 0.1),
+        ]
+        .map(|(k, sigma, lambda)| friction_xiong_element { k, sigma, lambda }),
+    };
+    let ep = friction_elasto_plastic_params {
+        lugre: LUGRE,
+        z_ba: 5e-6,
+    };
+    let dahl = friction_dahl_params {
+        sigma: 1e5,
+        fc: 1.0,
+        delta: 1.0,
+        sigma2: 0.4,
+    };
+    let bristle = friction_bristle_params {
+        sigma0: 12_000.0,
+        delta_s: 1e-5,
+        seed: 1,
+    };
+    let reset = friction_reset_integrator_params {
+        sigma0: 1e5,
+        sigma1: 316.0,
+        z0: 1e-5,
+        stiction: 0.5,
+        has_curve: 0,
+        curve: CURVE,
+    };
+    let leuven = friction_leuven_params {
+        curve: CURVE,
+        sigma1: 15.0,
+        sigma2: 0.4,
+        n: 2.0,
+        xs: 1e-5,
+    };
+    let cv = friction_coulomb_viscous_params {
+        fc: 1.0,
+        sigma2: 0.4,
+    };
+    let map = friction_stribeck_map_params {
+        curve: CURVE,
+        sigma2: 0.4,
+    };
+    type Build64 = Box<dyn Fn(&mut friction_model_f64, f64) -> friction_status>;
+    type Build32 = Box<dyn Fn(&mut friction_model_f32, f64) -> friction_status>;
+    let e = || None;
+    let cases: Vec<(&str, bool, Build64, Build32)> = vec![
+        (
+            "coulomb-viscous",
+            false,
+            Box::new(move |m, _| friction_coulomb_viscous_init_f64(Some(m), Some(&cv), e())),
+            Box::new(move |m, _| friction_coulomb_viscous_init_f32(Some(m), Some(&cv), e())),
+        ),
+        (
+            "stribeck",
+            false,
+            Box::new(move |m, _| friction_stribeck_map_init_f64(Some(m), Some(&map), e())),
+            Box::new(move |m, _| friction_stribeck_map_init_f32(Some(m), Some(&map), e())),
+        ),
+        (
+            "bristle",
+            false,
+            Box::new(move |m, _| friction_bristle_init_f64(Some(m), Some(&bristle), e())),
+            Box::new(move |m, _| friction_bristle_init_f32(Some(m), Some(&bristle), e())),
+        ),
+        (
+            "reset-integrator",
+            false,
+            Box::new(move |m, _| friction_reset_integrator_init_f64(Some(m), Some(&reset), e())),
+            Box::new(move |m, _| friction_reset_integrator_init_f32(Some(m), Some(&reset), e())),
+        ),
+        (
+            "leuven",
+            false,
+            Box::new(move |m, _| friction_leuven_init_f64(Some(m), Some(&leuven), e())),
+            Box::new(move |m, _| friction_leuven_init_f32(Some(m), Some(&leuven), e())),
+        ),
+        (
+            "dahl",
+            true,
+            Box::new(move |m, h| friction_dahl_init_f64(Some(m), Some(&dahl), h, e())),
+            Box::new(move |m, h| friction_dahl_init_f32(Some(m), Some(&dahl), h, e())),
+        ),
+        (
+            "lugre",
+            true,
+            Box::new(move |m, h| friction_lugre_init_f64(Some(m), Some(&LUGRE), h, e())),
+            Box::new(move |m, h| friction_lugre_init_f32(Some(m), Some(&LUGRE), h, e())),
+        ),
+        (
+            "elasto-plastic",
+            true,
+            Box::new(move |m, h| friction_elasto_plastic_init_f64(Some(m), Some(&ep), h, e())),
+            Box::new(move |m, h| friction_elasto_plastic_init_f32(Some(m), Some(&ep), h, e())),
+        ),
+        (
+            "gms",
+            true,
+            Box::new(move |m, h| friction_gms_init_f64(Some(m), Some(&gms), h, e())),
+            Box::new(move |m, h| friction_gms_init_f32(Some(m), Some(&gms), h, e())),
+        ),
+        (
+            "xiong",
+            true,
+            Box::new(move |m, h| friction_xiong_init_f64(Some(m), Some(&xiong), h, e())),
+            Box::new(move |m, h| friction_xiong_init_f32(Some(m), Some(&xiong), h, e())),
+        ),
+    ];
+    for (label, has_fixed, build64, build32) in &cases {
+        let periods: &[f64] = if *has_fixed { &[0.0, 1e-4] } else { &[0.0] };
+        for &period in periods {
+            let mut m64 = model_f64();
+            let mut m32 = model_f32();
+            assert_eq!(
+                build64(&mut m64, period),
+                FRICTION_OK,
+                "{label} f64 h {period}"
+            );
+            assert_eq!(
+                build32(&mut m32, period),
+                FRICTION_OK,
+                "{label} f32 h {period}"
+            );
+            let mut peak = 0.0f64;
+            for k in 0..2000 {
+                let (v, h) = signal(k);
+                let (mut f64_, mut f32_) = (f64::NAN, f32::NAN);
+                assert_eq!(
+                    friction_model_step_f64(Some(&mut m64), v, h, Some(&mut f64_)),
+                    FRICTION_OK
+                );
+                assert_eq!(
+                    friction_model_step_f32(Some(&mut m32), v as f32, h as f32, Some(&mut f32_)),
+                    FRICTION_OK
+                );
+                assert!(f64_.is_finite() && f32_.is_finite(), "{label} step {k}");
+                peak = peak.max(f64_.abs());
+            }
+            // every model reaches its sliding force on this sweep (2 mm/s)
+            assert!(peak > 0.5 && peak < 10.0, "{label} h {period}: peak {peak}");
+        }
+    }
+    // a model with a fixed-step form refuses h < 0, naming h
+    let mut m = model_f64();
+    let mut err = no_error();
+    assert_eq!(
+        friction_lugre_init_f64(Some(&mut m), Some(&LUGRE), -1e-3, Some(&mut err)),
+        FRICTION_NOT_POSITIVE
+    );
+    assert_eq!(name(&err), "h");
+}
+
+#[test]
+fn lugre_through_the_abi_is_the_core_bit_for_bit() {
+    let core = LuGreParams::CANUDAS_1995.build::<f64>().unwrap();
+    let mut z = LuGreState::default();
+    let mut m = model_f64();
+    assert_eq!(
+        friction_lugre_init_f64(Some(&mut m), Some(&LUGRE), 0.0, None),
+        FRICTION_OK
+    );
+    for k in 0..5000 {
+        let (v, h) = signal(k);
+        let mut f = 0.0;
+        friction_model_step_f64(Some(&mut m), v, h, Some(&mut f));
+        assert_eq!(f.to_bits(), core.step(&mut z, v, h).to_bits(), "step {k}");
+    }
+    // the fixed-step form in f32, the firmware's
+    let core = LuGreParams::CANUDAS_1995.build_at::<f32>(1e-4).unwrap();
+    let mut z = LuGreAtState::default();
+    let mut m = model_f32();
+    assert_eq!(
+        friction_lugre_init_f32(Some(&mut m), Some(&LUGRE), 1e-4, None),
+        FRICTION_OK
+    );
+    for k in 0..5000 {
+        let (v, _) = signal(k);
+        let mut f = 0.0;
+        assert_eq!(
+            friction_model_step_f32(Some(&mut m), v as f32, 1e-4, Some(&mut f)),
+            FRICTION_OK
+        );
+        assert_eq!(
+            f.to_bits(),
+            core.step(&mut z, v as f32).to_bits(),
+            "step {k}"
+        );
+    }
+    // a copy of an initialised object (C assignment) is a working object
+    let mut copy = friction_model_f32 { opaque: m.opaque };
+    let mut f = 0.0;
+    assert_eq!(
+        friction_model_step_f32(Some(&mut copy), 1e-3, 1e-4, Some(&mut f)),
+        FRICTION_OK
+    );
+    assert_eq!(f.to_bits(), core.step(&mut z, 1e-3).to_bits());
+}
+
+#[test]
+fn invalid_parameters_are_named_and_leave_the_object_as_it_was() {
+    let mut m = model_f64();
+    assert_eq!(
+        friction_lugre_init_f64(Some(&mut m), Some(&LUGRE), 0.0, None),
+        FRICTION_OK
+    );
+    let before = m.opaque;
+    let cases = [
+        (
+            friction_lugre_params {
+                sigma0: -1.0,
+                ..LUGRE
+            },
+            FRICTION_NOT_POSITIVE,
+            "sigma0",
+        ),
+        (
+            friction_lugre_params {
+                sigma1: f64::NAN,
+                ..LUGRE
+            },
+            FRICTION_NOT_FINITE,
+            "sigma1",
+        ),
+        (
+            friction_lugre_params {
+                curve: friction_stribeck { fs: 0.5, ..CURVE },
+                ..LUGRE
+            },
+            FRICTION_STATIC_BELOW_COULOMB,
+            "fs",
+        ),
+        (
+            friction_lugre_params {
+                sigma0: 1e30,
+                ..LUGRE
+            },
+            FRICTION_OUT_OF_RANGE,
+            "sigma0",
+        ),
+        (
+            friction_lugre_params { vd: -1.0, ..LUGRE },
+            FRICTION_NOT_POSITIVE,
+            "vd",
+        ),
+    ];
+    for (p, status, param) in cases {
+        let mut err = no_error();
+        assert_eq!(
+            friction_lugre_init_f64(Some(&mut m), Some(&p), 0.0, Some(&mut err)),
+            status,
+            "{param}"
+        );
+        assert_eq!(err.status, status);
+        assert_eq!(name(&err), param);
+        assert_eq!(m.opaque, before, "a refused constructor wrote the object");
+    }
+    // f32 cannot hold it
+    let mut m32 = model_f32();
+    let mut err = no_error();
+    let huge = friction_lugre_params {
+        sigma2: 1e39,
+        ..LUGRE
+    };
+    let status = friction_lugre_init_f32(Some(&mut m32), Some(&huge), 0.0, Some(&mut err));
+    assert!(
+        matches!(status, FRICTION_OUT_OF_RANGE | FRICTION_NOT_REPRESENTABLE),
+        "{status:?}"
+    );
+    assert_eq!(name(&err), "sigma2");
+    // GMS weights that do not sum to 1
+    let mut gms = friction_gms_params {
+        curve: CURVE,
+        sigma2: 0.0,
+        c: 20.0,
+        elements: [friction_gms_element {
+            k: 1e5,
+            alpha: 0.25,
+            sigma1: 0.0,
+        }; FRICTION_ELEMENTS],
+    };
+    assert_eq!(
+        friction_gms_init_f64(Some(&mut m), Some(&gms), 0.0, None),
+        FRICTION_OK
+    );
+    gms.elements[0].alpha = 0.5;
+    let mut err = no_error();
+    assert_eq!(
+        friction_gms_init_f64(Some(&mut m), Some(&gms), 0.0, Some(&mut err)),
+        FRICTION_WEIGHTS_NOT_ONE
+    );
+    assert_eq!(name(&err), "alpha");
+}
+
+#[test]
+fn null_and_uninitialised_objects_get_a_status() {
+    let mut err = no_error();
+    assert_eq!(
+        friction_lugre_init_f64(None, Some(&LUGRE), 0.0, Some(&mut err)),
+        FRICTION_NULL_POINTER
+    );
+    assert_eq!(name(&err), "out");
+    assert_eq!(
+        friction_lugre_init_f64(Some(&mut model_f64()), None, 0.0, Some(&mut err)),
+        FRICTION_NULL_POINTER
+    );
+    assert_eq!(name(&err), "params");
+    let mut f = 0.0;
+    assert_eq!(
+        friction_model_step_f64(None, 0.0, 1e-3, Some(&mut f)),
+        FRICTION_NULL_POINTER
+    );
+    assert_eq!(
+        friction_model_step_f64(Some(&mut model_f64()), 0.0, 1e-3, None),
+        FRICTION_NULL_POINTER
+    );
+    assert_eq!(
+        friction_model_step_f64(Some(&mut model_f64()), 0.0, 1e-3, Some(&mut f)),
+        FRICTION_NOT_INITIALISED
+    );
+    assert_eq!(
+        friction_model_reset_f64(Some(&mut model_f64())),
+        FRICTION_NOT_INITIALISED
+    );
+    assert_eq!(friction_model_reset_f32(None), FRICTION_NULL_POINTER);
+    // garbage that is not a constructor's output
+    let mut junk = friction_model_f64 {
+        opaque: [0xDEAD_BEEF; FRICTION_MODEL_F64_WORDS],
+    };
+    assert_eq!(
+        friction_model_step_f64(Some(&mut junk), 0.0, 1e-3, Some(&mut f)),
+        FRICTION_NOT_INITIALISED
+    );
+    // an observer of an uninitialised model
+    let mut o = friction_observer_f64 {
+        opaque: [0; FRICTION_OBSERVER_F64_WORDS],
+    };
+    assert_eq!(
+        friction_observer_init_f64(Some(&mut o), Some(&model_f64()), 10.0, true, Some(&mut err)),
+        FRICTION_NOT_INITIALISED
+    );
+    assert_eq!(name(&err), "model");
+    assert_eq!(
+        friction_observer_step_f64(Some(&mut o), 0.0, 0.0, 1e-3, Some(&mut f)),
+        FRICTION_NOT_INITIALISED
+    );
+    assert_eq!(friction_observer_reset_f64(None), FRICTION_NULL_POINTER);
+    // servos
+    let p = servo_params();
+    let mut s = friction_servo_f32 {
+        opaque: [0; FRICTION_SERVO_F32_WORDS],
+    };
+    let r = friction_setpoint_f32 {
+        x: 0.0,
+        v: 0.0,
+        a: 0.0,
+    };
+    let mut t = friction_tick_f32 {
+        command: 1.0,
+        friction: 1.0,
+    };
+    assert_eq!(
+        friction_servo_tick_f32(Some(&mut s), 0.0, r, Some(&mut t)),
+        FRICTION_NOT_INITIALISED
+    );
+    assert_eq!(
+        friction_servo_tick_f32(None, 0.0, r, Some(&mut t)),
+        FRICTION_NULL_POINTER
+    );
+    assert_eq!(
+        friction_servo_init_f32(Some(&mut s), None, None, 0.0, None, None),
+        FRICTION_NULL_POINTER
+    );
+    assert_eq!(
+        friction_servo_init_f32(Some(&mut s), Some(&p), Some(&model_f32()), 0.0, None, None),
+        FRICTION_NOT_INITIALISED
+    );
+    assert_eq!(
+        friction_servo_init_f32(Some(&mut s), Some(&p), None, 0.0, None, None),
+        FRICTION_OK
+    );
+    assert_eq!(
+        friction_servo_tick_f32(Some(&mut s), 0.0, r, None),
+        FRICTION_NULL_POINTER
+    );
+    let mut theta = 0.0;
+    assert_eq!(
+        friction_servo_theta_f32(Some(&mut s), Some(&mut theta)),
+        FRICTION_NOT_SUPPORTED
+    );
+    assert_eq!(friction_servo_reset_f64(None), FRICTION_NULL_POINTER);
+}
+
+#[test]
+fn hostile_inputs_leave_the_state_unchanged() {
+    let mut a = model_f64();
+    assert_eq!(
+        friction_lugre_init_f64(Some(&mut a), Some(&LUGRE), 0.0, None),
+        FRICTION_OK
+    );
+    let mut b = friction_model_f64 { opaque: a.opaque };
+    let mut f = 0.0;
+    for k in 0..500 {
+        let (v, h) = signal(k);
+        friction_model_step_f64(Some(&mut a), v, h, Some(&mut f));
+        friction_model_step_f64(Some(&mut b), v, h, Some(&mut f));
+        if k % 7 == 0 {
+            for (v, h) in [
+                (f64::NAN, h),
+                (f64::INFINITY, h),
+                (v, f64::NAN),
+                (v, -1.0),
+                (v, f64::INFINITY),
+            ] {
+                assert_eq!(
+                    friction_model_step_f64(Some(&mut b), v, h, Some(&mut f)),
+                    FRICTION_INPUT_REJECTED
+                );
+                assert!(f.is_finite());
+            }
+        }
+    }
+    assert_eq!(a.opaque, b.opaque, "a rejected input changed the state");
+    // a fixed-step model refuses another period, state unchanged
+    let mut m = model_f32();
+    assert_eq!(
+        friction_lugre_init_f32(Some(&mut m), Some(&LUGRE), 1e-3, None),
+        FRICTION_OK
+    );
+    friction_model_step_f32(Some(&mut m), 1e-4, 1e-3, Some(&mut 0.0));
+    let before = m.opaque;
+    assert_eq!(
+        friction_model_step_f32(Some(&mut m), 1e-4, 2e-3, Some(&mut 0.0)),
+        FRICTION_PERIOD_MISMATCH
+    );
+    assert_eq!(m.opaque, before);
+    // reset: back at rest, the same as a fresh model
+    assert_eq!(friction_model_reset_f32(Some(&mut m)), FRICTION_OK);
+    let mut fresh = model_f32();
+    friction_lugre_init_f32(Some(&mut fresh), Some(&LUGRE), 1e-3, None);
+    let (mut f1, mut f2) = (0.0, 0.0);
+    friction_model_step_f32(Some(&mut m), 1e-4, 1e-3, Some(&mut f1));
+    friction_model_step_f32(Some(&mut fresh), 1e-4, 1e-3, Some(&mut f2));
+    assert_eq!(f1.to_bits(), f2.to_bits());
+}
+
+#[test]
+fn observers_match_the_core_and_refuse_static_maps() {
+    let mut m = model_f64();
+    friction_lugre_init_f64(Some(&mut m), Some(&LUGRE), 0.0, None);
+    let mut o = friction_observer_f64 {
+        opaque: [0; FRICTION_OBSERVER_F64_WORDS],
+    };
+    assert_eq!(
+        friction_observer_init_f64(Some(&mut o), Some(&m), 200.0, true, None),
+        FRICTION_OK
+    );
+    let core = Observer::new(LuGreParams::CANUDAS_1995.build::<f64>().unwrap(), 200.0).unwrap();
+    let mut z = LuGreState::default();
+    for k in 0..3000 {
+        let (v, h) = signal(k);
+        let e = 1e-6 * (k as f64 * 0.01).cos();
+        let mut f = 0.0;
+        assert_eq!(
+            friction_observer_step_f64(Some(&mut o), v, e, h, Some(&mut f)),
+            FRICTION_OK
+        );
+        assert_eq!(
+            f.to_bits(),
+            core.step(&mut z, v, e, h).to_bits(),
+            "step {k}"
+        );
+    }
+    // a negative gain is named
+    let mut err = no_error();
+    assert_eq!(
+        friction_observer_init_f64(Some(&mut o), Some(&m), -1.0, true, Some(&mut err)),
+        FRICTION_NEGATIVE
+    );
+    assert_eq!(name(&err), "gain");
+    // a static map has no state to observe
+    let mut cv = model_f64();
+    friction_coulomb_viscous_init_f64(
+        Some(&mut cv),
+        Some(&friction_coulomb_viscous_params {
+            fc: 1.0,
+            sigma2: 0.0,
+        }),
+        None,
+    );
+    assert_eq!(
+        friction_observer_init_f64(Some(&mut o), Some(&cv), 10.0, true, Some(&mut err)),
+        FRICTION_NOT_SUPPORTED
+    );
+}
+
+fn servo_params() -> friction_servo_params {
+    let w = 2.0 * std::f64::consts::PI * 10.0;
+    let j = 0.0023;
+    friction_servo_params {
+        h: 1e-3,
+        kp: j * w * w,
+        ki: 0.0,
+        kd: 2.0 * j * w,
+        inertia: j,
+        torque_constant: 1.0,
+        limit: 5.0,
+    }
+}
+
+fn core_servo_params(p: &friction_servo_params) -> CompensatorParams {
+    CompensatorParams {
+        h: p.h,
+        kp: p.kp,
+        ki: p.ki,
+        kd: p.kd,
+        inertia: p.inertia,
+        torque_constant: p.torque_constant,
+        limit: p.limit,
+    }
+}
+
+/// The firmware's tick (`LuGreServo<f32>`, Olsson's set at 1 kHz, gain
+/// 200/s) through the ABI, bit for bit; then the adaptive tick's theta.
+#[test]
+fn servo_tick_matches_the_core() {
+    let olsson = LuGreParams::OLSSON_1998;
+    let c = olsson.curve;
+    let p = friction_lugre_params {
+        curve: friction_stribeck {
+            fc: c.fc,
+            fs: c.fs,
+            vs: c.vs,
+            exponent: c.exponent,
+        },
+        sigma0: olsson.sigma0,
+        sigma1: olsson.sigma1,
+        sigma2: olsson.sigma2,
+        vd: olsson.vd.unwrap_or(0.0),
+    };
+    let sp = servo_params();
+    let mut m = model_f32();
+    assert_eq!(
+        friction_lugre_init_f32(Some(&mut m), Some(&p), sp.h, None),
+        FRICTION_OK
+    );
+    let mut s = friction_servo_f32 {
+        opaque: [0; FRICTION_SERVO_F32_WORDS],
+    };
+    assert_eq!(
+        friction_servo_init_f32(Some(&mut s), Some(&sp), Some(&m), 200.0, None, None),
+        FRICTION_OK
+    );
+    let core: LuGreServo<f32> = core_servo_params(&sp)
+        .build(AtPeriod(
+            Observer::new(olsson.build_at::<f32>(sp.h).unwrap(), 200.0).unwrap(),
+        ))
+        .unwrap();
+    let mut state = Default::default();
+    for k in 0..4000 {
+        let x = 1e-3 * (k as f32 * 0.02).sin();
+        let r = Setpoint {
+            x: x + 1e-5,
+            v: 0.02 * (k as f32 * 0.02).cos(),
+            a: 0.0,
+        };
+        let mut t = friction_tick_f32 {
+            command: 0.0,
+            friction: 0.0,
+        };
+        assert_eq!(
+            friction_servo_tick_f32(
+                Some(&mut s),
+                x,
+                friction_setpoint_f32 {
+                    x: r.x,
+                    v: r.v,
+                    a: r.a
+                },
+                Some(&mut t)
+            ),
+            FRICTION_OK
+        );
+        let want = core.tick(&mut state, x, r);
+        assert_eq!(
+            (t.command.to_bits(), t.friction.to_bits()),
+            (want.command.to_bits(), want.friction.to_bits()),
+            "tick {k}"
+        );
+    }
+    // NaN position: the safe output, then the same ticks as before
+    let mut t = friction_tick_f32 {
+        command: 1.0,
+        friction: 1.0,
+    };
+    let r = friction_setpoint_f32 {
+        x: 0.0,
+        v: 0.0,
+        a: 0.0,
+    };
+    assert_eq!(
+        friction_servo_tick_f32(Some(&mut s), f32::NAN, r, Some(&mut t)),
+        FRICTION_INPUT_REJECTED
+    );
+    assert_eq!((t.command, t.friction), (0.0, 0.0));
+    // a fixed-step model built for another period is refused
+    let mut err = no_error();
+    let other = friction_servo_params { h: 5e-4, ..sp };
+    assert_eq!(
+        friction_servo_init_f32(
+            Some(&mut s),
+            Some(&other),
+            Some(&m),
+            200.0,
+            None,
+            Some(&mut err)
+        ),
+        FRICTION_PERIOD_MISMATCH
+    );
+    assert_eq!(name(&err), "h");
+    // adaptive: theta starts at theta0 and moves when friction is twice the model's
+    let a = AdaptiveParams::DEFAULT;
+    let ap = friction_adaptive_params {
+        gamma: 50.0,
+        gamma_derivative: 0.0,
+        leakage: a.leakage,
+        theta0: a.theta0,
+        theta_min: a.theta_min,
+        theta_max: a.theta_max,
+    };
+    assert_eq!(
+        friction_servo_init_f32(Some(&mut s), Some(&sp), Some(&m), 200.0, Some(&ap), None),
+        FRICTION_OK
+    );
+    let mut theta = 0.0;
+    assert_eq!(
+        friction_servo_theta_f32(Some(&mut s), Some(&mut theta)),
+        FRICTION_OK
+    );
+    assert_eq!(f64::from(theta), a.theta0);
+    for k in 0..2000 {
+        // a position lagging the setpoint: positive error integrates theta
+        let r = friction_setpoint_f32 {
+            x: k as f32 * 1e-5,
+            v: 1e-2,
+            a: 0.0,
+        };
+        friction_servo_tick_f32(Some(&mut s), k as f32 * 1e-5 - 1e-4, r, Some(&mut t));
+    }
+    friction_servo_theta_f32(Some(&mut s), Some(&mut theta));
+    assert!(f64::from(theta) != a.theta0, "theta did not adapt: {theta}");
+    // feed-forward from a static map; adaptive on a static map is refused
+    let mut cv = model_f32();
+    friction_coulomb_viscous_init_f32(
+        Some(&mut cv),
+        Some(&friction_coulomb_viscous_params {
+            fc: 0.28,
+            sigma2: 0.0,
+        }),
+        None,
+    );
+    assert_eq!(
+        friction_servo_init_f32(Some(&mut s), Some(&sp), Some(&cv), 0.0, None, None),
+        FRICTION_OK
+    );
+    // moving forward at 0.1 rad/s: the feed-forward is +fc
+    for k in 0..3 {
+        let x = k as f32 * 1e-4;
+        friction_servo_tick_f32(
+            Some(&mut s),
+            x,
+            friction_setpoint_f32 { x, v: 0.1, a: 0.0 },
+            Some(&mut t),
+        );
+    }
+    assert!((t.friction - 0.28).abs() < 1e-6, "{}", t.friction);
+    assert_eq!(
+        friction_servo_init_f32(
+            Some(&mut s),
+            Some(&sp),
+            Some(&cv),
+            0.0,
+            Some(&ap),
+            Some(&mut err)
+        ),
+        FRICTION_NOT_SUPPORTED
+    );
+    assert_eq!(name(&err), "adaptive");
+    // the period check of a fixed-step model's own steps still holds
+    assert_eq!(
+        friction_model_step_f32(Some(&mut m), 0.0, 1e-3, Some(&mut 0.0)),
+        FRICTION_OK
+    );
+    let _ = FixedStepModel::period(&olsson.build_at::<f32>(1e-3).unwrap());
+}
+
+#[test]
+fn every_status_has_a_distinct_name() {
+    let names: Vec<String> = (0..=16)
+        .map(|s| {
+            let p = friction_status_name(s);
+            unsafe { std::ffi::CStr::from_ptr(p) }
+                .to_str()
+                .unwrap()
+                .to_owned()
+        })
+        .collect();
+    for (i, n) in names.iter().enumerate() {
+        assert!(!n.is_empty() && n != "unknown status", "{i}");
+        assert_eq!(names.iter().filter(|m| *m == n).count(), 1, "{n}");
+    }
+    let unknown = unsafe { std::ffi::CStr::from_ptr(friction_status_name(17)) };
+    assert_eq!(unknown.to_str().unwrap(), "unknown status");
+    assert_eq!(FRICTION_INPUT_REJECTED as i32, 16);
+}
