@@ -4,7 +4,9 @@
 # -icount shift=0 (mps2-an386, a Cortex-M4F; mps2-an385, a Cortex-M3 that
 # runs the Thumb-1 build), sizes every row's step in the ELF, prints the
 # `cost MODEL SCALAR CORE INSTRUCTIONS_PER_STEP` lines and the table, and
-# checks budgets.txt (exit 1 when a row exceeds its budget).
+# checks budgets.txt (exit 1 when a row exceeds its budget). It also runs the
+# C ABI's servo tick (friction-ffi/examples/cortex-m: needs arm-none-eabi-gcc)
+# and checks it within 10 % of the Rust tick.
 #
 # Needs qemu-system-arm, the two thumb targets and the rustup component
 # llvm-tools (llvm-nm, llvm-objdump). QEMU_TIMEOUT (s, default 300) bounds
@@ -50,9 +52,26 @@ for r in "${rows[@]}"; do
     awk -f cost/flash.awk >"$out/$core.flash"
 done
 
+# the compensated servo tick through the C ABI (friction-ffi/examples/cortex-m,
+# C compiled with arm-none-eabi-gcc against the staticlib): an M4F row
+if ! QEMU_TIMEOUT="$limit" bash ../friction-ffi/examples/cortex-m/run.sh >"$out/c-abi.txt"; then
+  cat "$out/c-abi.txt" >&2
+  echo "cost.sh: the C ABI run failed or timed out (${limit}s)" >&2
+  exit 1
+fi
+grep -q '^c-abi-done$' "$out/c-abi.txt" || {
+  echo "cost.sh: the C ABI run stopped early" >&2
+  exit 1
+}
+grep -E '^cost(-worst|-detail)? ' "$out/c-abi.txt" >>"$out/cortex-m4f.txt"
+
 # the lines of the issue's format, then the table
 cat "$out"/cortex-m4f.txt "$out"/cortex-m0.txt | grep -E '^cost(-worst)? '
 echo
 awk -f cost/table.awk "$out"/cortex-m4f.flash "$out"/cortex-m4f.txt "$out"/cortex-m0.flash "$out"/cortex-m0.txt
 echo
-awk -f cost/check.awk budgets.txt "$out"/cortex-m4f.txt "$out"/cortex-m0.txt
+status=0
+awk -f cost/check.awk budgets.txt "$out"/cortex-m4f.txt "$out"/cortex-m0.txt || status=1
+# issue 17: the tick through the C ABI within 10 % of the Rust call
+awk -f cost/abi.awk "$out"/cortex-m4f.txt || status=1
+exit "$status"

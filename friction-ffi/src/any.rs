@@ -59,19 +59,14 @@ macro_rules! family {
         }
 
         impl<S: Scalar> $model<S> {
-            /// `state` as this model's own variant: a state of another
-            /// variant (or `Rest`) becomes this model's state at rest.
-            #[inline(always)]
+            /// Makes `state` this model's state at rest (a state of another
+            /// variant, or `Rest`, before the first step).
+            #[cold]
+            #[inline(never)]
             fn own<'a>(&self, state: &'a mut $state<S>) -> &'a mut $state<S> {
-                let matches = match (self, &*state) {
-                    $((Self::$variant(_), $state::$variant(_)) => true,)*
-                    _ => false,
+                *state = match self {
+                    $(Self::$variant(_) => $state::$variant(Default::default()),)*
                 };
-                if !matches {
-                    *state = match self {
-                        $(Self::$variant(_) => $state::$variant(Default::default()),)*
-                    };
-                }
                 state
             }
         }
@@ -106,16 +101,20 @@ family!(
 );
 
 /// `$body` with `$m` and `$s` bound to the model and its state, for every
-/// variant of a family (the state already made the model's own).
+/// variant of a family. A state of another variant (or `Rest`) is first
+/// made the model's own at rest (`own`, off the hot path).
 macro_rules! each {
     ($model:ident, $state:ident, $self:expr, $st:expr, |$m:ident, $s:ident| $body:expr,
-     [$($variant:ident),*]) => {
-        match ($self, $self.own($st)) {
+     [$($variant:ident),*]) => {{
+        let state = $st;
+        let matched = matches!((&*$self, &*state), $(($model::$variant(_), $state::$variant(_)))|*);
+        let state = if matched { state } else { $self.own(state) };
+        match ($self, state) {
             $(($model::$variant($m), $state::$variant($s)) => $body,)*
             // unreachable: `own` made the state match the model
             _ => S::ZERO,
         }
-    };
+    }};
 }
 
 macro_rules! each_variable {
