@@ -2,12 +2,11 @@
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
-use friction_core::Scalar;
 use friction_host::experiments::{self, Options};
 use friction_host::identify;
 use friction_host::io;
-use friction_host::models::ScalarKind;
 use friction_host::params::ParamFile;
+use friction_host::sim::{SimScalar, Simulation};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -210,17 +209,6 @@ fn within(name: &str, x: Option<f64>, (lo, hi): (f64, f64)) -> Result<()> {
 
 /// `friction simulate`: streams the input row by row into the output, so
 /// memory stays constant in the input's length.
-/// The number type `simulate` runs the core in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-enum SimScalar {
-    /// 32-bit float (variable-step form).
-    F32,
-    /// 64-bit float (variable-step form).
-    F64,
-    /// Q16.16 fixed point (fixed-step form).
-    Fixed,
-}
-
 fn simulate(params: &Path, input: &Path, output: &Path, scalar: SimScalar) -> Result<()> {
     io::refuse_overwrite("--output", output, &[params, input])?;
     let file = ParamFile::load(params)?;
@@ -235,92 +223,64 @@ fn simulate(params: &Path, input: &Path, output: &Path, scalar: SimScalar) -> Re
     let mut first_row = None;
     // fixed point: the period of the first two rows, which every row keeps
     let mut period = None;
-    let (mut model, limit) = match scalar {
-        SimScalar::F32 | SimScalar::F64 => {
-            let kind = if scalar == SimScalar::F32 {
-                ScalarKind::F32
-            } else {
-                ScalarKind::F64
-            };
-            let model = file.model.stepper(kind).with_context(context)?;
-            (model, friction_core::VELOCITY_LIMIT)
+    if scalar == SimScalar::Fixed {
+        let first = match rows.next() {
+            Some(row) => row?,
+            None => anyhow::bail!("{}: no data rows", input.display()),
+        };
+        let h = match rows.peek() {
+            Some(Ok((_, t, _))) => t - first.1,
+            _ => anyhow::bail!(
+                "{}: `--scalar fixed` needs at least two rows (the time step)",
+                input.display()
+            ),
+        };
+        if !(h.is_finite() && h > 0.0) {
+            anyhow::bail!(
+                "{}: the time step of the first two rows ({h:e} s) must be finite and > 0",
+                input.display()
+            );
         }
-        SimScalar::Fixed => {
-            let first = match rows.next() {
-                Some(row) => row?,
-                None => anyhow::bail!("{}: no data rows", input.display()),
-            };
-            let h = match rows.peek() {
-                Some(Ok((_, t, _))) => t - first.1,
-                _ => anyhow::bail!(
-                    "{}: `--scalar fixed` needs at least two rows (the time step)",
-                    input.display()
-                ),
-            };
-            if !(h.is_finite() && h > 0.0) {
-                anyhow::bail!(
-                    "{}: the time step of the first two rows ({h:e} s) must be finite and > 0",
-                    input.display()
-                );
-            }
-            period = Some(h);
-            let model = file.model.fixed_stepper(h).with_context(context)?;
-            first_row = Some(first);
-            (model, friction_core::Fixed32::VELOCITY_LIMIT.to_f64())
-        }
-    };
-    let names = model.state_names();
+        period = Some(h);
+        first_row = Some(first);
+    }
+    let mut sim = Simulation::new(&file.model, scalar, period).with_context(context)?;
+    let limit = sim.limit();
+    let names = sim.state_names();
     let count = io::write_atomic(output, |w| {
         let mut csv = csv::Writer::from_writer(w);
         let werr = |e: csv::Error| anyhow::anyhow!("cannot write {}: {e}", output.display());
         let mut header = vec!["t", "v", "f"];
         header.extend(names.iter().map(String::as_str));
         csv.write_record(&header).map_err(werr)?;
-        let (mut prev_t, mut clamped, mut count) = (None, 0u64, 0u64);
+        let mut count = 0u64;
         for row in first_row.map(Ok).into_iter().chain(rows) {
             let (line, t, v) = row?;
-            let h: f64 = prev_t.map_or(0.0, |p| t - p);
-            if !h.is_finite() {
-                anyhow::bail!(
-                    "{}:{line}: the time step from the previous row overflows ({h:e})",
+            let (v_used, f) = sim
+                .row(t, v)
+                .map_err(|e| anyhow::anyhow!("{}:{line}: {e}", input.display()))?;
+            if v_used != v && sim.clamped == 1 {
+                eprintln!(
+                    "warning: {}:{line}: |v| = {v:e} exceeds the velocity limit {limit:e}: clamped (the output's `v` column shows the velocity the model saw)",
                     input.display()
                 );
             }
-            if let (Some(p), true) = (period, prev_t.is_some()) {
-                if (h - p).abs() > 1e-6 * p {
-                    anyhow::bail!(
-                        "{}:{line}: the time step {h:e} s differs from {p:e} s, the period the fixed-step model was built for (`--scalar fixed` needs uniform steps)",
-                        input.display()
-                    );
-                }
-            }
-            prev_t = Some(t);
-            let v_used = v.clamp(-limit, limit);
-            if v_used != v {
-                if clamped == 0 {
-                    eprintln!(
-                        "warning: {}:{line}: |v| = {v:e} exceeds the velocity limit {limit:e}: clamped (the output's `v` column shows the velocity the model saw)",
-                        input.display()
-                    );
-                }
-                clamped += 1;
-            }
-            let f = model.step(v_used, h);
             let mut record = vec![
                 format!("{t:.12e}"),
                 format!("{v_used:.12e}"),
                 format!("{f:.12e}"),
             ];
-            record.extend(model.states().iter().map(|s| format!("{s:.12e}")));
+            record.extend(sim.states().iter().map(|s| format!("{s:.12e}")));
             csv.write_record(&record).map_err(werr)?;
             count += 1;
         }
         if count == 0 {
             anyhow::bail!("{}: no data rows", input.display());
         }
-        if clamped > 1 {
+        if sim.clamped > 1 {
             eprintln!(
-                "warning: {clamped} rows of {} were clamped",
+                "warning: {} rows of {} were clamped",
+                sim.clamped,
                 input.display()
             );
         }

@@ -8,6 +8,112 @@ use crate::reference::{integrate, integrate_stopping, Tolerances};
 use crate::signals::Signal;
 use anyhow::Result;
 
+/// The number type `friction simulate` runs the core in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SimScalar {
+    /// 32-bit float (variable-step form).
+    F32,
+    /// 64-bit float (variable-step form).
+    F64,
+    /// Q16.16 fixed point (fixed-step form).
+    Fixed,
+}
+
+/// `friction simulate`'s stepping, row by row, for the command line (which
+/// streams a CSV) and the Python package (which passes arrays): row `k`
+/// steps the model from `t[k-1]` to `t[k]` with `v[k]` held (clamped to
+/// the velocity limit); row 0 is the force at rest. In fixed point the
+/// model is the fixed-step form built for `period`, which every step must
+/// keep (to 1e-6).
+pub struct Simulation {
+    model: Box<dyn Stepper>,
+    limit: f64,
+    period: Option<f64>,
+    prev_t: Option<f64>,
+    /// Rows whose velocity was clamped to the limit.
+    pub clamped: u64,
+}
+
+impl Simulation {
+    /// The model of `spec` in `scalar`; fixed point needs `period` (the
+    /// time step of the first two rows). Errors name the model.
+    pub fn new(spec: &ModelSpec, scalar: SimScalar, period: Option<f64>) -> Result<Self> {
+        let (model, limit, period) = match scalar {
+            SimScalar::F32 | SimScalar::F64 => {
+                let kind = if scalar == SimScalar::F32 {
+                    crate::models::ScalarKind::F32
+                } else {
+                    crate::models::ScalarKind::F64
+                };
+                (spec.stepper(kind)?, friction_core::VELOCITY_LIMIT, None)
+            }
+            SimScalar::Fixed => {
+                let h = match period {
+                    Some(h) if h.is_finite() && h > 0.0 => h,
+                    Some(h) => anyhow::bail!(
+                        "the time step of the first two rows ({h:e} s) must be finite and > 0"
+                    ),
+                    None => {
+                        anyhow::bail!("`--scalar fixed` needs at least two rows (the time step)")
+                    }
+                };
+                (
+                    spec.fixed_stepper(h)?,
+                    friction_core::Scalar::to_f64(
+                        <friction_core::Fixed32 as friction_core::Scalar>::VELOCITY_LIMIT,
+                    ),
+                    Some(h),
+                )
+            }
+        };
+        Ok(Self {
+            model,
+            limit,
+            period,
+            prev_t: None,
+            clamped: 0,
+        })
+    }
+
+    /// The velocity limit the model clamps to.
+    pub fn limit(&self) -> f64 {
+        self.limit
+    }
+
+    /// Steps to time `t` with velocity `v`; returns the velocity the model
+    /// saw (clamped) and the force. Errors (a time step that overflows, or
+    /// one off the fixed-step period) leave the model as it was.
+    pub fn row(&mut self, t: f64, v: f64) -> Result<(f64, f64)> {
+        let h: f64 = self.prev_t.map_or(0.0, |p| t - p);
+        if !h.is_finite() {
+            anyhow::bail!("the time step from the previous row overflows ({h:e})");
+        }
+        if let (Some(p), true) = (self.period, self.prev_t.is_some()) {
+            if (h - p).abs() > 1e-6 * p {
+                anyhow::bail!(
+                    "the time step {h:e} s differs from {p:e} s, the period the fixed-step model was built for (`--scalar fixed` needs uniform steps)"
+                );
+            }
+        }
+        self.prev_t = Some(t);
+        let v_used = v.clamp(-self.limit, self.limit);
+        if v_used != v {
+            self.clamped += 1;
+        }
+        Ok((v_used, self.model.step(v_used, h)))
+    }
+
+    /// Names of the model's internal states.
+    pub fn state_names(&self) -> Vec<String> {
+        self.model.state_names()
+    }
+
+    /// The model's internal states now.
+    pub fn states(&self) -> Vec<f64> {
+        self.model.states()
+    }
+}
+
 /// Relative tolerance of every reference solve.
 pub const REFERENCE_RTOL: f64 = 1e-9;
 
