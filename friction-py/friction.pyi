@@ -1,0 +1,105 @@
+"""Dynamic friction models (LuGre, GMS, ...) for simulation, observation and
+compensation: the Rust library `friction` from Python, on numpy arrays.
+
+Every call runs the same code as the `friction` command line: `load` reads a
+parameter file as `friction simulate` does, `Model.simulate` gives the `f`
+column of `friction simulate`, `servo` the lines of `friction servo`,
+`identify` the fit of `friction identify`.
+"""
+
+from os import PathLike
+from typing import Literal, Optional, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+ArrayLike = npt.ArrayLike
+Scalar = Literal["f64", "f32", "fixed"]
+
+class Model:
+    """A friction model with its parameters, as the command line reads it."""
+
+    def __init__(self, name: str, **params: Union[float, int, bool, str, list, dict]) -> None:
+        """Builds a model from the keys of a parameter file.
+
+        `name` is the file's `model` (`"lugre"`, `"gms"`, ...); element tables
+        are lists of dicts (`elements=[{"k": 2e4, "alpha": 0.4, "sigma1": 0.05}, ...]`).
+        Raises ValueError naming the parameter when one is invalid.
+        """
+    @property
+    def name(self) -> str:
+        """The model's name in parameter files."""
+    @property
+    def observable(self) -> bool:
+        """Whether the model has an observer (every model with a state)."""
+    def simulate(self, t: npt.NDArray[np.float64], v: npt.NDArray[np.float64], scalar: Scalar = "f64") -> npt.NDArray[np.float64]:
+        """The friction force at each time `t[k]`, the model stepped from
+        `t[k-1]` with `v[k]` held (row 0: at rest). `scalar="fixed"` runs the
+        Q16.16 fixed-step form (uniform `t`). Raises ValueError on
+        mismatched lengths or a bad time step."""
+    def observer(self, gain: float, h: float, damping: bool = True) -> "Observer":
+        """The model's observer (correction gain in 1/s) at period `h` (s)."""
+    def compensator(
+        self,
+        h: float,
+        kp: float,
+        kd: float,
+        inertia: float,
+        ki: float = 0.0,
+        torque_constant: float = 1.0,
+        limit: float = 1e3,
+        gain: float = 200.0,
+        adaptive: Optional[dict] = None,
+        velocity_filter: Optional[float] = None,
+    ) -> "Compensator":
+        """The compensated servo tick around the model's observer (or the
+        theta-adaptive observer when `adaptive` is a dict of its parameters)."""
+
+class Observer:
+    """A model's observer at a fixed period: positions in, friction estimate out."""
+
+    def run(self, x: npt.NDArray[np.float64], x_ref: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        """The estimate at each sample from measured and reference positions
+        (the state carries over calls)."""
+
+class Compensator:
+    """A compensated servo axis: PID, acceleration feed-forward, friction estimate."""
+
+    def tick(self, x: float, x_ref: float, v_ref: float = 0.0, a_ref: float = 0.0) -> tuple[float, float]:
+        """One control period: returns (command, friction estimate)."""
+    def run(
+        self,
+        x: npt.NDArray[np.float64],
+        x_ref: npt.NDArray[np.float64],
+        v_ref: npt.NDArray[np.float64],
+        a_ref: npt.NDArray[np.float64],
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """One tick per recorded sample (open loop): (commands, frictions)."""
+    def adapted(self) -> dict[str, float]:
+        """The adapted quantities after the last tick (`theta` when adaptive)."""
+
+def load(path: Union[str, PathLike]) -> Model:
+    """A parameter file exactly as the command line reads it (ValueError
+    with the file, line and key when it is invalid)."""
+
+def servo(path: Optional[Union[str, PathLike]] = None) -> dict[str, dict[str, Union[float, bool]]]:
+    """The compensation benchmark of `friction servo` (the built-in
+    olsson1998-servo set by default): for each compensation its RMS and
+    maximum tracking error (rad) and whether the loop stayed stable."""
+
+def identify(
+    t: npt.NDArray[np.float64],
+    x: npt.NDArray[np.float64],
+    force: npt.NDArray[np.float64],
+    model: Literal["coulomb", "coulomb-viscous", "stribeck", "lugre"] = "lugre",
+    inertia: bool = True,
+    cutoff: Optional[float] = None,
+    order: int = 4,
+    decimate: Optional[int] = None,
+    stribeck_exponent: float = 2.0,
+) -> dict[str, tuple[float, float]]:
+    """Fits a model to a measured trajectory, the pipeline of `friction
+    identify`: {parameter: (value, standard deviation)}. ValueError on bad
+    input, RuntimeError when the fit's checks reject it."""

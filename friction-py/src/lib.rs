@@ -1,0 +1,520 @@
+//! The Python package `friction`: the host's models (as the command line
+//! reads them), `simulate`, observers, compensators, the servo benchmark
+//! and identification, on numpy arrays. Every call is the same code as the
+//! `friction` command line: `Model.simulate` steps through
+//! `friction_host::sim::Simulation`, `servo` runs `servo::benchmark`,
+//! `identify` runs `identify::identify`.
+
+use friction_core::{AdaptiveParams, CompensatorParams, Setpoint};
+use friction_host::control::{Controller, Loop, ObserverRequest};
+use friction_host::identify as fit;
+use friction_host::params::ParamFile;
+use friction_host::sim::{SimScalar, Simulation};
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString};
+use std::path::PathBuf;
+
+/// A Python `ValueError` carrying an error's whole chain.
+fn value_error(e: anyhow::Error) -> PyErr {
+    PyValueError::new_err(format!("{e:#}"))
+}
+
+/// A Python value as TOML: numbers, booleans, strings, lists and dicts
+/// (element tables are lists of dicts).
+fn toml_value(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<toml::Value> {
+    if obj.is_instance_of::<PyBool>() {
+        Ok(toml::Value::Boolean(obj.extract()?))
+    } else if obj.is_instance_of::<PyInt>() {
+        match obj.extract::<i64>() {
+            Ok(i) => Ok(toml::Value::Integer(i)),
+            Err(_) => Ok(toml::Value::Float(obj.extract()?)),
+        }
+    } else if obj.is_instance_of::<PyFloat>() {
+        Ok(toml::Value::Float(obj.extract()?))
+    } else if obj.is_instance_of::<PyString>() {
+        Ok(toml::Value::String(obj.extract()?))
+    } else if let Ok(list) = obj.downcast::<PyList>() {
+        list.iter()
+            .map(|x| toml_value(name, &x))
+            .collect::<PyResult<Vec<_>>>()
+            .map(toml::Value::Array)
+    } else if let Ok(dict) = obj.downcast::<PyDict>() {
+        Ok(toml::Value::Table(toml_table(dict)?))
+    } else if let Ok(x) = obj.extract::<f64>() {
+        // numpy scalars and anything else with __float__
+        Ok(toml::Value::Float(x))
+    } else {
+        Err(PyValueError::new_err(format!(
+            "parameter `{name}`: expected a number, string, list or dict, got {}",
+            obj.get_type().name()?
+        )))
+    }
+}
+
+fn toml_table(dict: &Bound<'_, PyDict>) -> PyResult<toml::Table> {
+    let mut table = toml::Table::new();
+    for (k, v) in dict.iter() {
+        let key: String = k.extract()?;
+        let value = toml_value(&key, &v)?;
+        table.insert(key, value);
+    }
+    Ok(table)
+}
+
+/// A friction model with its parameters (and the file's `[rig]`,
+/// `[plant]` and `[servo]` tables), as the `friction` command line reads it.
+#[pyclass(module = "friction", frozen)]
+struct Model {
+    file: ParamFile,
+    origin: String,
+}
+
+fn array(name: &str, a: &PyReadonlyArray1<'_, f64>) -> PyResult<Vec<f64>> {
+    a.as_slice()
+        .map(<[f64]>::to_vec)
+        .or_else(|_| Ok::<_, PyErr>(a.as_array().to_vec()))
+        .and_then(|v| {
+            if v.is_empty() {
+                Err(PyValueError::new_err(format!("`{name}` is empty")))
+            } else {
+                Ok(v)
+            }
+        })
+}
+
+fn same_length(names: &[&str], lens: &[usize]) -> PyResult<()> {
+    if lens.windows(2).any(|w| w[0] != w[1]) {
+        return Err(PyValueError::new_err(format!(
+            "{} must have the same length (got {:?})",
+            names.join(", "),
+            lens
+        )));
+    }
+    Ok(())
+}
+
+#[pymethods]
+impl Model {
+    /// Model(name, **params): builds a model from keywords, the keys of a
+    /// parameter file (`fc`, `fs`, `vs`, `stribeck_exponent`, `sigma0`, ...;
+    /// `elements=[{"k": ..., "alpha": ..., "sigma1": ...}, ...]` for GMS and
+    /// Xiong). Invalid parameters raise ValueError naming the parameter.
+    #[new]
+    #[pyo3(signature = (name, **params))]
+    fn new(name: &str, params: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        let mut table = match params {
+            Some(p) => toml_table(p)?,
+            None => toml::Table::new(),
+        };
+        table.insert("model".into(), toml::Value::String(name.into()));
+        let text = toml::to_string(&table).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let origin = format!("Model({name:?})");
+        let file = ParamFile::parse(&text, &origin).map_err(value_error)?;
+        Ok(Self { file, origin })
+    }
+
+    /// The model's name in parameter files (`lugre`, `gms`, ...).
+    #[getter]
+    fn name(&self) -> &'static str {
+        self.file.model.name()
+    }
+
+    /// Whether the model has an observer (every model with a state).
+    #[getter]
+    fn observable(&self) -> bool {
+        self.file.model.has_state()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<friction.Model {} from {}>", self.name(), self.origin)
+    }
+
+    /// simulate(t, v, scalar="f64") -> numpy array of forces.
+    ///
+    /// Row k steps the model from t[k-1] to t[k] with v[k] held; row 0 is
+    /// the force at rest; velocities beyond the limit are clamped. The same
+    /// numbers as the `f` column of `friction simulate` on the same input.
+    /// `scalar`: "f64", "f32" or "fixed" (Q16.16 fixed-step form, uniform t).
+    #[pyo3(signature = (t, v, scalar = "f64"))]
+    fn simulate<'py>(
+        &self,
+        py: Python<'py>,
+        t: PyReadonlyArray1<'py, f64>,
+        v: PyReadonlyArray1<'py, f64>,
+        scalar: &str,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        // contiguous arrays are read in place, others copied once
+        let (t, v) = (t.as_array(), v.as_array());
+        if t.is_empty() {
+            return Err(PyValueError::new_err("`t` is empty"));
+        }
+        same_length(&["t", "v"], &[t.len(), v.len()])?;
+        let kind = match scalar {
+            "f64" => SimScalar::F64,
+            "f32" => SimScalar::F32,
+            "fixed" => SimScalar::Fixed,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "scalar {other:?}: one of \"f64\", \"f32\", \"fixed\""
+                )))
+            }
+        };
+        let period = match (kind, t.get(1), t.first()) {
+            (SimScalar::Fixed, Some(t1), Some(t0)) => Some(t1 - t0),
+            _ => None,
+        };
+        let mut sim = Simulation::new(&self.file.model, kind, period).map_err(value_error)?;
+        let mut f = Vec::with_capacity(t.len());
+        for (k, (&tk, &vk)) in t.iter().zip(v.iter()).enumerate() {
+            let (_, force) = sim
+                .row(tk, vk)
+                .map_err(|e| PyValueError::new_err(format!("sample {k}: {e:#}")))?;
+            f.push(force);
+        }
+        Ok(f.into_pyarray(py))
+    }
+
+    /// observer(gain, h, damping=True) -> Observer: the model's observer
+    /// (correction gain `gain` in 1/s) run at period `h` from measured
+    /// positions, as in a drive.
+    #[pyo3(signature = (gain, h, damping = true))]
+    fn observer(&self, gain: f64, h: f64, damping: bool) -> PyResult<Observer> {
+        // the compensator with every loop gain zero leaves the estimate alone
+        let setup = Loop {
+            params: CompensatorParams {
+                h,
+                kp: 0.0,
+                ki: 0.0,
+                kd: 0.0,
+                inertia: 0.0,
+                torque_constant: 1.0,
+                limit: 1e15,
+            },
+            velocity_filter: None,
+        };
+        let axis = self.controller(&setup, gain, damping, None)?;
+        Ok(Observer { axis })
+    }
+
+    /// compensator(h, kp, kd, inertia, ki=0, torque_constant=1, limit=1e3,
+    /// gain=None, adaptive=None, velocity_filter=None) -> Compensator.
+    ///
+    /// The servo tick of `friction servo`: PID with acceleration
+    /// feed-forward around the model's observer (gain `gain`, 1/s), or the
+    /// theta-adaptive observer when `adaptive` is a dict of its parameters
+    /// (`gamma`, `gamma_derivative`, `leakage`, `theta0`, `theta_min`,
+    /// `theta_max`; missing keys take the defaults).
+    #[pyo3(signature = (h, kp, kd, inertia, ki = 0.0, torque_constant = 1.0, limit = 1e3, gain = 200.0, adaptive = None, velocity_filter = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn compensator(
+        &self,
+        h: f64,
+        kp: f64,
+        kd: f64,
+        inertia: f64,
+        ki: f64,
+        torque_constant: f64,
+        limit: f64,
+        gain: f64,
+        adaptive: Option<&Bound<'_, PyDict>>,
+        velocity_filter: Option<f64>,
+    ) -> PyResult<Compensator> {
+        let setup = Loop {
+            params: CompensatorParams {
+                h,
+                kp,
+                ki,
+                kd,
+                inertia,
+                torque_constant,
+                limit,
+            },
+            velocity_filter,
+        };
+        let adaptive = adaptive.map(adaptive_params).transpose()?;
+        let axis = self.controller(&setup, gain, true, adaptive)?;
+        Ok(Compensator { axis })
+    }
+}
+
+fn adaptive_params(d: &Bound<'_, PyDict>) -> PyResult<AdaptiveParams> {
+    let mut p = AdaptiveParams::DEFAULT;
+    for (k, v) in d.iter() {
+        let key: String = k.extract()?;
+        let x: f64 = v.extract()?;
+        match key.as_str() {
+            "gamma" => p.gamma = x,
+            "gamma_derivative" => p.gamma_derivative = x,
+            "leakage" => p.leakage = x,
+            "theta0" => p.theta0 = x,
+            "theta_min" => p.theta_min = x,
+            "theta_max" => p.theta_max = x,
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "adaptive: unknown parameter `{key}` (gamma, gamma_derivative, leakage, theta0, theta_min, theta_max)"
+                )))
+            }
+        }
+    }
+    Ok(p)
+}
+
+impl Model {
+    fn controller(
+        &self,
+        setup: &Loop,
+        gain: f64,
+        damping: bool,
+        adaptive: Option<AdaptiveParams>,
+    ) -> PyResult<std::sync::Mutex<Box<dyn Controller>>> {
+        let request = ObserverRequest {
+            scale: 1.0,
+            stiffness: 1.0,
+            gain,
+            damping,
+            adaptive,
+        };
+        match self.file.model.observer_controller(setup, &request) {
+            Some(Ok(c)) => Ok(std::sync::Mutex::new(c)),
+            Some(Err(e)) => Err(PyValueError::new_err(e.to_string())),
+            None => Err(PyValueError::new_err(format!(
+                "model `{}` has no observer (it has no state)",
+                self.name()
+            ))),
+        }
+    }
+}
+
+type Axis = std::sync::Mutex<Box<dyn Controller>>;
+
+fn lock(axis: &Axis) -> std::sync::MutexGuard<'_, Box<dyn Controller>> {
+    axis.lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// A model's observer at a fixed period: positions in, friction estimate out.
+#[pyclass(module = "friction")]
+struct Observer {
+    axis: Axis,
+}
+
+#[pymethods]
+impl Observer {
+    /// run(x, x_ref) -> numpy array: the estimate F^ at each sample from the
+    /// measured positions `x` and the references `x_ref` (error e = x - x_ref;
+    /// velocity from position differences). The state carries over calls.
+    fn run<'py>(
+        &self,
+        py: Python<'py>,
+        x: PyReadonlyArray1<'py, f64>,
+        x_ref: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let (x, r) = (array("x", &x)?, array("x_ref", &x_ref)?);
+        same_length(&["x", "x_ref"], &[x.len(), r.len()])?;
+        let mut axis = lock(&self.axis);
+        let out: Vec<f64> = x
+            .iter()
+            .zip(&r)
+            .map(|(&xk, &rk)| {
+                axis.tick(
+                    xk,
+                    Setpoint {
+                        x: rk,
+                        v: 0.0,
+                        a: 0.0,
+                    },
+                )
+                .friction
+            })
+            .collect();
+        Ok(out.into_pyarray(py))
+    }
+}
+
+/// Two numpy arrays (commands and frictions).
+type ArrayPair<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+
+/// A compensated servo axis: one tick per control period.
+#[pyclass(module = "friction")]
+struct Compensator {
+    axis: Axis,
+}
+
+#[pymethods]
+impl Compensator {
+    /// tick(x, x_ref, v_ref=0, a_ref=0) -> (command, friction): one period.
+    #[pyo3(signature = (x, x_ref, v_ref = 0.0, a_ref = 0.0))]
+    fn tick(&self, x: f64, x_ref: f64, v_ref: f64, a_ref: f64) -> (f64, f64) {
+        let t = lock(&self.axis).tick(
+            x,
+            Setpoint {
+                x: x_ref,
+                v: v_ref,
+                a: a_ref,
+            },
+        );
+        (t.command, t.friction)
+    }
+
+    /// run(x, x_ref, v_ref, a_ref) -> (commands, frictions): one tick per
+    /// sample of recorded positions (open loop: the commands do not move x).
+    fn run<'py>(
+        &self,
+        py: Python<'py>,
+        x: PyReadonlyArray1<'py, f64>,
+        x_ref: PyReadonlyArray1<'py, f64>,
+        v_ref: PyReadonlyArray1<'py, f64>,
+        a_ref: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<ArrayPair<'py>> {
+        let x = array("x", &x)?;
+        let (r, v, a) = (
+            array("x_ref", &x_ref)?,
+            array("v_ref", &v_ref)?,
+            array("a_ref", &a_ref)?,
+        );
+        same_length(
+            &["x", "x_ref", "v_ref", "a_ref"],
+            &[x.len(), r.len(), v.len(), a.len()],
+        )?;
+        let mut axis = lock(&self.axis);
+        let (mut u, mut f) = (Vec::with_capacity(x.len()), Vec::with_capacity(x.len()));
+        for k in 0..x.len() {
+            let t = axis.tick(
+                x[k],
+                Setpoint {
+                    x: r[k],
+                    v: v[k],
+                    a: a[k],
+                },
+            );
+            u.push(t.command);
+            f.push(t.friction);
+        }
+        Ok((u.into_pyarray(py), f.into_pyarray(py)))
+    }
+
+    /// The adapted quantities after the last tick (`theta` for the
+    /// adaptive observer), as a dict.
+    fn adapted<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let axis = lock(&self.axis);
+        let d = PyDict::new(py);
+        for (name, value) in axis.adapted_names().iter().zip(axis.adapted()) {
+            d.set_item(*name, value)?;
+        }
+        Ok(d)
+    }
+}
+
+/// load(path) -> Model: a parameter file exactly as the command line reads it.
+#[pyfunction]
+fn load(path: PathBuf) -> PyResult<Model> {
+    let file = ParamFile::load(&path).map_err(value_error)?;
+    Ok(Model {
+        file,
+        origin: path.display().to_string(),
+    })
+}
+
+/// servo(path=None) -> dict: the compensation benchmark of `friction servo`
+/// (built-in olsson1998-servo set when `path` is None). For each
+/// compensation: {"rms": rad, "max": rad, "stable": bool}, the same numbers
+/// as the command line's `servo NAME RMS MAX` lines (in mrad there).
+#[pyfunction]
+#[pyo3(signature = (path = None))]
+fn servo<'py>(py: Python<'py>, path: Option<PathBuf>) -> PyResult<Bound<'py, PyDict>> {
+    let (file, origin) = match &path {
+        Some(p) => (
+            ParamFile::load(p).map_err(value_error)?,
+            p.display().to_string(),
+        ),
+        None => (
+            friction_host::params::param_set("olsson1998-servo").map_err(value_error)?,
+            "params/olsson1998-servo.toml".to_string(),
+        ),
+    };
+    let bench = friction_host::servo::benchmark(&file, &origin).map_err(value_error)?;
+    let out = PyDict::new(py);
+    for run in &bench.runs {
+        let row = PyDict::new(py);
+        row.set_item("rms", run.rms)?;
+        row.set_item("max", run.max)?;
+        row.set_item("stable", run.stable)?;
+        out.set_item(run.name, row)?;
+    }
+    Ok(out)
+}
+
+/// identify(t, x, force, model="lugre", inertia=True, cutoff=None,
+/// order=4, decimate=None, stribeck_exponent=2.0) -> dict
+///
+/// Fits `model` ("coulomb", "coulomb-viscous", "stribeck", "lugre") to a
+/// measured trajectory (time, position, force), the pipeline of `friction
+/// identify`: returns {name: (value, standard deviation)} for every
+/// estimated parameter (`mass` and `offset` too when `inertia`). Bad input
+/// raises ValueError; a fit the checks reject raises RuntimeError with the
+/// reason.
+#[pyfunction]
+#[pyo3(signature = (t, x, force, model = "lugre", inertia = true, cutoff = None, order = 4, decimate = None, stribeck_exponent = 2.0))]
+#[allow(clippy::too_many_arguments)]
+fn identify<'py>(
+    py: Python<'py>,
+    t: PyReadonlyArray1<'py, f64>,
+    x: PyReadonlyArray1<'py, f64>,
+    force: PyReadonlyArray1<'py, f64>,
+    model: &str,
+    inertia: bool,
+    cutoff: Option<f64>,
+    order: usize,
+    decimate: Option<usize>,
+    stribeck_exponent: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (t, x, f) = (array("t", &t)?, array("x", &x)?, array("force", &force)?);
+    same_length(&["t", "x", "force"], &[t.len(), x.len(), f.len()])?;
+    let dir = tempfile::tempdir().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    let input = dir.path().join("data.csv");
+    friction_host::io::write_columns(&input, &["t", "x", "f"], &[&t, &x, &f])
+        .map_err(value_error)?;
+    let options = fit::Options {
+        input,
+        model: model.to_string(),
+        output: dir.path().join("out"),
+        columns: fit::Columns::default(),
+        inertia,
+        conditioning: fit::Conditioning {
+            cutoff,
+            order,
+            decimate,
+        },
+        stribeck_exponent,
+        lugre_static: Default::default(),
+        validate: None,
+        progress: false,
+    };
+    let outcome = fit::identify(&options).map_err(value_error)?;
+    if let Some(reason) = outcome.rejected {
+        return Err(PyRuntimeError::new_err(format!("fit rejected: {reason}")));
+    }
+    let fit = outcome
+        .fit
+        .ok_or_else(|| PyRuntimeError::new_err("no fit"))?;
+    let out = PyDict::new(py);
+    for p in &fit.params {
+        out.set_item(p.name, (p.value, p.std))?;
+    }
+    Ok(out)
+}
+
+/// Dynamic friction models for simulation, observation and compensation.
+#[pymodule]
+fn friction(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Model>()?;
+    m.add_class::<Observer>()?;
+    m.add_class::<Compensator>()?;
+    m.add_function(wrap_pyfunction!(load, m)?)?;
+    m.add_function(wrap_pyfunction!(servo, m)?)?;
+    m.add_function(wrap_pyfunction!(identify, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,192 @@
+"""The Python package against the command line it wraps: the same forces as
+`friction simulate`, the same servo figures as `friction servo`, parameter
+errors that name the parameter, and the observer, compensator and
+identification on known cases."""
+
+import csv
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import friction
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+PARAMS = ROOT / "params"
+
+
+@pytest.fixture(scope="session")
+def cli():
+    """The `friction` command line, built in release (a no-op when built)."""
+    subprocess.run(
+        ["cargo", "build", "--quiet", "--release", "-p", "friction-host", "--bin", "friction"],
+        cwd=ROOT, check=True,
+    )
+    return ROOT / "target" / "release" / "friction"
+
+
+def signal(n=4000, h=1e-4):
+    t = np.arange(n) * h
+    v = 2e-3 * np.sin(2 * np.pi * 5 * t) + 3e-4 * np.sin(2 * np.pi * 0.7 * t)
+    return t, v
+
+
+def cli_simulate(cli, tmp_path, params, t, v, scalar="f64"):
+    inp = tmp_path / "in.csv"
+    out = tmp_path / f"out-{scalar}.csv"
+    with open(inp, "w") as f:
+        f.write("t,v\n")
+        for a, b in zip(t, v):
+            f.write(f"{float(a)!r},{float(b)!r}\n")
+    subprocess.run(
+        [str(cli), "simulate", "--params", str(params), "--input", str(inp),
+         "--output", str(out), "--scalar", scalar],
+        check=True, capture_output=True,
+    )
+    with open(out) as f:
+        return [row["f"] for row in csv.DictReader(f)]
+
+
+@pytest.mark.parametrize("name,scalar", [
+    ("canudas1995", "f64"), ("canudas1995", "f32"), ("canudas1995", "fixed"),
+    ("gms-typical", "f64"), ("leuven-typical", "f64"), ("haessig1991-bristle", "f64"),
+    ("dahl1968", "fixed"), ("xiong-typical", "f32"),
+])
+def test_simulate_is_the_cli(cli, tmp_path, name, scalar):
+    """Every force equals the CLI's `f` column (printed to 13 digits)."""
+    path = PARAMS / f"{name}.toml"
+    t, v = signal()
+    ours = friction.load(path).simulate(t, v, scalar=scalar)
+    theirs = cli_simulate(cli, tmp_path, path, t, v, scalar)
+    assert len(ours) == len(theirs) == len(t)
+    for k, (a, b) in enumerate(zip(ours, theirs)):
+        assert float(f"{a:.12e}") == float(b), f"row {k}: {a!r} vs {b}"
+
+
+def test_keywords_build_the_same_model_as_the_file():
+    t, v = signal()
+    file = friction.load(PARAMS / "canudas1995.toml")
+    kw = friction.Model("lugre", fc=1.0, fs=1.5, vs=1e-3, stribeck_exponent=2,
+                        sigma0=1e5, sigma1=316.22776601683794, sigma2=0.4)
+    assert kw.name == "lugre" and kw.observable
+    np.testing.assert_array_equal(kw.simulate(t, v), file.simulate(t, v))
+    gms = friction.Model(
+        "gms", fc=1.0, fs=1.5, vs=1e-3, stribeck_exponent=2, sigma2=0.4, c=1000.0,
+        elements=[
+            {"k": 2.5e4, "alpha": 0.4, "sigma1": 2.5},
+            {"k": 5e4, "alpha": 0.3, "sigma1": 5.0},
+            {"k": 1e5, "alpha": 0.2, "sigma1": 10.0},
+            {"k": 2e5, "alpha": 0.1, "sigma1": 20.0},
+        ],
+    )
+    assert gms.name == "gms" and len(gms.simulate(t, v)) == len(t)
+
+
+@pytest.mark.parametrize("kwargs,word", [
+    ({"sigma0": -1.0}, "sigma0"),
+    ({"sigma1": float("nan")}, "sigma1"),
+    ({"fs": 0.5}, "fs"),
+    ({"sigma0": 1e30}, "sigma0"),
+    ({"sigmaX": 1.0}, "sigmaX"),
+    ({"sigma0": "stiff"}, "sigma0"),
+])
+def test_invalid_parameters_name_the_parameter(kwargs, word):
+    params = dict(fc=1.0, fs=1.5, vs=1e-3, stribeck_exponent=2, sigma0=1e5, sigma1=316.0, sigma2=0.4)
+    params.update(kwargs)
+    with pytest.raises(ValueError, match=word):
+        friction.Model("lugre", **params)
+
+
+def test_bad_calls_raise_value_error(tmp_path):
+    m = friction.load(PARAMS / "canudas1995.toml")
+    t, v = signal(100)
+    with pytest.raises(ValueError, match="same length"):
+        m.simulate(t, v[:-1])
+    with pytest.raises(ValueError, match="scalar"):
+        m.simulate(t, v, scalar="f16")
+    with pytest.raises(ValueError, match="empty"):
+        m.simulate(t[:0], v[:0])
+    with pytest.raises(ValueError, match="period|time step"):
+        m.simulate(np.array([0.0, 1e-3, 3e-3]), np.zeros(3), scalar="fixed")
+    with pytest.raises(ValueError, match="model"):
+        friction.Model("stribek", fc=1.0)
+    with pytest.raises(ValueError, match="cannot read"):
+        friction.load(tmp_path / "missing.toml")
+    bad = tmp_path / "bad.toml"
+    bad.write_text('model = "lugre"\nfc = 1.0\nfs = \n')
+    with pytest.raises(ValueError, match="line 3"):
+        friction.load(bad)
+    with pytest.raises(ValueError, match="no observer"):
+        friction.Model("coulomb", fc=1.0).observer(100.0, 1e-3)
+
+
+def test_observer_tracks_the_friction_of_its_own_model():
+    """A position trajectory whose friction is the model's own: the
+    observer's estimate follows the model's force once converged."""
+    m = friction.load(PARAMS / "olsson1998-servo.toml")
+    h = 1e-3
+    t = np.arange(3000) * h
+    x = 0.05 * np.sin(2 * np.pi * 0.5 * t)
+    v = np.gradient(x, h)
+    truth = m.simulate(t, v)
+    est = m.observer(200.0, h).run(x, x)  # no error: the open-loop model
+    err = np.abs(est[1000:] - truth[1000:])
+    assert np.all(np.isfinite(est))
+    assert err.max() < 0.1 * 0.33, err.max()
+
+
+def test_compensator_tick_and_adaptation():
+    m = friction.load(PARAMS / "olsson1998-servo.toml")
+    w, j = 2 * np.pi * 10, 0.0023
+    c = m.compensator(h=1e-3, kp=j * w * w, kd=2 * j * w, inertia=j, limit=5.0)
+    u, f = c.tick(0.0, 1e-3)
+    assert abs(u) <= 5.0 and np.isfinite(f)
+    a = m.compensator(h=1e-3, kp=j * w * w, kd=2 * j * w, inertia=j, limit=5.0,
+                      adaptive={"gamma": 50.0})
+    assert a.adapted() == {"theta": 1.0}
+    x = np.arange(500) * 1e-5
+    u, f = a.run(x - 1e-4, x, np.full(500, 1e-2), np.zeros(500))
+    assert np.all(np.abs(u) <= 5.0)
+    assert a.adapted()["theta"] != 1.0
+    with pytest.raises(ValueError, match="unknown parameter"):
+        m.compensator(h=1e-3, kp=1.0, kd=0.0, inertia=0.0, adaptive={"gama": 1.0})
+    with pytest.raises(ValueError, match="kd"):
+        m.compensator(h=1e-3, kp=1.0, kd=-1.0, inertia=0.0)
+
+
+def test_servo_is_the_cli(cli, tmp_path):
+    ours = friction.servo()
+    out = subprocess.run([str(cli), "servo", "--output", str(tmp_path / "servo")],
+                         check=True, capture_output=True, text=True).stdout
+    lines = [l.split() for l in out.splitlines() if l.startswith("servo ")]
+    assert lines and len(lines) == len(ours)
+    for line in lines:
+        name = line[1]
+        assert name in ours
+        if line[2] == "unstable":
+            assert not ours[name]["stable"]
+        else:
+            assert f"{1e3 * ours[name]['rms']:.4f}" == line[2], name
+            assert f"{1e3 * ours[name]['max']:.4f}" == line[3], name
+    assert ours["observer"]["rms"] < ours["none"]["rms"] / 10
+
+
+def test_identify_recovers_a_known_axis():
+    """A driven mass (2 kg) with Coulomb 1.5 N and viscous 3 N s/m friction:
+    the fit recovers them within 3 %, each with a finite standard deviation."""
+    h = 1e-3
+    t = np.arange(20000) * h
+    x = 0.05 * np.sin(2 * np.pi * 0.5 * t) + 0.02 * np.sin(2 * np.pi * 1.3 * t)
+    v = np.gradient(x, h)
+    a = np.gradient(v, h)
+    force = 2.0 * a + 1.5 * np.sign(v) + 3.0 * v
+    fit = friction.identify(t, x, force, model="coulomb-viscous")
+    assert abs(fit["fc"][0] - 1.5) < 0.03 * 1.5, fit
+    assert abs(fit["sigma2"][0] - 3.0) < 0.03 * 3.0, fit
+    assert abs(fit["mass"][0] - 2.0) < 0.03 * 2.0, fit
+    assert all(np.isfinite(s) and s >= 0 for _, s in fit.values())
+    with pytest.raises(ValueError, match="model"):
+        friction.identify(t, x, force, model="dahl")
+    with pytest.raises(ValueError, match="samples"):
+        friction.identify(t[:10], x[:10], force[:10])
