@@ -185,9 +185,10 @@ typedef struct {
  */
 typedef struct {
   /**
-   * The status the constructor returned.
+   * The status the constructor returned (a `friction_status` value; an
+   * `int32_t`, so that any bits C leaves here are valid).
    */
-  friction_status status;
+  int32_t status;
   /**
    * The parameter's name as in the parameter files (`fs`, `sigma0`, ...).
    */

@@ -9,7 +9,7 @@
 use crate::any::{Fixed, FixedState, StaticMap, Variable, VariableState};
 use crate::params::*;
 use crate::slot::{self, opaque};
-use crate::status::{friction_error, friction_status, report};
+use crate::status::{friction_error, friction_status, report, Refusal};
 use friction_core::{
     BristleParams, CoulombViscousParams, DahlParams, ElastoPlasticParams, FixedStepModel,
     FrictionModel, GmsParams, LeuvenParams, LuGreParams, ParamError, ResetIntegratorParams, Scalar,
@@ -98,30 +98,32 @@ impl<S: Scalar> Model<S> {
 }
 
 /// Builds `O::Value` from `params` into `out`; writes nothing on failure.
+/// A NULL `params` is named `params_name`.
 pub(crate) fn init<O: slot::Opaque, P>(
     out: Option<&mut O>,
     params: Option<&P>,
+    params_name: &'static str,
     error: Option<&mut friction_error>,
-    build: impl FnOnce(&P) -> Result<O::Value, friction_error>,
+    build: impl FnOnce(&P) -> Result<O::Value, Refusal>,
 ) -> friction_status {
     let (Some(out), Some(params)) = (out, params) else {
-        let which = if params.is_none() { "params" } else { "out" };
+        let which = if params.is_none() { params_name } else { "out" };
         return report(
             error,
-            friction_error::new(friction_status::FRICTION_NULL_POINTER, which),
+            Refusal::new(friction_status::FRICTION_NULL_POINTER, which),
         );
     };
     match build(params) {
         Ok(value) => {
             slot::put(out, value);
-            report(error, friction_error::new(friction_status::FRICTION_OK, ""))
+            report(error, Refusal::OK)
         }
         Err(e) => report(error, e),
     }
 }
 
-fn param(e: ParamError) -> friction_error {
-    friction_error::from_param(e)
+fn param(e: ParamError) -> Refusal {
+    Refusal::param(e)
 }
 
 /// The variable-step form for `h == 0`, else the fixed-step form for `h`.
@@ -129,7 +131,7 @@ fn at<S: Scalar>(
     h: f64,
     variable: impl FnOnce() -> Result<Variable<S>, ParamError>,
     fixed: impl FnOnce(f64) -> Result<Fixed<S>, ParamError>,
-) -> Result<Model<S>, friction_error> {
+) -> Result<Model<S>, Refusal> {
     if h == 0.0 {
         variable().map(Model::variable).map_err(param)
     } else {
@@ -137,31 +139,27 @@ fn at<S: Scalar>(
     }
 }
 
-fn coulomb_viscous<S: Scalar>(
-    p: &friction_coulomb_viscous_params,
-) -> Result<Model<S>, friction_error> {
+fn coulomb_viscous<S: Scalar>(p: &friction_coulomb_viscous_params) -> Result<Model<S>, Refusal> {
     let model = CoulombViscousParams::from(p).build().map_err(param)?;
     Ok(Model::Static(StaticMap::CoulombViscous(model)))
 }
 
-fn stribeck_map<S: Scalar>(p: &friction_stribeck_map_params) -> Result<Model<S>, friction_error> {
+fn stribeck_map<S: Scalar>(p: &friction_stribeck_map_params) -> Result<Model<S>, Refusal> {
     let model = StribeckMapParams::from(p).build().map_err(param)?;
     Ok(Model::Static(StaticMap::StribeckMap(model)))
 }
 
-fn bristle<S: Scalar>(p: &friction_bristle_params) -> Result<Model<S>, friction_error> {
+fn bristle<S: Scalar>(p: &friction_bristle_params) -> Result<Model<S>, Refusal> {
     let model = BristleParams::from(p).build().map_err(param)?;
     Ok(Model::variable(Variable::Bristle(model)))
 }
 
-fn reset_integrator<S: Scalar>(
-    p: &friction_reset_integrator_params,
-) -> Result<Model<S>, friction_error> {
+fn reset_integrator<S: Scalar>(p: &friction_reset_integrator_params) -> Result<Model<S>, Refusal> {
     let model = ResetIntegratorParams::from(p).build().map_err(param)?;
     Ok(Model::variable(Variable::ResetIntegrator(model)))
 }
 
-fn dahl<S: Scalar>(p: &friction_dahl_params, h: f64) -> Result<Model<S>, friction_error> {
+fn dahl<S: Scalar>(p: &friction_dahl_params, h: f64) -> Result<Model<S>, Refusal> {
     let p = DahlParams::from(p);
     at(
         h,
@@ -170,7 +168,7 @@ fn dahl<S: Scalar>(p: &friction_dahl_params, h: f64) -> Result<Model<S>, frictio
     )
 }
 
-fn lugre<S: Scalar>(p: &friction_lugre_params, h: f64) -> Result<Model<S>, friction_error> {
+fn lugre<S: Scalar>(p: &friction_lugre_params, h: f64) -> Result<Model<S>, Refusal> {
     let p = LuGreParams::from(p);
     at(
         h,
@@ -182,7 +180,7 @@ fn lugre<S: Scalar>(p: &friction_lugre_params, h: f64) -> Result<Model<S>, frict
 fn elasto_plastic<S: Scalar>(
     p: &friction_elasto_plastic_params,
     h: f64,
-) -> Result<Model<S>, friction_error> {
+) -> Result<Model<S>, Refusal> {
     let p = ElastoPlasticParams::from(p);
     at(
         h,
@@ -191,12 +189,12 @@ fn elasto_plastic<S: Scalar>(
     )
 }
 
-fn leuven<S: Scalar>(p: &friction_leuven_params) -> Result<Model<S>, friction_error> {
+fn leuven<S: Scalar>(p: &friction_leuven_params) -> Result<Model<S>, Refusal> {
     let model = LeuvenParams::from(p).build().map_err(param)?;
     Ok(Model::variable(Variable::Leuven(model)))
 }
 
-fn gms<S: Scalar>(p: &friction_gms_params, h: f64) -> Result<Model<S>, friction_error> {
+fn gms<S: Scalar>(p: &friction_gms_params, h: f64) -> Result<Model<S>, Refusal> {
     let p = GmsParams::from(p);
     at(
         h,
@@ -205,7 +203,7 @@ fn gms<S: Scalar>(p: &friction_gms_params, h: f64) -> Result<Model<S>, friction_
     )
 }
 
-fn xiong<S: Scalar>(p: &friction_xiong_params, h: f64) -> Result<Model<S>, friction_error> {
+fn xiong<S: Scalar>(p: &friction_xiong_params, h: f64) -> Result<Model<S>, Refusal> {
     let p = XiongParams::from(p);
     at(
         h,
@@ -255,7 +253,7 @@ pub extern "C" fn friction_coulomb_viscous_init_f32(
     params: Option<&friction_coulomb_viscous_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, coulomb_viscous)
+    init(out, params, "params", error, coulomb_viscous)
 }
 
 /// Coulomb plus viscous friction in `double`.
@@ -265,7 +263,7 @@ pub extern "C" fn friction_coulomb_viscous_init_f64(
     params: Option<&friction_coulomb_viscous_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, coulomb_viscous)
+    init(out, params, "params", error, coulomb_viscous)
 }
 
 /// The static Stribeck map in `float`.
@@ -275,7 +273,7 @@ pub extern "C" fn friction_stribeck_map_init_f32(
     params: Option<&friction_stribeck_map_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, stribeck_map)
+    init(out, params, "params", error, stribeck_map)
 }
 
 /// The static Stribeck map in `double`.
@@ -285,7 +283,7 @@ pub extern "C" fn friction_stribeck_map_init_f64(
     params: Option<&friction_stribeck_map_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, stribeck_map)
+    init(out, params, "params", error, stribeck_map)
 }
 
 /// The bristle model in `float` (re-bonds at most 2 per bristle a step,
@@ -296,7 +294,7 @@ pub extern "C" fn friction_bristle_init_f32(
     params: Option<&friction_bristle_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, bristle)
+    init(out, params, "params", error, bristle)
 }
 
 /// The bristle model in `double` (re-bonds at most 2 per bristle a step).
@@ -306,7 +304,7 @@ pub extern "C" fn friction_bristle_init_f64(
     params: Option<&friction_bristle_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, bristle)
+    init(out, params, "params", error, bristle)
 }
 
 /// The reset integrator in `float`.
@@ -316,7 +314,7 @@ pub extern "C" fn friction_reset_integrator_init_f32(
     params: Option<&friction_reset_integrator_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, reset_integrator)
+    init(out, params, "params", error, reset_integrator)
 }
 
 /// The reset integrator in `double`.
@@ -326,7 +324,7 @@ pub extern "C" fn friction_reset_integrator_init_f64(
     params: Option<&friction_reset_integrator_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, reset_integrator)
+    init(out, params, "params", error, reset_integrator)
 }
 
 /// The Dahl model in `float`: `h == 0` the variable-step form, `h > 0` the
@@ -338,7 +336,7 @@ pub extern "C" fn friction_dahl_init_f32(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, |p| dahl(p, h))
+    init(out, params, "params", error, |p| dahl(p, h))
 }
 
 /// The Dahl model in `double` (`h` as in [`friction_dahl_init_f32`]).
@@ -349,7 +347,7 @@ pub extern "C" fn friction_dahl_init_f64(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, |p| dahl(p, h))
+    init(out, params, "params", error, |p| dahl(p, h))
 }
 
 /// The LuGre model in `float`: `h == 0` the variable-step form, `h > 0` the
@@ -361,7 +359,7 @@ pub extern "C" fn friction_lugre_init_f32(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, |p| lugre(p, h))
+    init(out, params, "params", error, |p| lugre(p, h))
 }
 
 /// The LuGre model in `double` (`h` as in [`friction_lugre_init_f32`]).
@@ -372,7 +370,7 @@ pub extern "C" fn friction_lugre_init_f64(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, |p| lugre(p, h))
+    init(out, params, "params", error, |p| lugre(p, h))
 }
 
 /// The elasto-plastic model in `float` (`h` as in [`friction_lugre_init_f32`]).
@@ -383,7 +381,7 @@ pub extern "C" fn friction_elasto_plastic_init_f32(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, |p| elasto_plastic(p, h))
+    init(out, params, "params", error, |p| elasto_plastic(p, h))
 }
 
 /// The elasto-plastic model in `double` (`h` as in [`friction_lugre_init_f32`]).
@@ -394,7 +392,7 @@ pub extern "C" fn friction_elasto_plastic_init_f64(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, |p| elasto_plastic(p, h))
+    init(out, params, "params", error, |p| elasto_plastic(p, h))
 }
 
 /// The Leuven model in `float`.
@@ -404,7 +402,7 @@ pub extern "C" fn friction_leuven_init_f32(
     params: Option<&friction_leuven_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, leuven)
+    init(out, params, "params", error, leuven)
 }
 
 /// The Leuven model in `double`.
@@ -414,7 +412,7 @@ pub extern "C" fn friction_leuven_init_f64(
     params: Option<&friction_leuven_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, leuven)
+    init(out, params, "params", error, leuven)
 }
 
 /// The GMS model in `float` (`h` as in [`friction_lugre_init_f32`]).
@@ -425,7 +423,7 @@ pub extern "C" fn friction_gms_init_f32(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, |p| gms(p, h))
+    init(out, params, "params", error, |p| gms(p, h))
 }
 
 /// The GMS model in `double` (`h` as in [`friction_lugre_init_f32`]).
@@ -436,7 +434,7 @@ pub extern "C" fn friction_gms_init_f64(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, |p| gms(p, h))
+    init(out, params, "params", error, |p| gms(p, h))
 }
 
 /// The Xiong model in `float` (`h` as in [`friction_lugre_init_f32`]).
@@ -447,7 +445,7 @@ pub extern "C" fn friction_xiong_init_f32(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, |p| xiong(p, h))
+    init(out, params, "params", error, |p| xiong(p, h))
 }
 
 /// The Xiong model in `double` (`h` as in [`friction_lugre_init_f32`]).
@@ -458,7 +456,7 @@ pub extern "C" fn friction_xiong_init_f64(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, error, |p| xiong(p, h))
+    init(out, params, "params", error, |p| xiong(p, h))
 }
 
 /// Advances `model` by `h` (s) with velocity `v` held and writes the force.

@@ -5,7 +5,7 @@
 use crate::any::{Fixed, FixedState, Variable, VariableState};
 use crate::model::{friction_model_f32, friction_model_f64, init, same_period, Model};
 use crate::slot::{self, opaque};
-use crate::status::{friction_error, friction_status};
+use crate::status::{friction_error, friction_status, Refusal};
 use friction_core::{FixedStepModel, Observer, Scalar};
 
 /// Words (8 bytes each) of a `float` observer object, room for the largest
@@ -39,14 +39,10 @@ pub(crate) enum Estimator<S: Scalar> {
 }
 
 /// The observer of `model` (its parameters; the observer starts at rest).
-fn build<S: Scalar>(
-    model: &Model<S>,
-    gain: f64,
-    damping: bool,
-) -> Result<Estimator<S>, friction_error> {
-    let param = friction_error::from_param;
+fn build<S: Scalar>(model: &Model<S>, gain: f64, damping: bool) -> Result<Estimator<S>, Refusal> {
+    let param = Refusal::param;
     match model {
-        Model::Static(_) => Err(friction_error::new(
+        Model::Static(_) => Err(Refusal::new(
             friction_status::FRICTION_NOT_SUPPORTED,
             "model",
         )),
@@ -78,9 +74,9 @@ where
     M: slot::Opaque<Value = Model<S>>,
     S: Scalar,
 {
-    init(out, model, error, |m| match slot::get_ref(m) {
+    init(out, model, "model", error, |m| match slot::get_ref(m) {
         Some(m) => build(m, gain, damping),
-        None => Err(friction_error::new(
+        None => Err(Refusal::new(
             friction_status::FRICTION_NOT_INITIALISED,
             "model",
         )),

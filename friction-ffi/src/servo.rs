@@ -6,7 +6,7 @@ use crate::any::{Fixed, FixedState, StaticMap, Variable, VariableState};
 use crate::model::{friction_model_f32, friction_model_f64, Model};
 use crate::params::{friction_adaptive_params, friction_servo_params};
 use crate::slot::{self, opaque};
-use crate::status::{friction_error, friction_status, report};
+use crate::status::{friction_error, friction_status, report, Refusal};
 use friction_core::{
     AdaptiveObserver, AdaptiveParams, AdaptiveState, AtPeriod, Compensator, CompensatorParams,
     CompensatorState, FeedForward, NoCompensation, Observer, Scalar, Setpoint,
@@ -152,7 +152,7 @@ where
         let which = if params.is_none() { "params" } else { "out" };
         return report(
             error,
-            friction_error::new(friction_status::FRICTION_NULL_POINTER, which),
+            Refusal::new(friction_status::FRICTION_NULL_POINTER, which),
         );
     };
     let model = match model.map(slot::get_ref) {
@@ -161,23 +161,23 @@ where
         Some(None) => {
             return report(
                 error,
-                friction_error::new(friction_status::FRICTION_NOT_INITIALISED, "model"),
+                Refusal::new(friction_status::FRICTION_NOT_INITIALISED, "model"),
             )
         }
     };
     if matches!(model, Some(Model::Static(_))) && adaptive.is_some() {
         return report(
             error,
-            friction_error::new(friction_status::FRICTION_NOT_SUPPORTED, "adaptive"),
+            Refusal::new(friction_status::FRICTION_NOT_SUPPORTED, "adaptive"),
         );
     }
     let adaptive = adaptive.map(AdaptiveParams::from);
     match build(&params.into(), model, gain, adaptive.as_ref()) {
         Ok(servo) => {
             slot::put(out, servo);
-            report(error, friction_error::new(friction_status::FRICTION_OK, ""))
+            report(error, Refusal::OK)
         }
-        Err(e) => report(error, friction_error::from_param(e)),
+        Err(e) => report(error, Refusal::param(e)),
     }
 }
 

@@ -15,8 +15,6 @@ pub(crate) trait Opaque: Sized {
     /// The tag word written by the constructor: one per object type, so a
     /// never-initialised object (or one of another type) is refused.
     const MAGIC: u64;
-    /// The object's words.
-    fn words(&self) -> &[u64];
 }
 
 /// The layout a constructor writes: the tag word, then the value.
@@ -30,6 +28,16 @@ struct Slot<V> {
 const fn fits<O: Opaque>() -> bool {
     core::mem::size_of::<Slot<O::Value>>() <= core::mem::size_of::<O>()
         && core::mem::align_of::<Slot<O::Value>>() <= core::mem::align_of::<O>()
+}
+
+/// The object's tag word (its first word: `Slot` is `repr(C)` with the tag
+/// first). Read through a pointer: the rest of the words may hold a value's
+/// padding, which is not data.
+fn tag<O: Opaque>(object: &O) -> u64 {
+    const { assert!(core::mem::size_of::<O>() >= 8 && core::mem::align_of::<O>() >= 8) };
+    // SAFETY: the object is at least one aligned u64 long, and its first
+    // word is either C's bytes or a tag this module wrote.
+    unsafe { (object as *const O).cast::<u64>().read() }
 }
 
 /// Writes `value` into `out` with its tag.
@@ -49,7 +57,7 @@ pub(crate) fn put<O: Opaque>(out: &mut O, value: O::Value) {
 /// The value in `object`, or `None` when its tag is not `O::MAGIC`.
 pub(crate) fn get<O: Opaque>(object: &mut O) -> Option<&mut O::Value> {
     const { assert!(fits::<O>(), "the C object is too small for its value") };
-    if object.words().first() != Some(&O::MAGIC) {
+    if tag(object) != O::MAGIC {
         return None;
     }
     let slot = (object as *mut O).cast::<Slot<O::Value>>();
@@ -61,7 +69,7 @@ pub(crate) fn get<O: Opaque>(object: &mut O) -> Option<&mut O::Value> {
 /// The value in `object` read-only, or `None` when its tag is not `O::MAGIC`.
 pub(crate) fn get_ref<O: Opaque>(object: &O) -> Option<&O::Value> {
     const { assert!(fits::<O>(), "the C object is too small for its value") };
-    if object.words().first() != Some(&O::MAGIC) {
+    if tag(object) != O::MAGIC {
         return None;
     }
     let slot = (object as *const O).cast::<Slot<O::Value>>();
@@ -76,9 +84,6 @@ macro_rules! opaque {
         impl crate::slot::Opaque for $name {
             type Value = $value;
             const MAGIC: u64 = $magic;
-            fn words(&self) -> &[u64] {
-                &self.opaque
-            }
         }
     };
 }

@@ -76,8 +76,9 @@ pub const FRICTION_NAME_LEN: usize = 32;
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct friction_error {
-    /// The status the constructor returned.
-    pub status: friction_status,
+    /// The status the constructor returned (a `friction_status` value; an
+    /// `int32_t`, so that any bits C leaves here are valid).
+    pub status: i32,
     /// The parameter's name as in the parameter files (`fs`, `sigma0`, ...).
     pub parameter: [u8; FRICTION_NAME_LEN],
 }
@@ -94,14 +95,35 @@ impl friction_error {
             *slot = byte;
         }
         Self {
-            status,
+            status: status as i32,
             parameter: name,
         }
     }
+}
 
-    /// The error of a core parameter check.
-    pub(crate) fn from_param(error: ParamError) -> Self {
-        let name = match error {
+/// Why a call refused, inside the crate: the status and the parameter it
+/// names (empty when none applies).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Refusal {
+    pub(crate) status: friction_status,
+    pub(crate) parameter: &'static str,
+}
+
+impl Refusal {
+    /// `status`, naming `parameter`.
+    pub(crate) fn new(status: friction_status, parameter: &'static str) -> Self {
+        Self { status, parameter }
+    }
+
+    /// Success.
+    pub(crate) const OK: Self = Self {
+        status: friction_status::FRICTION_OK,
+        parameter: "",
+    };
+
+    /// The refusal of a core parameter check.
+    pub(crate) fn param(error: ParamError) -> Self {
+        let parameter = match error {
             ParamError::NotFinite(n)
             | ParamError::NotPositive(n)
             | ParamError::Negative(n)
@@ -115,16 +137,16 @@ impl friction_error {
             ParamError::PeriodMismatch => "h",
             ParamError::NotBelow { name, .. } => name,
         };
-        Self::new(friction_status::from_param(error), name)
+        Self::new(friction_status::from_param(error), parameter)
     }
 }
 
-/// Returns the status and, when `error` is not NULL, fills it in.
-pub(crate) fn report(error: Option<&mut friction_error>, e: friction_error) -> friction_status {
+/// Returns the refusal's status and, when `error` is not NULL, fills it in.
+pub(crate) fn report(error: Option<&mut friction_error>, r: Refusal) -> friction_status {
     if let Some(out) = error {
-        *out = e;
+        *out = friction_error::new(r.status, r.parameter);
     }
-    e.status
+    r.status
 }
 
 /// A short English description of `status` (a static NUL-terminated

@@ -39,9 +39,27 @@ fn model_f32() -> friction_model_f32 {
     }
 }
 
+/// Steps `a` and `b` alike over the sweep and asserts equal forces, bit
+/// for bit (the objects' words are not compared: their padding is not data).
+fn same_run_f64(a: &mut friction_model_f64, b: &mut friction_model_f64, steps: usize) {
+    for k in 0..steps {
+        let (v, h) = signal(k);
+        let (mut fa, mut fb) = (0.0, 0.0);
+        assert_eq!(
+            friction_model_step_f64(Some(&mut *a), v, h, Some(&mut fa)),
+            FRICTION_OK
+        );
+        assert_eq!(
+            friction_model_step_f64(Some(&mut *b), v, h, Some(&mut fb)),
+            FRICTION_OK
+        );
+        assert_eq!(fa.to_bits(), fb.to_bits(), "step {k}");
+    }
+}
+
 fn no_error() -> friction_error {
     friction_error {
-        status: FRICTION_OK,
+        status: -1,
         parameter: [0; FRICTION_NAME_LEN],
     }
 }
@@ -269,14 +287,6 @@ fn lugre_through_the_abi_is_the_core_bit_for_bit() {
             "step {k}"
         );
     }
-    // a copy of an initialised object (C assignment) is a working object
-    let mut copy = friction_model_f32 { opaque: m.opaque };
-    let mut f = 0.0;
-    assert_eq!(
-        friction_model_step_f32(Some(&mut copy), 1e-3, 1e-4, Some(&mut f)),
-        FRICTION_OK
-    );
-    assert_eq!(f.to_bits(), core.step(&mut z, 1e-3).to_bits());
 }
 
 #[test]
@@ -286,7 +296,6 @@ fn invalid_parameters_are_named_and_leave_the_object_as_it_was() {
         friction_lugre_init_f64(Some(&mut m), Some(&LUGRE), 0.0, None),
         FRICTION_OK
     );
-    let before = m.opaque;
     let cases = [
         (
             friction_lugre_params {
@@ -333,10 +342,13 @@ fn invalid_parameters_are_named_and_leave_the_object_as_it_was() {
             status,
             "{param}"
         );
-        assert_eq!(err.status, status);
+        assert_eq!(err.status, status as i32);
         assert_eq!(name(&err), param);
-        assert_eq!(m.opaque, before, "a refused constructor wrote the object");
     }
+    // the refused constructors left the model as it was: it steps as a fresh one
+    let mut fresh = model_f64();
+    friction_lugre_init_f64(Some(&mut fresh), Some(&LUGRE), 0.0, None);
+    same_run_f64(&mut m, &mut fresh, 300);
     // f32 cannot hold it
     let mut m32 = model_f32();
     let mut err = no_error();
@@ -413,6 +425,19 @@ fn null_and_uninitialised_objects_get_a_status() {
         friction_model_step_f64(Some(&mut junk), 0.0, 1e-3, Some(&mut f)),
         FRICTION_NOT_INITIALISED
     );
+    assert_eq!(
+        friction_observer_init_f64(
+            Some(&mut friction_observer_f64 {
+                opaque: [0; FRICTION_OBSERVER_F64_WORDS]
+            }),
+            None,
+            10.0,
+            true,
+            Some(&mut err)
+        ),
+        FRICTION_NULL_POINTER
+    );
+    assert_eq!(name(&err), "model");
     // an observer of an uninitialised model
     let mut o = friction_observer_f64 {
         opaque: [0; FRICTION_OBSERVER_F64_WORDS],
@@ -480,7 +505,8 @@ fn hostile_inputs_leave_the_state_unchanged() {
         friction_lugre_init_f64(Some(&mut a), Some(&LUGRE), 0.0, None),
         FRICTION_OK
     );
-    let mut b = friction_model_f64 { opaque: a.opaque };
+    let mut b = model_f64();
+    friction_lugre_init_f64(Some(&mut b), Some(&LUGRE), 0.0, None);
     let mut f = 0.0;
     for k in 0..500 {
         let (v, h) = signal(k);
@@ -502,20 +528,33 @@ fn hostile_inputs_leave_the_state_unchanged() {
             }
         }
     }
-    assert_eq!(a.opaque, b.opaque, "a rejected input changed the state");
+    // the rejected inputs changed nothing: the two step alike from here
+    same_run_f64(&mut a, &mut b, 300);
     // a fixed-step model refuses another period, state unchanged
     let mut m = model_f32();
     assert_eq!(
         friction_lugre_init_f32(Some(&mut m), Some(&LUGRE), 1e-3, None),
         FRICTION_OK
     );
+    let mut twin = model_f32();
+    friction_lugre_init_f32(Some(&mut twin), Some(&LUGRE), 1e-3, None);
     friction_model_step_f32(Some(&mut m), 1e-4, 1e-3, Some(&mut 0.0));
-    let before = m.opaque;
+    friction_model_step_f32(Some(&mut twin), 1e-4, 1e-3, Some(&mut 0.0));
     assert_eq!(
         friction_model_step_f32(Some(&mut m), 1e-4, 2e-3, Some(&mut 0.0)),
         FRICTION_PERIOD_MISMATCH
     );
-    assert_eq!(m.opaque, before);
+    for k in 0..300 {
+        let (v, _) = signal(k);
+        let (mut f1, mut f2) = (0.0f32, 0.0f32);
+        friction_model_step_f32(Some(&mut m), v as f32, 1e-3, Some(&mut f1));
+        friction_model_step_f32(Some(&mut twin), v as f32, 1e-3, Some(&mut f2));
+        assert_eq!(
+            f1.to_bits(),
+            f2.to_bits(),
+            "step {k} after the refused period"
+        );
+    }
     // reset: back at rest, the same as a fresh model
     assert_eq!(friction_model_reset_f32(Some(&mut m)), FRICTION_OK);
     let mut fresh = model_f32();
@@ -794,4 +833,184 @@ fn every_status_has_a_distinct_name() {
     let unknown = unsafe { std::ffi::CStr::from_ptr(friction_status_name(17)) };
     assert_eq!(unknown.to_str().unwrap(), "unknown status");
     assert_eq!(FRICTION_INPUT_REJECTED as i32, 16);
+}
+
+/// A small deterministic generator (SplitMix64) for the hostile-input sweep.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// `10^u` for u uniform in [lo, hi], with a random sign when `signed`.
+    fn magnitude(&mut self, lo: f64, hi: f64, signed: bool) -> f64 {
+        let u = (self.next() >> 11) as f64 / (1u64 << 53) as f64;
+        let x = 10f64.powf(lo + (hi - lo) * u);
+        if signed && self.next() & 1 == 1 {
+            -x
+        } else {
+            x
+        }
+    }
+}
+
+/// Hostile but finite: LuGre, elasto-plastic, GMS and Xiong parameters
+/// across 1e-25 to 1e25, both scalars and both forms, then steps with
+/// velocities to 1e30 and periods to 1e3 s. Every constructor either
+/// refuses with a named parameter or builds a model whose every force is
+/// finite; the servo around it gives a command within its limit.
+#[test]
+fn hostile_finite_parameters_and_inputs_never_give_a_non_finite_force() {
+    let mut rng = Rng(17);
+    let (mut built, mut refused) = (0, 0);
+    for case in 0..3000 {
+        let mut m = |lo, hi| rng.magnitude(lo, hi, false);
+        let fc = m(-25.0, 25.0);
+        let curve = friction_stribeck {
+            fc,
+            fs: fc * m(0.0, 3.0),
+            vs: m(-25.0, 25.0),
+            exponent: m(-1.0, 1.0),
+        };
+        let lugre = friction_lugre_params {
+            curve,
+            sigma0: m(-25.0, 25.0),
+            sigma1: m(-25.0, 25.0),
+            sigma2: m(-25.0, 25.0),
+            vd: 0.0,
+        };
+        let ep = friction_elasto_plastic_params {
+            lugre,
+            z_ba: fc / lugre.sigma0 * m(-3.0, 0.0),
+        };
+        let gms = friction_gms_params {
+            curve,
+            sigma2: m(-25.0, 25.0),
+            c: m(-25.0, 25.0),
+            elements: [0.4, 0.3, 0.2, 0.1].map(|alpha| friction_gms_element {
+                k: m(-25.0, 25.0),
+                alpha,
+                sigma1: m(-25.0, 25.0),
+            }),
+        };
+        let xiong = friction_xiong_params {
+            curve,
+            tau: m(-25.0, 25.0),
+            sigma2: m(-25.0, 25.0),
+            elements: [0.4, 0.3, 0.2, 0.1].map(|lambda| friction_xiong_element {
+                k: m(-25.0, 25.0),
+                sigma: m(-25.0, 25.0),
+                lambda,
+            }),
+        };
+        let h = if case % 2 == 0 { 0.0 } else { m(-6.0, 0.0) };
+        for kind in 0..4 {
+            let mut m64 = model_f64();
+            let mut m32 = model_f32();
+            let mut err = no_error();
+            let (s64, s32) = match kind {
+                0 => (
+                    friction_lugre_init_f64(Some(&mut m64), Some(&lugre), h, Some(&mut err)),
+                    friction_lugre_init_f32(Some(&mut m32), Some(&lugre), h, None),
+                ),
+                1 => (
+                    friction_elasto_plastic_init_f64(Some(&mut m64), Some(&ep), h, Some(&mut err)),
+                    friction_elasto_plastic_init_f32(Some(&mut m32), Some(&ep), h, None),
+                ),
+                2 => (
+                    friction_gms_init_f64(Some(&mut m64), Some(&gms), h, Some(&mut err)),
+                    friction_gms_init_f32(Some(&mut m32), Some(&gms), h, None),
+                ),
+                _ => (
+                    friction_xiong_init_f64(Some(&mut m64), Some(&xiong), h, Some(&mut err)),
+                    friction_xiong_init_f32(Some(&mut m32), Some(&xiong), h, None),
+                ),
+            };
+            if s64 != FRICTION_OK {
+                assert!(
+                    !name(&err).is_empty(),
+                    "case {case} kind {kind}: {s64:?} names nothing"
+                );
+                refused += 1;
+            } else {
+                built += 1;
+            }
+            for _ in 0..20 {
+                let v = rng.magnitude(-30.0, 30.0, true);
+                let step = if h == 0.0 {
+                    rng.magnitude(-9.0, 3.0, false)
+                } else {
+                    h
+                };
+                let (mut f64_, mut f32_) = (0.0f64, 0.0f32);
+                if s64 == FRICTION_OK {
+                    let s = friction_model_step_f64(Some(&mut m64), v, step, Some(&mut f64_));
+                    assert_eq!(s, FRICTION_OK, "case {case} kind {kind}");
+                    assert!(
+                        f64_.is_finite(),
+                        "case {case} kind {kind}: f64 force {f64_} at v {v:e}"
+                    );
+                }
+                if s32 == FRICTION_OK {
+                    let s = friction_model_step_f32(
+                        Some(&mut m32),
+                        v as f32,
+                        step as f32,
+                        Some(&mut f32_),
+                    );
+                    assert!(
+                        matches!(
+                            s,
+                            FRICTION_OK | FRICTION_INPUT_REJECTED | FRICTION_PERIOD_MISMATCH
+                        ),
+                        "case {case}: {s:?}"
+                    );
+                    assert!(
+                        f32_.is_finite(),
+                        "case {case} kind {kind}: f32 force {f32_} at v {v:e}"
+                    );
+                }
+            }
+            if s32 == FRICTION_OK && h > 0.0 {
+                let sp = friction_servo_params {
+                    h,
+                    ..servo_params()
+                };
+                let mut s = friction_servo_f32 {
+                    opaque: [0; FRICTION_SERVO_F32_WORDS],
+                };
+                if friction_servo_init_f32(Some(&mut s), Some(&sp), Some(&m32), 200.0, None, None)
+                    == FRICTION_OK
+                {
+                    for _ in 0..10 {
+                        let x = rng.magnitude(-30.0, 30.0, true) as f32;
+                        let r = friction_setpoint_f32 {
+                            x: 0.0,
+                            v: rng.magnitude(-30.0, 30.0, true) as f32,
+                            a: 0.0,
+                        };
+                        let mut t = friction_tick_f32 {
+                            command: 0.0,
+                            friction: 0.0,
+                        };
+                        friction_servo_tick_f32(Some(&mut s), x, r, Some(&mut t));
+                        assert!(
+                            t.command.is_finite() && t.command.abs() <= 5.0,
+                            "case {case}: command {}",
+                            t.command
+                        );
+                    }
+                }
+            }
+        }
+    }
+    // both branches were exercised
+    assert!(
+        built > 1000 && refused > 1000,
+        "built {built}, refused {refused}"
+    );
 }
