@@ -10,9 +10,19 @@ tdir="${CARGO_TARGET_DIR:-$root/target}"
 out="$tdir/ffi-check"
 mkdir -p "$out"
 
-cargo build --release -p friction-ffi -p friction-host --quiet
+# PROFILE (default release) of the staticlib; FRICTION_CLI: a `friction`
+# binary to compare with (CI passes the one `cargo test` built), else it is
+# built in PROFILE. Floating-point results are the same in every profile.
+profile="${PROFILE:-release}"
+dir=$([ "$profile" = dev ] && echo debug || echo "$profile")
+cargo build --profile "$profile" -p friction-ffi --quiet
+cli="${FRICTION_CLI:-}"
+if [ -z "$cli" ]; then
+  cargo build --profile "$profile" -p friction-host --bin friction --quiet
+  cli="$tdir/$dir/friction"
+fi
 gcc -std=c99 -Wall -Wextra -Werror -pedantic -O2 -Iinclude examples/simulate.c \
-  "$tdir/release/libfriction_ffi.a" -lpthread -ldl -lm -o "$out/simulate"
+  "$tdir/$dir/libfriction_ffi.a" -lpthread -ldl -lm -o "$out/simulate"
 
 # 20,000 rows at 10 kHz: a 5 Hz sine of 2 mm/s plus 0.3 mm/s of drift,
 # through zero 200 times (stick, reversals, sliding)
@@ -22,7 +32,7 @@ awk 'BEGIN { print "t,v"; pi = 3.141592653589793;
   >"$out/input.csv"
 
 "$out/simulate" <"$out/input.csv" >"$out/c.csv"
-"$tdir/release/friction" simulate --params "$root/params/canudas1995.toml" \
+"$cli" simulate --params "$root/params/canudas1995.toml" \
   --input "$out/input.csv" --output "$out/cli.csv" >/dev/null
 
 # column f of each, row by row

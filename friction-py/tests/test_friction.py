@@ -4,6 +4,7 @@ errors that name the parameter, and the observer, compensator and
 identification on known cases."""
 
 import csv
+import os
 import pathlib
 import subprocess
 
@@ -18,7 +19,10 @@ PARAMS = ROOT / "params"
 
 @pytest.fixture(scope="session")
 def cli():
-    """The `friction` command line, built in release (a no-op when built)."""
+    """The `friction` command line: $FRICTION_CLI (CI passes the debug build
+    `cargo test` made), else built in release (a no-op when built)."""
+    if os.environ.get("FRICTION_CLI"):
+        return pathlib.Path(os.environ["FRICTION_CLI"]).resolve()
     subprocess.run(
         ["cargo", "build", "--quiet", "--release", "-p", "friction-host", "--bin", "friction"],
         cwd=ROOT, check=True,
