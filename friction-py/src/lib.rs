@@ -199,7 +199,7 @@ impl Model {
     }
 
     /// compensator(h, kp, kd, inertia, ki=0, torque_constant=1, limit=1e3,
-    /// gain=None, adaptive=None, velocity_filter=None) -> Compensator.
+    /// gain=200, adaptive=None, velocity_filter=None) -> Compensator.
     ///
     /// The servo tick of `friction servo`: PID with acceleration
     /// feed-forward around the model's observer (gain `gain`, 1/s), or the
