@@ -32,6 +32,7 @@
 
 use crate::fixed_step::FixedStepObservable;
 use crate::model::{checked_inputs, convert, non_negative, FrictionModel, ParamError};
+use crate::scalar::all_finite;
 use crate::Scalar;
 
 /// A state model whose elastic input accepts an observer's velocity offset.
@@ -168,7 +169,7 @@ impl<S: Scalar, M: FixedStepObservable<S>> Observer<M, S> {
     /// ```
     #[inline]
     pub fn step_at(&self, state: &mut M::State, v: S, e: S) -> S {
-        if v.is_finite() && e.is_finite() {
+        if all_finite([v, e]) {
             let limit = S::VELOCITY_LIMIT;
             let v = v.sat(limit);
             let correction = (self.gain * e).sat(limit);
