@@ -82,7 +82,10 @@ pub struct friction_tick_f64 {
 type AdaptiveAt<S> = AtPeriod<AdaptiveObserver<Fixed<S>, S>>;
 
 /// A compensator with its state, one variant per kind of compensation.
+// `repr(u32)`: a plain tag word, so that a tick's dispatch is one load and
+// a jump table (the compiler's niche encoding took five instructions more)
 #[derive(Clone, Copy, Debug)]
+#[repr(u32)]
 pub(crate) enum Servo<S: Scalar> {
     None(Compensator<S, NoCompensation>, CompensatorState<S, ()>),
     FeedForward(

@@ -313,10 +313,12 @@ impl<S: Scalar, const N: usize> Xiong<S, N> {
             // h K_i may overflow to +inf; never multiply it by a zero u
             let scale = e.sigma + h * e.k;
             let trial = if u == S::ZERO { kz } else { kz + scale * u };
-            let f = trial.sat(cap);
+            // min/max rather than `sat`: these bounds hold while the element
+            // slips (often), where `sat`'s in-range test is one more
+            let f = trial.min(cap).max(-cap);
             if h > S::ZERO {
                 let r = S::ONE / (S::ONE + h * e.k_over_sigma);
-                let kz_next = (r * kz + (S::ONE - r) * f).sat(cap);
+                let kz_next = (r * kz + (S::ONE - r) * f).min(cap).max(-cap);
                 *z = kz_next * e.inv_k;
                 total = total + if damping { f } else { kz_next };
             } else {
@@ -473,9 +475,11 @@ impl<S: Scalar, const N: usize> XiongAt<S, N> {
         let mut total = self.sigma2 * v;
         for (e, w) in self.elements.iter().zip(state.w.iter_mut()) {
             let cap = e.lambda * gamma;
-            let f = (*w + e.scale * u).sat(cap);
+            // min/max rather than `sat`: these bounds hold while the element
+            // slips (often), where `sat`'s in-range test is one more
+            let f = (*w + e.scale * u).min(cap).max(-cap);
             // r w + (1 - r) f as an increment: no rounding of a large w by r
-            let next = (*w + (f - *w) * e.one_minus_r).sat(cap);
+            let next = (*w + (f - *w) * e.one_minus_r).min(cap).max(-cap);
             *w = next;
             total = total + if damping { f } else { next };
         }
