@@ -232,7 +232,7 @@ macro_rules! impl_float_scalar {
                 $exp_neg(self)
             }
             /// On ARM (no floating-point min or max before ARMv8)
-            /// [`sat_by_magnitude`]: the default's value, with one
+            /// `sat_by_magnitude`: the default's value, with one
             /// comparison of `|x|` for a value within the bound.
             #[inline]
             fn sat(self, a: Self) -> Self {
