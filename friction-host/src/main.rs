@@ -51,7 +51,7 @@ enum Command {
     ///
     /// Exit code 0 when the verdict is pass or not judged, 1 on FAIL, 2 on bad input.
     Experiment {
-        /// One of: stribeck, presliding, frictional-lag, breakaway, stick-slip, drift.
+        /// The experiment (its possible values are listed below); exit 2 with the reason when it does not apply to the file.
         #[arg(value_parser = clap::builder::PossibleValuesParser::new(experiments::NAMES))]
         name: String,
         /// Parameter file; rig experiments read its `[rig]` table.

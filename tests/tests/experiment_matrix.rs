@@ -13,9 +13,15 @@ use std::path::Path;
 /// reference solver reproduces, not of a step cap or the rig set-up.
 const KNOWN: &[(&str, &str, &str)] = &[
     // measured: 0.3032, 0.3027, 0.2975, 0.3112, 0.2835, 0.2828 N m at 0.026 to
-    // 1.3 N m/s, the same at --dt 1e-5: the elements slip one by one (the
-    // mass is at 0.01 rad/s at half of Fs), and at 0.26 N m/s the peak is a
-    // rebound after a slip, not the break-away
+    // 1.3 N m/s, the same at --dt 1e-5: the elements slip one by one, and the
+    // creep on the elements still sticking is unstable once the slipping
+    // weights' Stribeck slope (up to 0.6 x 4.3 N m s/rad) exceeds the sticking
+    // elements' damping (0.05 to 0.6): the mass leaves the creep at a stage of
+    // the slip sequence that depends on the rate (at 0.01 N m/s, the moment
+    // the k = 40 element slips, u = 0.248 N m). Re-shaped sets that pass
+    // (weights, stiffnesses, C searched) stop passing with +-5 % on one k, and
+    // damping the elements enough to keep the creep stable (sigma1 of 3 on
+    // the last) makes the break-away a damping peak instead
     (
         "gms-servo",
         "breakaway",
