@@ -520,13 +520,16 @@ impl<S: Scalar> ElastoPlasticAt<S> {
     /// tail with the rate's `b` frozen where the sub-steps stopped. Only a
     /// step that crosses most of the zone at once is affected: measured
     /// against the full step over every distance and zone shape (`eps` 0.01
-    /// to 1), the state `w` is off by at most 2.8 % of the zone's width
-    /// `g(v) - sigma0 z_ba` with `k = 3` (1.5 % with 4, 0.4 % with 6, 7e-5
-    /// with 12). With `k = 3` the worst step on a Cortex-M4F (f32) costs
-    /// 677 instructions against 2,217 (5.7x the average instead of 18.6x;
-    /// the entry, the tail's exponentials and the damping term's zone rate
-    /// stay), in Q16.16 on a Cortex-M0 12,231 against 35,681 (the cost
-    /// table's `elasto-plastic-k3` rows).
+    /// to 1), the state `w` is off by at most 8.7 % of the zone's width
+    /// `g(v) - sigma0 z_ba` with `k = 1` (5.0 % with 2, 2.8 % with 3, 1.5 %
+    /// with 4, 0.4 % with 6, 7e-5 with 12). The worst step on a Cortex-M4F
+    /// (f32) costs 411 instructions with `k = 1` (3.7x the average, within
+    /// the 4x a real-time loop is sized by) and 667 with `k = 3` (6.0x),
+    /// against 2,207 (20x; the entry, the tail's exponentials and the
+    /// damping term's zone rate stay); in Q16.16 on a Cortex-M0 7,264 with
+    /// `k = 1` (8.9x: each of its divisions is a long division there) and
+    /// 12,231 with `k = 3`, against 35,681 (the cost table's
+    /// `elasto-plastic-k1` and `-k3` rows).
     ///
     /// ```
     /// use friction_core::{ElastoPlasticParams, LuGreParams};
