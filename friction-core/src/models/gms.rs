@@ -612,8 +612,12 @@ impl<S: Scalar, const N: usize> GmsAt<S, N> {
 
 /// One element over the period: [`element_step`] with the time left for
 /// slipping counted in periods.
+// always inlined into the model's step: no call and argument shuffle per
+// element (Cortex-M4F, f32: GMS(4) 297 -> 246 instructions a step, GMS(16)
+// 1,137 -> 966; Q16.16 on the M0 1,711 -> 1,542; soft-float f32 on the M0
+// 6 % dearer on average)
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 fn element_step_at<S: Scalar>(
     e: &ElementAt<S>,
     f: S,
