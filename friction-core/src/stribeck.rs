@@ -103,8 +103,9 @@ impl<S: Scalar> StribeckCurve<S> {
     }
 
     /// `g(v)` as [`Self::eval`], with the exponential of the fixed-step forms
-    /// ([`Scalar::exp_neg`]).
-    #[inline]
+    /// ([`Scalar::exp_neg`]). Always inlined: on the Cortex-M0 the call
+    /// and its register saves cost Q16.16 LuGre 1 % of its step.
+    #[inline(always)]
     pub fn eval_fast(&self, v: S) -> S {
         let r = (v * self.inv_vs).abs();
         let p = match self.shape {

@@ -454,7 +454,7 @@ impl<S: Scalar> LuGreAt<S> {
     }
 
     /// `sigma1(v)`.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn damping(&self, v: S) -> S {
         if self.inv_vd_sq > S::ZERO {
             self.sigma1 * (v * v * self.inv_vd_sq).exp_neg()
