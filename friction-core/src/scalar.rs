@@ -146,6 +146,23 @@ pub trait Scalar:
     /// 3 units in the last place.
     fn exp_neg(self) -> Self;
 
+    /// `2^-x` for `x >= 0` (a negative `x` counts as 0; NaN stays NaN), for
+    /// a caller that folded `log2 e` into a constant built in `f64`
+    /// (`e^-y = 2^-(y log2 e)`; the Stribeck curve of the fixed-step forms):
+    /// the integer part of `x` is a power of two, only the fraction needs a
+    /// polynomial, so the range reduction is one subtraction. Default:
+    /// [`Scalar::exp_neg`] of `x ln 2`.
+    #[inline]
+    fn exp2_neg(self) -> Self {
+        (self * Self::from_f64(core::f64::consts::LN_2)).exp_neg()
+    }
+
+    /// Whether [`Scalar::exp2_neg`] is the cheaper exponential (the floats):
+    /// then the fixed-step Stribeck curve folds `log2 e` into `1/vs` when it
+    /// is built. Fixed point keeps [`Scalar::exp_neg`] and `1/vs` as given
+    /// (a folded `1/vs` would overflow Q16.16 sooner).
+    const EXP2_FOLDS: bool = false;
+
     /// `sign(x)`: -1, 0 or 1 (0 at zero, unlike `f64::signum`).
     #[inline]
     fn sign(self) -> Self {
@@ -186,10 +203,11 @@ pub trait Scalar:
 }
 
 macro_rules! impl_float_scalar {
-    ($t:ty, $abs:path, $exp:path, $exp_neg:path, $expm1:path, $log1p:path, $pow:path) => {
+    ($t:ty, $abs:path, $exp:path, $exp_neg:path, $exp2_neg:path, $expm1:path, $log1p:path, $pow:path) => {
         impl Scalar for $t {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
+            const EXP2_FOLDS: bool = true;
             const MIN_POSITIVE: Self = <$t>::MIN_POSITIVE;
             const VELOCITY_LIMIT: Self = crate::model::VELOCITY_LIMIT as $t;
             #[inline]
@@ -232,6 +250,10 @@ macro_rules! impl_float_scalar {
             fn exp_neg(self) -> Self {
                 $exp_neg(self)
             }
+            #[inline]
+            fn exp2_neg(self) -> Self {
+                $exp2_neg(self)
+            }
             /// On ARM (no floating-point min or max before ARMv8)
             /// `sat_by_magnitude`: the default's value, with one
             /// comparison of `|x|` for a value within the bound.
@@ -254,6 +276,7 @@ impl_float_scalar!(
     libm::fabsf,
     libm::expf,
     exp_neg_f32,
+    exp2_neg_f32,
     libm::expm1f,
     libm::log1pf,
     libm::powf
@@ -263,6 +286,7 @@ impl_float_scalar!(
     libm::fabs,
     libm::exp,
     exp_neg_f64,
+    exp2_neg_f64,
     libm::expm1,
     libm::log1p,
     libm::pow
@@ -363,6 +387,54 @@ fn exp_neg_f32(x: f32) -> f32 {
     p * f32::from_bits(((127 - k) as u32) << 23)
 }
 
+/// `2^-x` in `f64` through `libm::exp2`.
+#[inline]
+fn exp2_neg_f64(x: f64) -> f64 {
+    if x > 0.0 {
+        libm::exp2(-x)
+    } else if x.is_nan() {
+        x
+    } else {
+        1.0
+    }
+}
+
+/// `2^-x` in `f32` arithmetic only: `x = k - s` with `k` the nearest
+/// integer and `|s| <= 1/2` (`s = k - x` is exact), `2^s` by
+/// [`exp_neg_f32`]'s polynomial with its coefficients times `ln2^i` (the
+/// same relative error; 3.0 units in the last place at worst over every
+/// `f32` in `(0, 126]`, measured), and `2^-k` written into the exponent
+/// bits. Returns 0 beyond `x = 126`, where the result leaves the normal range.
+#[inline]
+fn exp2_neg_f32(x: f32) -> f32 {
+    // one unsigned comparison of the bits admits exactly 0 < x <= 126
+    // (0x42fc_0000 is 126.0)
+    const TOP: u32 = 0x42fc_0000;
+
+    // 2^s = e^(s ln 2) on |s| <= 1/2: exp_neg_f32's C_i times ln2^i
+    const D0: f32 = 1.000_000_1;
+    const D1: f32 = 0.693_147_04;
+    const D2: f32 = 0.240_221_19;
+    const D3: f32 = 0.055_507_134;
+    const D4: f32 = 0.009_675_542;
+    const D5: f32 = 0.001_327_647_4;
+    if x.to_bits().wrapping_sub(1) >= TOP {
+        return if x.is_nan() {
+            x
+        } else if x <= 0.0 {
+            1.0
+        } else {
+            0.0
+        };
+    }
+    // 0 <= k <= 126: the cast cannot saturate
+    let k = (x + 0.5) as i32;
+    let s = k as f32 - x; // exact (Sterbenz), within ±1/2
+    let p = D0 + s * (D1 + s * (D2 + s * (D3 + s * (D4 + s * D5))));
+    // 127 - k is in 1..=127: a normal power of two
+    p * f32::from_bits(((127 - k) as u32) << 23)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -408,6 +480,38 @@ mod tests {
         assert_eq!(exp_neg_f32(f32::INFINITY), 0.0);
         assert_eq!(exp_neg_f64(f64::INFINITY), 0.0);
         assert_eq!(exp_neg_f64(-1.0), 1.0);
+    }
+
+    #[test]
+    fn exp2_neg_f32_is_within_3_ulp_everywhere() {
+        let mut worst = 0.0f64;
+        let mut x = 0.0f32;
+        while x < 130.0 {
+            let exact = libm::exp2(-(x as f64));
+            let got = exp2_neg_f32(x) as f64;
+            if x <= 126.0 {
+                let ulp = (exact as f32).to_bits();
+                let ulp = f32::from_bits(ulp + 1) as f64 - exact as f32 as f64;
+                worst = worst.max((got - exact).abs() / ulp);
+            } else {
+                assert!(got < 2.0 * f32::MIN_POSITIVE as f64, "x {x}");
+            }
+            x = if x < 1e-3 {
+                x + 1e-6
+            } else {
+                x * 1.000_37 + 1e-7
+            };
+        }
+        std::println!("exp2_neg_f32: worst {worst} ulp");
+        assert!(worst <= 3.0, "worst {worst} ulp");
+        assert_eq!(exp2_neg_f32(0.0), 1.0);
+        assert_eq!(exp2_neg_f32(-3.0), 1.0);
+        assert!((exp2_neg_f32(1.0) - 0.5).abs() <= 0.5 * f32::EPSILON);
+        assert!(exp2_neg_f32(f32::NAN).is_nan());
+        assert_eq!(exp2_neg_f32(f32::INFINITY), 0.0);
+        assert_eq!(exp2_neg_f64(f64::INFINITY), 0.0);
+        assert_eq!(exp2_neg_f64(-1.0), 1.0);
+        assert_eq!(exp2_neg_f64(3.0), 0.125);
     }
 
     #[test]

@@ -60,11 +60,19 @@ impl StribeckParams {
         } else {
             Shape::Power(convert("stribeck_exponent", self.exponent)?)
         };
+        // eval_fast's 2^-p' with p' = p log2 e: log2 e folded into 1/vs
+        // (squared by the Square shape), or applied after powf
+        let fold = match shape {
+            Shape::Square if S::EXP2_FOLDS => libm::sqrt(core::f64::consts::LOG2_E),
+            Shape::Linear if S::EXP2_FOLDS => core::f64::consts::LOG2_E,
+            _ => 1.0,
+        };
         Ok(StribeckCurve {
             fc: convert("fc", self.fc)?,
             fs: convert("fs", self.fs)?,
             fs_minus_fc: convert("fs", self.fs - self.fc)?,
             inv_vs: convert_derived("vs", 1.0 / self.vs)?,
+            inv_vs_fast: convert_derived("vs", fold / self.vs)?,
             shape,
         })
     }
@@ -86,6 +94,10 @@ pub struct StribeckCurve<S> {
     fs: S,
     fs_minus_fc: S,
     inv_vs: S,
+    /// `1/vs` for [`Self::eval_fast`]: times `sqrt(log2 e)` (`delta = 2`) or
+    /// `log2 e` (`delta = 1`) where the scalar's cheaper exponential is
+    /// `2^-x` ([`Scalar::EXP2_FOLDS`]).
+    inv_vs_fast: S,
     shape: Shape<S>,
 }
 
@@ -103,17 +115,27 @@ impl<S: Scalar> StribeckCurve<S> {
     }
 
     /// `g(v)` as [`Self::eval`], with the exponential of the fixed-step forms
-    /// ([`Scalar::exp_neg`]). Always inlined: on the Cortex-M0 the call
+    /// ([`Scalar::exp2_neg`] in floating point, [`Scalar::exp_neg`] in fixed
+    /// point). Always inlined: on the Cortex-M0 the call
     /// and its register saves cost Q16.16 LuGre 1 % of its step.
     #[inline(always)]
     pub fn eval_fast(&self, v: S) -> S {
-        let r = (v * self.inv_vs).abs();
+        let r = (v * self.inv_vs_fast).abs();
         let p = match self.shape {
             Shape::Square => r * r,
             Shape::Linear => r,
+            Shape::Power(delta) if S::EXP2_FOLDS => {
+                r.powf(delta) * S::from_f64(core::f64::consts::LOG2_E)
+            }
             Shape::Power(delta) => r.powf(delta),
         };
-        self.fc + self.fs_minus_fc * p.exp_neg()
+        // e^-|v/vs|^delta, as 2^-(|v/vs|^delta log2 e) where that is cheaper
+        let e = if S::EXP2_FOLDS {
+            p.exp2_neg()
+        } else {
+            p.exp_neg()
+        };
+        self.fc + self.fs_minus_fc * e
     }
 
     /// The Coulomb level `Fc`.
