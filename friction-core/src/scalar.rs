@@ -429,7 +429,9 @@ fn exp2_neg_f32(x: f32) -> f32 {
     }
     // 0 <= k <= 126: the cast cannot saturate
     let k = (x + 0.5) as i32;
-    let s = k as f32 - x; // exact (Sterbenz), within ±1/2
+    // exact (Sterbenz), within ±1/2; for x = 1/2 - 2^-25, where x + 1/2
+    // rounds up to 1, s = 1/2 is off by 2^-25 (within the error bound)
+    let s = k as f32 - x;
     let p = D0 + s * (D1 + s * (D2 + s * (D3 + s * (D4 + s * D5))));
     // 127 - k is in 1..=127: a normal power of two
     p * f32::from_bits(((127 - k) as u32) << 23)

@@ -523,12 +523,12 @@ impl<S: Scalar> ElastoPlasticAt<S> {
     /// to 1), the state `w` is off by at most 8.7 % of the zone's width
     /// `g(v) - sigma0 z_ba` with `k = 1` (5.0 % with 2, 2.8 % with 3, 1.5 %
     /// with 4, 0.4 % with 6, 7e-5 with 12). The worst step on a Cortex-M4F
-    /// (f32) costs 411 instructions with `k = 1` (3.7x the average, within
-    /// the 4x a real-time loop is sized by) and 667 with `k = 3` (6.0x),
-    /// against 2,207 (20x; the entry, the tail's exponentials and the
-    /// damping term's zone rate stay); in Q16.16 on a Cortex-M0 7,264 with
-    /// `k = 1` (8.9x: each of its divisions is a long division there) and
-    /// 12,231 with `k = 3`, against 35,681 (the cost table's
+    /// (f32) costs 414 instructions with `k = 1` (3.9x the average, within
+    /// the 4x a real-time loop is sized by) and 670 with `k = 3` (6.3x),
+    /// against 2,210 (21x; the entry, the tail's exponentials and the
+    /// damping term's zone rate stay); in Q16.16 on a Cortex-M0 7,246 with
+    /// `k = 1` (9.2x: each of its divisions is a long division there) and
+    /// 12,214 with `k = 3`, against 35,666 (the cost table's
     /// `elasto-plastic-k1` and `-k3` rows).
     ///
     /// ```
