@@ -107,9 +107,66 @@ impl Mul for Fixed32 {
     /// accumulated state by half a step per operation.
     #[inline]
     fn mul(self, rhs: Self) -> Self {
-        let p = rounded_product(self.to_bits(), rhs.to_bits());
-        Self::from_bits(p.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32)
+        Self::from_bits(saturated_product(self.to_bits(), rhs.to_bits()))
     }
+}
+
+/// `(a b + 2^15) >> 16` saturated to `i32`.
+#[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
+#[inline]
+fn saturated_product(a: i32, b: i32) -> i32 {
+    clamp_i32(rounded_product(a, b))
+}
+
+/// `(a b + 2^15) >> 16` saturated to `i32` on ARMv6-M (Cortex-M0, M0+;
+/// told apart from ARMv7-M by its missing 32-bit atomics).
+#[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+#[inline]
+fn saturated_product(a: i32, b: i32) -> i32 {
+    split_saturated_product(a, b)
+}
+
+/// [`split_product`]'s four partial products summed in `i32` with overflow
+/// checks (an `adds` and a branch on its overflow flag each), and in `i64`
+/// only when a sum overflows, which is when the result saturates or nearly
+/// does: the same value as the 64-bit sum, saturated (tested on the host),
+/// in about 25 instructions on ARMv6-M instead of 40 with the 64-bit
+/// additions and clamp.
+#[cfg(any(test, all(target_arch = "arm", not(target_has_atomic = "32"))))]
+#[inline]
+fn split_saturated_product(a: i32, b: i32) -> i32 {
+    let (ah, al) = (a >> 16, (a as u32) & 0xffff);
+    let (bh, bl) = (b >> 16, (b as u32) & 0xffff);
+    // |ah bh| <= 2^30; |ah bl|, |al bh| < 2^31; (al bl + 2^15) >> 16 < 2^16
+    let high = ah * bh;
+    let shifted = high.wrapping_shl(16);
+    let sum = if shifted >> 16 == high {
+        (ah * bl as i32)
+            .checked_add(al as i32 * bh)
+            .and_then(|m| m.checked_add(((al * bl + 0x8000) >> 16) as i32))
+            .and_then(|m| m.checked_add(shifted))
+    } else {
+        None
+    };
+    match sum {
+        Some(p) => p,
+        None => saturated_split_product(a, b),
+    }
+}
+
+/// The rare case of [`split_saturated_product`], out of line: the common
+/// case then keeps its values in registers.
+#[cfg(any(test, all(target_arch = "arm", not(target_has_atomic = "32"))))]
+#[cold]
+#[inline(never)]
+fn saturated_split_product(a: i32, b: i32) -> i32 {
+    clamp_i32(split_product(a, b))
+}
+
+/// `x` saturated to `i32`.
+#[inline]
+fn clamp_i32(x: i64) -> i32 {
+    x.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32
 }
 
 /// `(a b + 2^15) >> 16` exactly, where the core multiplies 32 by 32 bits
@@ -120,21 +177,12 @@ fn rounded_product(a: i32, b: i32) -> i64 {
     (i64::from(a) * i64::from(b) + 0x8000) >> 16
 }
 
-/// `(a b + 2^15) >> 16` exactly from four 16 by 16-bit products, on
-/// ARMv6-M (Cortex-M0, M0+; told apart from ARMv7-M by its missing 32-bit
-/// atomics), whose multiplier keeps only the low 32 bits of a product: this
+/// `(a b + 2^15) >> 16` exactly from four 16 by 16-bit products, for
+/// ARMv6-M, whose multiplier keeps only the low 32 bits of a product: this
 /// avoids a call to the 64 by 64-bit `__aeabi_lmul`. With `a = ah 2^16 + al`
 /// (`ah` signed, `al` in `0..2^16`) and `b` alike, the low 16 bits of the
 /// high and middle products are whole, so only `al bl` is rounded, and one
-/// 64-bit shift remains.
-#[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
-#[inline]
-fn rounded_product(a: i32, b: i32) -> i64 {
-    split_product(a, b)
-}
-
-/// [`rounded_product`] for ARMv6-M (tested on the host against the 64-bit
-/// product).
+/// 64-bit shift remains (tested on the host against the 64-bit product).
 #[cfg(any(test, all(target_arch = "arm", not(target_has_atomic = "32"))))]
 #[inline]
 fn split_product(a: i32, b: i32) -> i64 {
@@ -380,6 +428,8 @@ mod tests {
         let check = |a: i32, b: i32| {
             let want = (i64::from(a) * i64::from(b) + 0x8000) >> 16;
             assert_eq!(super::split_product(a, b), want, "{a} x {b}");
+            let saturated = want.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32;
+            assert_eq!(super::split_saturated_product(a, b), saturated, "{a} x {b}");
         };
         for &a in &edges {
             for &b in &edges {

@@ -526,9 +526,9 @@ impl<S: Scalar> ElastoPlasticAt<S> {
     /// (f32) costs 414 instructions with `k = 1` (3.9x the average, within
     /// the 4x a real-time loop is sized by) and 670 with `k = 3` (6.3x),
     /// against 2,210 (21x; the entry, the tail's exponentials and the
-    /// damping term's zone rate stay); in Q16.16 on a Cortex-M0 7,246 with
-    /// `k = 1` (9.2x: each of its divisions is a long division there) and
-    /// 12,214 with `k = 3`, against 35,666 (the cost table's
+    /// damping term's zone rate stay); in Q16.16 on a Cortex-M0 6,006 with
+    /// `k = 1` (8.1x: each of its divisions is a long division there) and
+    /// 9,574 with `k = 3`, against 26,293 (the cost table's
     /// `elasto-plastic-k1` and `-k3` rows).
     ///
     /// ```
