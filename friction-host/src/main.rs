@@ -317,7 +317,7 @@ fn run(cli: Cli) -> Result<bool> {
                 io::refuse_overwrite("--output", &output.join(out), &[&params])?;
             }
             let out = experiments::run(&name, &file, Options { dt, duration }, &output)
-                .with_context(|| format!("experiment `{name}`"))?;
+                .with_context(|| params.display().to_string())?;
             println!(
                 "{} ({}) for `{}`",
                 out.name,

@@ -23,6 +23,7 @@ mod rate_independence;
 mod stick_slip;
 mod stribeck;
 
+pub(crate) use breakaway::breakaway_rates;
 pub use stick_slip::{compare_stick_slip, slip_onsets, StickSlipFigures};
 
 /// The experiment names, in the order `validate` runs them.
@@ -124,6 +125,19 @@ fn refusal(name: &str, file: &ParamFile) -> Option<Refusal> {
         return Some(Refusal(
             "experiment `stick-slip` needs a spring rig, and this file's [rig] is the drift rig (`force`, `frequency`, `cycles`, no spring): a mass driven by a force has nothing to slip against. Give [rig] `stiffness` and `pull_velocity`, or run `drift`".into(),
         ));
+    }
+    if name == "breakaway" {
+        let m = mass(file);
+        let unstable = breakaway_rates(file).iter().find_map(|&rate| {
+            let why = file.model.host().unstable_creep(m, rate)?;
+            Some(format!("at {} N/s, {why}", crate::io::short(rate)))
+        });
+        if let Some(why) = unstable {
+            return Some(Refusal(format!(
+                "experiment `breakaway` does not apply to this set on its rig (mass {}): it measures how the break-away force falls as a slow, steady creep speeds up with the force rate, and here the creep is unstable: {why}. The break-away force is then set by when the instability takes off, not by the curve. Give the last elements to slip more damping, or a heavier rig `mass`",
+                crate::io::short(m)
+            )));
+        }
     }
     if name != "stribeck" && !file.model.has_state() {
         return Some(Refusal(format!(

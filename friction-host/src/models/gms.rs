@@ -278,6 +278,23 @@ impl HostModel for GmsSpec {
     fn accuracy_bound(&self, h: f64) -> Option<f64> {
         Some(if h >= 1e-3 { 0.03 } else { 0.01 })
     }
+    /// Unstable where some stage of [`GmsSpec::creep_growth`] grows by more
+    /// than round-off needs to reach the creep itself (`e^36`).
+    fn unstable_creep(&self, mass: f64, rate: f64) -> Option<String> {
+        let growth = self.creep_growth(mass, rate);
+        let (stage, worst) = growth
+            .iter()
+            .enumerate()
+            .filter(|(_, g)| !g.is_nan())
+            .max_by(|a, b| a.1.total_cmp(b.1))?;
+        (*worst > ROUND_OFF_EFOLDS).then(|| {
+            format!(
+                "once {} of the {} elements slip, the creep grows by e^{worst:.0} before the next one slips (round-off reaches the creep itself after e^36): the slipping elements' falling Stribeck curve acts as a negative damping larger than the sticking elements' sigma1 + sigma2",
+                stage + 1,
+                self.elements.len()
+            )
+        })
+    }
 }
 
 /// One element of the reference: force and the direction it slips in
@@ -390,9 +407,173 @@ pub fn gms_reference(spec: &GmsSpec, signal: &Signal, t: &[f64], dt: f64) -> Ref
     run
 }
 
+/// How many e-folds of growth take round-off (`f64::EPSILON` relative) to
+/// the size of the quantity itself: `ln(1 / EPSILON)`, about 36.
+const ROUND_OFF_EFOLDS: f64 = 36.04;
+
+impl GmsSpec {
+    /// How the creep of a mass `mass` on this contact, loaded by a force
+    /// ramp at `rate` from rest, grows between one element slipping and the
+    /// next: for each stage `j` (the first `j` elements to break away
+    /// slipping, the rest sticking, `j = 1 .. N - 1`), the largest real
+    /// part of the creep's linearization times the stage's duration, in
+    /// e-folds.
+    ///
+    /// At stage `j` the mass creeps at `v = rate / K` (`K` the sticking
+    /// stiffness) against `m x'' = u - sum_stick (k_i x + sigma1_i x') -
+    /// sum_slip F_i - sigma2 x'`. Each slipping element's force follows the
+    /// sheet's slip law `dF_i/dt = C (1 - F_i / (alpha_i g(v)))`, linearized:
+    /// it lags `alpha_i g(v)` with the time constant `alpha_i g(v) / C`, so
+    /// where the curve falls (`g'(v) < 0`) it is a lagged negative damping.
+    /// The stage lasts while the mass moves from one element's break-away
+    /// deflection `alpha_i g(v) / k_i` to the next one's. A stage whose
+    /// linearization cannot be evaluated (an entry overflows) is NaN.
+    pub(crate) fn creep_growth(&self, mass: f64, rate: f64) -> Vec<f64> {
+        let g = |v: f64| curve_g(&self.curve, v);
+        let mut order: Vec<&GmsElement> = self.elements.iter().collect();
+        order.sort_by(|a, b| (a.alpha / a.k).total_cmp(&(b.alpha / b.k)));
+        (1..order.len())
+            .map(|j| {
+                let (slipping, sticking) = order.split_at(j);
+                let stiffness: f64 = sticking.iter().map(|e| e.k).sum();
+                let damping = sticking.iter().map(|e| e.sigma1).sum::<f64>() + self.sigma2;
+                let v = rate / stiffness;
+                // g'(v) by a central difference (one-sided at v = 0)
+                let (lo, hi) = (
+                    (v - 1e-6 * self.curve.vs).max(0.0),
+                    v + 1e-6 * self.curve.vs,
+                );
+                let slope = (g(hi) - g(lo)) / (hi - lo);
+                // states: x, x', and the slipping elements' forces
+                let n = 2 + slipping.len();
+                let mut a = nalgebra::DMatrix::<f64>::zeros(n, n);
+                a[(0, 1)] = 1.0;
+                a[(1, 0)] = -stiffness / mass;
+                a[(1, 1)] = -damping / mass;
+                for (i, e) in slipping.iter().enumerate() {
+                    let tau = e.alpha * g(v) / self.c;
+                    a[(1, 2 + i)] = -1.0 / mass;
+                    a[(2 + i, 2 + i)] = -1.0 / tau;
+                    a[(2 + i, 1)] = e.alpha * slope / tau;
+                }
+                // NaN (no verdict) where an entry overflows or the QR
+                // iteration does not converge
+                let growth = if a.iter().all(|x| x.is_finite()) {
+                    nalgebra::Schur::try_new(a, f64::EPSILON, 10_000).map_or(f64::NAN, |s| {
+                        s.complex_eigenvalues()
+                            .iter()
+                            .map(|z| z.re)
+                            .fold(f64::NEG_INFINITY, f64::max)
+                    })
+                } else {
+                    f64::NAN
+                };
+                let (last, next) = (slipping[j - 1], sticking[0]);
+                let duration = (next.alpha / next.k - last.alpha / last.k) * g(v) / v;
+                growth * duration
+            })
+            .collect()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A shipped set's GMS parameters (its text parsed here: the layer
+    /// test keeps `models` from importing `params`).
+    fn shipped(text: &str) -> GmsSpec {
+        parse(text, "shipped").unwrap()
+    }
+
+    const SERVO: &str = include_str!("../../../params/gms-servo.toml");
+    const TYPICAL: &str = include_str!("../../../params/gms-typical.toml");
+
+    /// With an attraction rate so fast that the slipping element's force is
+    /// `alpha g(v)` at once, stage 1 is `m x'' + (sigma1 + alpha g'(v)) x' +
+    /// k x = 0`, whose growth is known in closed form.
+    #[test]
+    fn creep_growth_matches_the_closed_form_of_an_instant_slip() {
+        let text = "model = \"gms\"\nfc = 0.28\nfs = 0.33\nvs = 0.01\nc = 1e7\n\
+                    [[elements]]\nk = 1000\nalpha = 0.5\n\
+                    [[elements]]\nk = 10\nalpha = 0.5\nsigma1 = 0.01\n";
+        let spec = parse(text, "t").unwrap();
+        let (m, k, v) = (0.01, 10.0, 0.01 / 2f64.sqrt());
+        // g'(v) = -2 v (fs - fc) / vs^2 exp(-(v / vs)^2)
+        let slope = -2.0 * v * 0.05 / 1e-4 * (-0.5f64).exp();
+        let c = 0.01 + 0.5 * slope;
+        let rate = (-c + (c * c - 4.0 * m * k).sqrt()) / (2.0 * m);
+        let g = 0.28 + 0.05 * (-0.5f64).exp();
+        let duration = (0.5 / 10.0 - 0.5 / 1000.0) * g / v;
+        let growth = spec.creep_growth(m, k * v);
+        assert_eq!(growth.len(), 1);
+        let want = rate * duration;
+        assert!(
+            (growth[0] / want - 1.0).abs() < 1e-3,
+            "{growth:?} vs {want}"
+        );
+    }
+
+    /// A flat curve has no negative damping: every stage is stable, and one
+    /// element has no stages at all.
+    #[test]
+    fn creep_is_stable_without_a_falling_curve() {
+        let mut flat = shipped(SERVO);
+        flat.curve.fs = flat.curve.fc;
+        for rate in [1e-3, 0.026, 1.3, 100.0] {
+            let growth = flat.creep_growth(0.0023, rate);
+            assert_eq!(growth.len(), 3);
+            assert!(growth.iter().all(|g| *g < 0.0), "{rate}: {growth:?}");
+            assert!(flat.unstable_creep(0.0023, rate).is_none());
+        }
+        let mut one = flat.clone();
+        one.elements.truncate(1);
+        assert!(one.creep_growth(0.0023, 0.026).is_empty());
+        assert!(one.unstable_creep(0.0023, 0.026).is_none());
+    }
+
+    /// Extreme but finite sets, masses and rates give an answer (no panic,
+    /// no endless QR iteration).
+    #[test]
+    fn creep_growth_answers_extreme_inputs() {
+        let base = shipped(SERVO);
+        for scale in [1e-300, 1e-30, 1.0, 1e30, 1e300] {
+            for (mass, rate) in [(1e-300, 1e300), (1e300, 1e-300), (1.0, 0.0), (1.0, 1.0)] {
+                let mut s = base.clone();
+                s.curve.vs *= scale;
+                s.c *= scale;
+                for e in &mut s.elements {
+                    e.k *= scale;
+                    e.sigma1 /= scale;
+                }
+                let growth = s.creep_growth(mass, rate);
+                assert_eq!(growth.len(), 3);
+                let _ = s.unstable_creep(mass, rate);
+            }
+        }
+    }
+
+    /// gms-servo's creep is unstable at the break-away experiment's slowest
+    /// rate (0.026 N m/s), far past round-off (e^36), and stops being so
+    /// on a rig 100 times heavier; gms-typical's grows by less than e^36
+    /// at each of its rates (0.975 to 48.7 N/s).
+    #[test]
+    fn the_shipped_sets_creep_as_measured() {
+        let servo = shipped(SERVO);
+        let growth = servo.creep_growth(0.0023, 0.026);
+        assert!(growth[2] > 100.0, "{growth:?}");
+        let why = servo.unstable_creep(0.0023, 0.026).unwrap();
+        assert!(why.contains("3 of the 4 elements slip"), "{why}");
+        assert!(servo.unstable_creep(0.23, 0.026).is_none());
+        let typical = shipped(TYPICAL);
+        for rate in [0.975, 1.95, 4.87, 9.75, 19.5, 48.7] {
+            let growth = typical.creep_growth(1.0, rate);
+            assert!(
+                growth.iter().all(|g| *g < ROUND_OFF_EFOLDS),
+                "{rate}: {growth:?}"
+            );
+        }
+    }
 
     #[test]
     fn rejects_unknown_keys_and_counts() {

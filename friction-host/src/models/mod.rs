@@ -276,6 +276,13 @@ pub trait HostModel {
     fn drift_force(&self) -> f64 {
         0.5 * self.max_static_force()
     }
+    /// Why a mass `mass` on this contact, loaded by a force ramp at `rate`
+    /// from rest, does not creep quasi-statically until it breaks away (the
+    /// premise of the break-away experiment), if it does not; `None` where
+    /// it does or the model does not say.
+    fn unstable_creep(&self, _mass: f64, _rate: f64) -> Option<String> {
+        None
+    }
     /// Parameter sets `friction validate` measures beside this one when it
     /// is the model's primary set (e.g. LuGre's static maps and its `vd`
     /// form, Dahl's quadratic form), each with its label suffix.
