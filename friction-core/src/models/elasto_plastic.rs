@@ -412,6 +412,15 @@ fn sin_over_x<S: Scalar>(x: S) -> S {
     S::ONE + acc
 }
 
+/// `dW/dX` of the fixed-step form at a force `w` along the motion, and in
+/// the transition zone its rate `r` (`dW/dX = u r`), which the damping term
+/// reuses instead of forming it again (0 outside the zone).
+#[derive(Clone, Copy)]
+struct Slip<S> {
+    slope: S,
+    zone_rate: S,
+}
+
 /// [`zone_step`] for the fixed-step form, over the distance `xi` (force
 /// units, scaled) in a zone of width `width`: returns the rise of the force
 /// `w` (scaled), `(u - u+) width`, accumulated in force units (each sub-step
@@ -557,19 +566,29 @@ impl<S: Scalar> ElastoPlasticAt<S> {
     }
 
     /// `dW/dX` at the force along the motion `w`, with `w_max = g(v)`
-    /// (scaled) and `inv_w_max = 1/g` (unscaled).
+    /// (scaled) and `inv_w_max = 1/g` (unscaled), and in the transition
+    /// zone its rate, which the damping term reuses ([`Slip`]).
     #[inline]
-    fn slip(&self, w: S, w_max: S, inv_w_max: S) -> S {
+    fn slip(&self, w: S, w_max: S, inv_w_max: S) -> Slip<S> {
         if w <= self.w_ba {
-            S::ONE
+            Slip {
+                slope: S::ONE,
+                zone_rate: S::ZERO,
+            }
         } else if w >= w_max {
             // 1 - w / w_max, with w - w_max <= Fs - Fc (scaled) in the product
-            -((w - w_max) * inv_w_max).rescale(self.lugre.inv_scale())
+            Slip {
+                slope: -((w - w_max) * inv_w_max).rescale(self.lugre.inv_scale()),
+                zone_rate: S::ZERO,
+            }
         } else {
             let width = w_max - self.w_ba;
             let u = ((w_max - w) / width).min(S::ONE);
-            let (r, _) = zone_rate(u, self.ratio(width, inv_w_max));
-            u * r
+            let (rate, _) = zone_rate(u, self.ratio(width, inv_w_max));
+            Slip {
+                slope: u * rate,
+                zone_rate: rate,
+            }
         }
     }
 
@@ -586,30 +605,25 @@ impl<S: Scalar> ElastoPlasticAt<S> {
         }
     }
 
-    /// `dv dW/dX` (`dv = sigma1 v`, scaled) given `slip = dW/dX`: where
-    /// `dW/dX = (w_max - w) r / width` (`r = 1/w_max` above `w_max`, the zone
-    /// rate in it) as `(dv / width) (w_max - w) r`, the small difference of
-    /// two scaled forces times a quotient; `dv slip` if the quotient could
-    /// saturate.
+    /// `dv dW/dX` (`dv = sigma1 v`, scaled) given `slip` at `w` (from
+    /// [`Self::slip`]): where `dW/dX = (w_max - w) r / width` (`r = 1/w_max`
+    /// above `w_max`, the zone rate in it) as `(dv / width) (w_max - w) r`,
+    /// the small difference of two scaled forces times a quotient; `dv
+    /// dW/dX` if the quotient could saturate.
     #[inline]
-    fn damped_slip(&self, dv: S, w: S, w_max: S, slip: S) -> S {
+    fn damped_slip(&self, dv: S, w: S, w_max: S, slip: Slip<S>) -> S {
         if w <= self.w_ba {
             return dv;
         }
         let (width, r) = if w >= w_max {
             (w_max, S::ONE)
         } else {
-            let width = w_max - self.w_ba;
-            let u = ((w_max - w) / width).min(S::ONE);
-            (
-                width,
-                zone_rate(u, self.ratio(width, self.lugre.scale_s() / w_max)).0,
-            )
+            (w_max - self.w_ba, slip.zone_rate)
         };
         if dv.abs() < width * S::from_f64(8192.0) {
             (dv / width) * (w_max - w) * r
         } else {
-            dv * slip
+            dv * slip.slope
         }
     }
 
@@ -669,7 +683,7 @@ impl<S: Scalar> ElastoPlasticAt<S> {
             // at v = 0 the slip is multiplied by 0: its argument's sign is moot
             // the model's rate on its own path plus the correction's share
             let slip = self.slip(signed(v, w_model), w_max, inv_w_max);
-            let dz = v * slip - c * kept;
+            let dz = v * slip.slope - c * kept;
             if !(w.abs() >= lugre.fs() && dz * w > S::ZERO) {
                 // sigma1 dz/dt = (sigma1 v) dW/dX - sigma1 c kept, with the
                 // product formed so that no rounding of a ratio (1.5e-5 in
