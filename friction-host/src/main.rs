@@ -147,7 +147,7 @@ struct IdentifyArgs {
     force: String,
     /// Factor from the force column to force (e.g. motor constant; negative
     /// flips the sign), magnitude 1e-12 to 1e12.
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     force_gain: f64,
     /// Normal-force column: the friction parameters become coefficients.
     #[arg(long)]

@@ -404,7 +404,7 @@ fn bad_input_exits_2_with_a_clear_message() {
         rows.push_str(&format!("{t},{},{}\n", (t * 3.0).sin(), (t * 3.0).cos()));
     }
     let good = write(dir.path(), "good.csv", &rows);
-    let cases: [(&str, String, &[&str], &str); 8] = [
+    let cases: [(&str, String, &[&str], &str); 9] = [
         (
             "missing column",
             good.clone(),
@@ -458,6 +458,14 @@ fn bad_input_exits_2_with_a_clear_message() {
             good.clone(),
             &["--decimate", "0"],
             "--decimate",
+        ),
+        // a negative gain with a negative exponent parses (it was taken
+        // for an option), then meets its range
+        (
+            "force gain below its range",
+            good.clone(),
+            &["--force-gain", "-1e-13"],
+            "--force-gain -1e-13: its magnitude must be within",
         ),
     ];
     for (what, input, extra, message) in cases {

@@ -69,3 +69,61 @@ fn every_experiment_on_every_shipped_file_passes_or_is_refused_up_front() {
     assert_eq!(runs, files.len() * NAMES.len());
     assert!(failures.is_empty(), "failures: {failures:#?}");
 }
+
+/// A rig whose explicit step cannot resolve the mass on the contact (a
+/// mass of 1e-20 on gms-typical, or stiffnesses of 1e15) is refused up
+/// front for every rig experiment, naming `omega h`, and leaves no folder;
+/// so is an option the experiment does not take.
+#[test]
+fn an_unresolved_rig_is_refused_and_leaves_no_folder() {
+    let params = Path::new(env!("CARGO_MANIFEST_DIR")).join("../params");
+    let text = std::fs::read_to_string(params.join("gms-typical.toml")).unwrap();
+    let tiny = text.replace("mass = 1.0 ", "mass = 1e-20 ");
+    assert_ne!(tiny, text);
+    let stiff: String = text
+        .lines()
+        .map(|l| if l.starts_with("k = ") { "k = 1e15" } else { l })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let dir = tempfile::tempdir().unwrap();
+    for (label, text) in [("tiny", tiny), ("stiff", stiff)] {
+        let file = ParamFile::parse(&text, label).unwrap();
+        for name in ["breakaway", "stick-slip", "drift", "presliding"] {
+            let out = dir.path().join(format!("{label}-{name}"));
+            let e = experiments::run(name, &file, Options::default(), &out).unwrap_err();
+            let refusal = e
+                .downcast_ref::<Refusal>()
+                .unwrap_or_else(|| panic!("{e:#}"));
+            assert!(refusal.0.contains("omega h"), "{label} {name}: {e:#}");
+            assert!(!out.exists(), "{label} {name}");
+        }
+    }
+    let canudas = ParamFile::load(&params.join("canudas1995.toml")).unwrap();
+    let out = dir.path().join("duration");
+    let opts = Options {
+        duration: Some(5.0),
+        ..Options::default()
+    };
+    let e = experiments::run("breakaway", &canudas, opts, &out).unwrap_err();
+    assert!(
+        format!("{e:#}").contains("--duration does not apply"),
+        "{e:#}"
+    );
+    assert!(!out.exists());
+    // a run that fails after its folder was made removes it again: 1e-9 s
+    // steps on a 100 s ramp
+    let out = dir.path().join("samples");
+    let opts = Options {
+        dt: Some(1e-9),
+        ..Options::default()
+    };
+    let e = format!(
+        "{:#}",
+        experiments::run("breakaway", &canudas, opts, &out).unwrap_err()
+    );
+    assert!(
+        e.contains("lengthen --dt") && !e.contains("--duration"),
+        "{e}"
+    );
+    assert!(!out.exists());
+}

@@ -57,10 +57,16 @@ pub(crate) fn breakaway_force(name: &str, file: &ParamFile, rate: f64, h: f64) -
 /// Mass at rest, applied force ramping at six rates ([`breakaway_rates`]):
 /// the friction peak (break-away force) against the rate.
 pub(super) fn breakaway(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
-    let h = opts.dt.unwrap_or(1e-4);
+    let h = opts.dt.unwrap_or(BREAKAWAY_DT);
     let fs = file.model.max_static_force();
     let rates = breakaway_rates(file);
     check_samples("breakaway", rates.iter().map(|r| 2.0 * fs / r).sum(), h)?;
+    // and the fastest ramp alone
+    check_samples(
+        "breakaway",
+        2.0 * fs / rates.iter().fold(0.0, |a, &r| r.max(a)),
+        h,
+    )?;
     let (mut peaks, mut peaks_ref) = (Vec::new(), Vec::new());
     let (mut cr, mut ct, mut cx, mut cv, mut cf, mut cu) =
         (vec![], vec![], vec![], vec![], vec![], vec![]);

@@ -4,7 +4,7 @@ use super::*;
 
 /// Mass at rest, `u = force (1 - cos 2 pi f t) / 2` for `cycles` cycles.
 pub(super) fn drift(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
-    let h = opts.dt.unwrap_or(1e-3);
+    let h = opts.dt.unwrap_or(RIG_DT);
     // default: half the static force, or for elasto-plastic 90 % of the
     // elastic limit sigma0 z_ba, below which it must not drift (HostModel::drift_force)
     let default_force = file.model.host().drift_force();

@@ -5,7 +5,7 @@
 //! experiments also run the reference solver and, for stick-slip, require
 //! the core to agree with it.
 
-use crate::io::write_columns;
+use crate::io::{short, write_columns};
 use crate::models::{ScalarKind, Stepper};
 use crate::params::{ModelSpec, ParamFile};
 use crate::plot::{comparison_plot, line_plot, zip, Axis, Series};
@@ -46,20 +46,73 @@ pub const MAX_SAMPLES: f64 = 5e6;
 /// The fewest samples a run needs to mean anything.
 pub const MIN_SAMPLES: f64 = 100.0;
 
-/// Checks a run of `duration` seconds at period `h` against [`MAX_SAMPLES`].
+/// Checks a run of `duration` seconds at period `h` against [`MAX_SAMPLES`]
+/// and [`MIN_SAMPLES`], with advice that experiment `name` can follow.
 pub(crate) fn check_samples(name: &str, duration: f64, h: f64) -> Result<()> {
     let n = duration / h;
+    let fixed = FIXED_LENGTH.contains(&name);
     if !(n.is_finite() && n <= MAX_SAMPLES) {
+        let advice = match name {
+            _ if fixed => "lengthen --dt (its length follows from the parameter set)",
+            "drift" => "shorten --duration (or the rig's `cycles`/`frequency`) or lengthen --dt",
+            _ => "shorten --duration or lengthen --dt",
+        };
         bail!(
-            "experiment `{name}` would take {n:.3e} samples ({duration:e} s at --dt {h:e} s), more than the limit {MAX_SAMPLES:.0e}: shorten --duration (or the rig's `cycles`/`frequency`) or lengthen --dt"
+            "experiment `{name}` would take {n:.3e} samples ({duration:e} s at --dt {h:e} s), more than the limit {MAX_SAMPLES:.0e}: {advice}"
         );
     }
     if n < MIN_SAMPLES {
+        let advice = if fixed {
+            "shorten --dt (its length follows from the parameter set)"
+        } else {
+            "shorten --dt or lengthen --duration"
+        };
         bail!(
-            "experiment `{name}` would take only {n:.3e} samples ({duration:e} s at --dt {h:e} s), fewer than {MIN_SAMPLES}: shorten --dt or lengthen --duration"
+            "experiment `{name}` would take only {n:.3e} samples ({duration:e} s at --dt {h:e} s), fewer than {MIN_SAMPLES}: {advice}"
         );
     }
     Ok(())
+}
+
+/// The default sample period of the rig experiments (s): a mass driven
+/// through the model ([`rig_core`]).
+pub(crate) const RIG_DT: f64 = 1e-3;
+/// The break-away experiment's default sample period (s), finer: its
+/// slowest ramps creep at a fraction of the Stribeck velocity.
+pub(crate) const BREAKAWAY_DT: f64 = 1e-4;
+
+/// The sample period experiment `name` runs its rig at, `None` for the
+/// experiments without a rig (driven by a velocity signal).
+fn rig_dt(name: &str, opts: Options) -> Option<f64> {
+    match name {
+        "breakaway" => Some(opts.dt.unwrap_or(BREAKAWAY_DT)),
+        "presliding" | "stick-slip" | "drift" => Some(opts.dt.unwrap_or(RIG_DT)),
+        _ => None,
+    }
+}
+
+/// Largest `omega h` of the rig's step, `omega = sqrt(k / m)` the mass on
+/// the contact's stiffness at rest: the explicit step ([`rig_core`]) is
+/// unstable beyond 2, and at 1 samples that oscillation about 6 times a
+/// period (every shipped set has at least 10).
+pub const MAX_RIG_OMEGA_H: f64 = 1.0;
+
+/// Why the rig cannot resolve the mass on the contact at period `h`, if it
+/// cannot ([`MAX_RIG_OMEGA_H`]).
+fn unresolved_rig(name: &str, file: &ParamFile, h: f64) -> Option<Refusal> {
+    let (k, m) = (file.model.rest_stiffness(), mass(file));
+    let omega = (k / m).sqrt();
+    (!(omega * h <= MAX_RIG_OMEGA_H)).then(|| {
+        Refusal(format!(
+            "experiment `{name}`: the rig's mass {} on the contact's stiffness at rest {} oscillates at omega = sqrt(k / m) = {} rad/s, which its explicit step at --dt {} s does not resolve (omega h = {} > {MAX_RIG_OMEGA_H}; the step is unstable beyond 2): shorten --dt below {} s or raise [rig] `mass`",
+            short(m),
+            short(k),
+            short(omega),
+            short(h),
+            short(omega * h),
+            short(MAX_RIG_OMEGA_H / omega)
+        ))
+    })
 }
 
 /// The experiments whose length is fixed by their definition (no `--duration`).
@@ -134,7 +187,7 @@ fn refusal(name: &str, file: &ParamFile) -> Option<Refusal> {
         });
         if let Some(why) = unstable {
             return Some(Refusal(format!(
-                "experiment `breakaway` does not apply to this set on its rig (mass {}): it measures how the break-away force falls as a slow, steady creep speeds up with the force rate, and here the creep is unstable: {why}. The break-away force is then set by when the instability takes off, not by the curve. Give the last elements to slip more damping, or a heavier rig `mass`",
+                "experiment `breakaway` does not apply to this set on its rig (mass {}): it measures how the break-away force falls as a slow, steady creep speeds up with the force rate, and here the creep is unstable: {why}. The break-away force is then set by when the instability takes off, not by the curve (params/gms-typical.toml is a GMS set whose creep is stable)",
                 crate::io::short(m)
             )));
         }
@@ -200,8 +253,6 @@ pub fn run(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Ou
     if let Some(refusal) = refusal(name, file) {
         return Err(refusal.into());
     }
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("--output {}: cannot create the folder", dir.display()))?;
     if opts.duration.is_some() && FIXED_LENGTH.contains(&name) {
         bail!("--duration does not apply to experiment `{name}`: its length is fixed by its definition");
     }
@@ -210,6 +261,22 @@ pub fn run(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Ou
             "--dt does not apply to experiment `{name}`: its sampling is fixed by its definition"
         );
     }
+    if let Some(refusal) = rig_dt(name, opts).and_then(|h| unresolved_rig(name, file, h)) {
+        return Err(refusal.into());
+    }
+    let existed = dir.exists();
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("--output {}: cannot create the folder", dir.display()))?;
+    let out = run_in(name, file, opts, dir);
+    if out.is_err() && !existed {
+        // a run that failed leaves no folder it created (only if empty)
+        let _ = std::fs::remove_dir(dir);
+    }
+    out
+}
+
+/// [`run`] once its checks passed and `dir` exists.
+fn run_in(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
     let defaults = rig_defaults(name, file);
     let mut out = match name {
         "stribeck" => stribeck::stribeck(file, opts, dir),

@@ -9,7 +9,7 @@ use super::*;
 /// before `Fs`, such as gms-servo, which breaks away near 0.30 N m of its
 /// 0.33).
 pub(super) fn presliding(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
-    let h = opts.dt.unwrap_or(1e-3);
+    let h = opts.dt.unwrap_or(RIG_DT);
     let fs = file.model.max_static_force();
     let rate = file.rig.force_rate.unwrap_or(0.095 * fs);
     let fb = super::breakaway::breakaway_force("presliding", file, rate, h)?;

@@ -72,7 +72,7 @@ pub fn compare_stick_slip(core: &StickSlipFigures, reference: &StickSlipFigures)
 
 /// Mass on a spring whose end is pulled at constant velocity.
 pub(super) fn stick_slip(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
-    let h = opts.dt.unwrap_or(1e-3);
+    let h = opts.dt.unwrap_or(RIG_DT);
     let duration = opts.duration.unwrap_or(20.0);
     check_samples("stick-slip", duration, h)?;
     let k = file.rig.stiffness.unwrap_or(2.0);

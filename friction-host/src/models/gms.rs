@@ -427,7 +427,9 @@ impl GmsSpec {
     /// where the curve falls (`g'(v) < 0`) it is a lagged negative damping.
     /// The stage lasts while the mass moves from one element's break-away
     /// deflection `alpha_i g(v) / k_i` to the next one's. A stage whose
-    /// linearization cannot be evaluated (an entry overflows) is NaN.
+    /// linearization cannot be evaluated (an entry overflows, or the
+    /// eigenvalues do not converge) is NaN: no verdict, and
+    /// [`HostModel::unstable_creep`] refuses nothing on it.
     pub(crate) fn creep_growth(&self, mass: f64, rate: f64) -> Vec<f64> {
         let g = |v: f64| curve_g(&self.curve, v);
         let mut order: Vec<&GmsElement> = self.elements.iter().collect();
