@@ -102,7 +102,9 @@ pub const MAX_RIG_OMEGA_H: f64 = 1.0;
 fn unresolved_rig(name: &str, file: &ParamFile, h: f64) -> Option<Refusal> {
     let (k, m) = (file.model.rest_stiffness(), mass(file));
     let omega = (k / m).sqrt();
-    (!(omega * h <= MAX_RIG_OMEGA_H)).then(|| {
+    // NaN (a zero mass and stiffness) is refused too
+    let resolved = omega * h <= MAX_RIG_OMEGA_H;
+    (!resolved).then(|| {
         Refusal(format!(
             "experiment `{name}`: the rig's mass {} on the contact's stiffness at rest {} oscillates at omega = sqrt(k / m) = {} rad/s, which its explicit step at --dt {} s does not resolve (omega h = {} > {MAX_RIG_OMEGA_H}; the step is unstable beyond 2): shorten --dt below {} s or raise [rig] `mass`",
             short(m),
