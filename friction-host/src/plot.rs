@@ -38,7 +38,7 @@ const AXIS_LIMIT: f64 = 1e300;
 /// The axis range of `values` (finite ones; positive ones for a log axis),
 /// padded by 5 % of the span, at least 1e-9 of the largest magnitude and
 /// 1e-100, so that the range is finite and wide enough to place ticks.
-fn range(values: impl Iterator<Item = f64>, axis: Axis) -> (f64, f64) {
+pub(crate) fn range(values: impl Iterator<Item = f64>, axis: Axis) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for v in values.filter(|v| v.is_finite() && (axis == Axis::Linear || *v > 0.0)) {
         let v = v.clamp(-AXIS_LIMIT, AXIS_LIMIT);

@@ -564,3 +564,31 @@ fn a_parameter_beyond_its_bound_exits_1() {
         .collect();
     assert!(left.is_empty(), "{left:?}");
 }
+
+/// Forces near the top of `f64` (issue 18): the friction plot's axes are
+/// guarded (it looped forever), the fit on them is rejected as not finite,
+/// and a cross-validation on them is rejected rather than reported as NaN.
+#[test]
+fn overflowing_forces_are_rejected_not_hung() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut good, mut big) = (String::from("t,x,f\n"), String::from("t,x,f\n"));
+    for k in 0..4000 {
+        let t = k as f64 * 1e-3;
+        let (x, v) = (0.01 * (3.0 * t).sin(), 0.03 * (3.0 * t).cos());
+        let s = if v > 0.0 { 1.0 } else { -1.0 };
+        good.push_str(&format!("{t},{x},{}\n", 2.0 * s + 0.5 * v));
+        big.push_str(&format!("{t},{x},{}\n", 1e307 * s));
+    }
+    let good = write(dir.path(), "good.csv", &good);
+    let big = write(dir.path(), "big.csv", &big);
+    let out = dir.path().join("out");
+    let o = identify_cli(&big, "coulomb", &out, &["--quiet"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("has no finite estimate"), "{err}");
+    let o = identify_cli(&good, "coulomb", &out, &["--quiet", "--validate", &big]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("cross-validation error"), "{err}");
+    assert!(!out.join("params.toml").exists());
+}

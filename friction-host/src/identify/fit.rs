@@ -345,11 +345,19 @@ fn check_bounds(fit: Fit, extra: &[Bound]) -> Result<Fit, Rejected> {
                 .iter()
                 .find(|p| p.name == b.name)
                 .map_or(0.0, |p| p.std);
-            return Err(Rejected {
-                reason: format!(
+            let reason = if x.is_finite() {
+                format!(
                     "parameter `{}` ends at its bound ({}): estimate {x:.6e} (standard deviation {std:.2e})",
                     b.name, b.what
-                ),
+                )
+            } else {
+                format!(
+                    "parameter `{}` has no finite estimate ({x}): the data overflow or vanish in double precision on the way (forces or normal forces near 1e308 or 1e-300); scale the forces with --force-gain",
+                    b.name
+                )
+            };
+            return Err(Rejected {
+                reason,
                 fit: Some(Box::new(fit)),
             });
         }

@@ -554,6 +554,19 @@ pub fn identify(o: &Options) -> Result<Outcome> {
         }
     }
     if out.rejected.is_none() {
+        if let Some(e) = out
+            .validation
+            .filter(|e| !(e.rms.is_finite() && e.relative.is_finite()))
+        {
+            out.rejected = Some(format!(
+                "the cross-validation error on {} is not finite (RMS {:e}, relative {:e} %): its forces overflow or vanish in double precision, or the fit predicts none there",
+                o.validate.as_ref().map_or_else(String::new, |p| p.display().to_string()),
+                e.rms,
+                e.relative
+            ));
+        }
+    }
+    if out.rejected.is_none() {
         if let Some(fit) = &out.fit {
             let text = report::params_toml(fit, o);
             crate::params::ParamFile::parse(&text, "identified parameters")?;

@@ -162,13 +162,13 @@ pub fn friction_plot(path: &Path, title: &str, fit: &Fit, s: &Signals) -> Result
             (v, fit.friction.steady(v))
         })
         .collect();
-    let (mut ylo, mut yhi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for &(_, y) in pts.iter().chain(&curve) {
-        ylo = ylo.min(y);
-        yhi = yhi.max(y);
-    }
-    let pad = 0.05 * (yhi - ylo).max(1e-12);
-    let xpad = 0.02 * (vhi - vlo).max(1e-12);
+    // padded, finite and wide enough to place ticks for any data (plotters
+    // loops forever on an infinite or vanishing axis)
+    let x_range = crate::plot::range([vlo, vhi].into_iter(), crate::plot::Axis::Linear);
+    let y_range = crate::plot::range(
+        pts.iter().chain(&curve).map(|&(_, y)| y),
+        crate::plot::Axis::Linear,
+    );
     let err = |e: &dyn std::fmt::Display| anyhow!("plot {}: {e}", path.display());
     let mut svg = String::new();
     let root = SVGBackend::with_string(&mut svg, (900, 560)).into_drawing_area();
@@ -178,7 +178,7 @@ pub fn friction_plot(path: &Path, title: &str, fit: &Fit, s: &Signals) -> Result
         .margin(12)
         .x_label_area_size(45)
         .y_label_area_size(80)
-        .build_cartesian_2d(vlo - xpad..vhi + xpad, ylo - pad..yhi + pad)
+        .build_cartesian_2d(x_range.0..x_range.1, y_range.0..y_range.1)
         .map_err(|e| err(&e))?;
     let ylabel = if fit.offset.is_some() {
         "friction: force - mass a - offset"
