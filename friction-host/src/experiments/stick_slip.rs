@@ -32,8 +32,13 @@ impl StickSlipFigures {
 }
 
 /// Compares core and reference stick-slip: the same number of slips, onsets
-/// within 1 % of the mean period, peak velocity within 2 %, final position
-/// within 1 %.
+/// within 1 % of the mean period cycle by cycle (the first onset and every
+/// interval between onsets), peak velocity within 2 %, final position
+/// within 1 %. Cycle by cycle, because a discrete step's period differs
+/// from the continuous one by a fraction of a step (canudas1995 at 1 kHz:
+/// about 1 ms of 6.4 s), which adds up over a long run: after 5,000 s the
+/// phase has drifted 0.85 s while every cycle still agrees within 0.02 %.
+/// The drift is reported.
 pub fn compare_stick_slip(core: &StickSlipFigures, reference: &StickSlipFigures) -> (bool, String) {
     let same_count = core.onsets.len() == reference.onsets.len();
     let period = if reference.onsets.len() >= 2 {
@@ -42,7 +47,17 @@ pub fn compare_stick_slip(core: &StickSlipFigures, reference: &StickSlipFigures)
     } else {
         f64::INFINITY
     };
+    let first_err = match (core.onsets.first(), reference.onsets.first()) {
+        (Some(a), Some(b)) => (a - b).abs(),
+        _ => 0.0,
+    };
     let onset_err = core
+        .onsets
+        .windows(2)
+        .zip(reference.onsets.windows(2))
+        .map(|(a, b)| ((a[1] - a[0]) - (b[1] - b[0])).abs())
+        .fold(first_err, f64::max);
+    let drift = core
         .onsets
         .iter()
         .zip(&reference.onsets)
@@ -54,12 +69,13 @@ pub fn compare_stick_slip(core: &StickSlipFigures, reference: &StickSlipFigures)
         (core.final_position - reference.final_position).abs() / reference.final_position.abs();
     let pass = same_count && onset_err <= 0.01 * period && peak_err <= 0.02 && pos_err <= 0.01;
     let text = format!(
-        "{} slips (reference {}), onsets within {:.2} ms ({:.2} % of the {:.3} s period, bound 1 %), peak velocity {:.4} vs {:.4} m/s ({:.2} %, bound 2 %), final position {:.5} vs {:.5} m ({:.3} %, bound 1 %)",
+        "{} slips (reference {}), onsets within {:.2} ms cycle by cycle ({:.2} % of the {:.3} s period, bound 1 %; phase drift {:.2} ms by the last), peak velocity {:.4} vs {:.4} m/s ({:.2} %, bound 2 %), final position {:.5} vs {:.5} m ({:.3} %, bound 1 %)",
         core.onsets.len(),
         reference.onsets.len(),
         1e3 * onset_err,
         100.0 * onset_err / period,
         period,
+        1e3 * drift,
         core.peak_velocity,
         reference.peak_velocity,
         100.0 * peak_err,
@@ -95,12 +111,18 @@ pub(super) fn stick_slip(file: &ParamFile, opts: Options, dir: &Path) -> Result<
         zip(&tr.t, &tr.v),
         rf.as_ref().map(|r| zip(&r.t, &r.v)),
     )?;
-    let onsets = c
+    // the first 12 (all of them are in trace.csv)
+    const LISTED: usize = 12;
+    let mut onsets = c
         .onsets
         .iter()
+        .take(LISTED)
         .map(|t| format!("{t:.3}"))
         .collect::<Vec<_>>()
         .join(", ");
+    if c.onsets.len() > LISTED {
+        onsets.push_str(&format!(", ... ({} in all)", c.onsets.len()));
+    }
     let mut summary = vec![format!("slip onsets (s): {onsets}")];
     if let Some((_, text)) = &comparison {
         summary.push(format!("against the reference: {text}"));
