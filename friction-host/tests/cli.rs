@@ -749,6 +749,12 @@ fn servo_bad_key_or_value_exits_2_naming_it() {
         ("kp = -60", "`kp`"),
         ("plant_rate = 1500", "`plant_rate`"),
         ("duration = 1e6", "`duration` x `plant_rate`"),
+        // issue 18: an infinite RMS error and 300-digit figures
+        (
+            "amplitude = 1e300",
+            "`amplitude` must be a number >= 0 and at most 1e12",
+        ),
+        ("adaptation_rate = 1e300", "`adaptation_rate`"),
     ] {
         let p = servo_params(dir.path(), servo);
         let out = friction(&[

@@ -155,6 +155,10 @@ impl Default for ServoConfig {
     }
 }
 
+/// The largest value a `[servo]` number may take: every figure stays
+/// finite up to it (an `amplitude` of 1e300 made the RMS error infinite).
+const MAX_VALUE: f64 = 1e12;
+
 /// Default `adaptation_rate` (1/s).
 pub const DEFAULT_ADAPTATION_RATE: f64 = 4.0;
 /// Default `rls_forgetting`.
@@ -299,11 +303,11 @@ impl ServoTable {
             ("theta_max", c.theta_max, true),
         ] {
             let (ok, rule) = if positive {
-                (value > 0.0, "a finite number > 0")
+                (value > 0.0, "a number > 0 and at most 1e12")
             } else {
-                (value >= 0.0, "a finite number >= 0")
+                (value >= 0.0, "a number >= 0 and at most 1e12")
             };
-            if !(ok && value.is_finite()) {
+            if !(ok && value <= MAX_VALUE) {
                 return Err(invalid(key, rule, value));
             }
         }
