@@ -228,6 +228,12 @@ fn simulate(params: &Path, input: &Path, output: &Path, scalar: SimScalar) -> Re
             Some(row) => row?,
             None => anyhow::bail!("{}: no data rows", input.display()),
         };
+        // the second row's own error (e.g. a time that does not increase)
+        if matches!(rows.peek(), Some(Err(_))) {
+            if let Some(Err(e)) = rows.next() {
+                return Err(e);
+            }
+        }
         let h = match rows.peek() {
             Some(Ok((_, t, _))) => t - first.1,
             _ => anyhow::bail!(

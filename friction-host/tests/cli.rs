@@ -346,6 +346,32 @@ fn failed_simulate_leaves_the_old_output() {
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
 }
 
+/// `--scalar fixed` whose second row repeats the first's time names that
+/// row's error, not "needs at least two rows" (issue 18 review).
+#[test]
+fn simulate_fixed_names_the_second_rows_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.csv");
+    std::fs::write(&input, "t,v\n0,0.01\n0,0.01\n0.002,0.01\n").unwrap();
+    let out = friction(&[
+        "simulate",
+        "--params",
+        &params(),
+        "--input",
+        input.to_str().unwrap(),
+        "--output",
+        dir.path().join("out.csv").to_str().unwrap(),
+        "--scalar",
+        "fixed",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let e = stderr(&out);
+    assert!(
+        e.contains("in.csv:3") && e.contains("does not increase"),
+        "{e}"
+    );
+}
+
 #[cfg(unix)]
 #[test]
 fn simulate_streams_its_input() {
@@ -805,7 +831,9 @@ fn review_findings_exit_2_with_a_clear_error() {
         "{}",
         stderr(&out)
     );
-    // experiment: a run of a sample or two is refused, not judged
+    // experiment: a run of a sample or two is refused, not judged; a step
+    // of 5 s is refused first because the rig's step cannot resolve the
+    // mass on the contact
     let out = friction(&[
         "experiment",
         "drift",
@@ -817,7 +845,20 @@ fn review_findings_exit_2_with_a_clear_error() {
         dir.path().join("d").to_str().unwrap(),
     ]);
     assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("omega h = 1581"), "{}", stderr(&out));
+    let out = friction(&[
+        "experiment",
+        "stick-slip",
+        "--params",
+        &params(),
+        "--duration",
+        "0.05",
+        "--output",
+        dir.path().join("d").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
     assert!(stderr(&out).contains("only"), "{}", stderr(&out));
+    assert!(!dir.path().join("d").exists());
     // beyond the documented range: named, with the value as given
     for (option, value) in [("--dt", "1e300"), ("--duration", "0"), ("--dt", "NaN")] {
         let out = friction(&[
