@@ -438,6 +438,9 @@ step_fn!(step_xiong16_f32, Xiong<f32, 16>, XiongState<f32, 16>, f32 => f32,
     |m, s, v| m.step(s, v, black_box(H)));
 // the parts the steps spend most on (libm): arguments as in LuGre's step
 step_fn!(step_libm_expf_f32, (), (), f32 => f32, |_m, _s, v| libm::expf(v));
+step_fn!(step_q16_div, Fixed32, (), Fixed32 => Fixed32, |m, _s, v| *m / v);
+step_fn!(step_q16_mul, Fixed32, (), Fixed32 => Fixed32, |m, _s, v| *m * v);
+step_fn!(step_q16_exp, (), (), Fixed32 => Fixed32, |_m, _s, v| v.exp_neg());
 step_fn!(step_libm_expm1f_f32, (), (), f32 => f32, |_m, _s, v| libm::expm1f(v));
 step_fn!(step_servo_lugre_f32, Servo, ServoState, (f32, Setpoint<f32>) => f32,
     |m, s, input| m.tick(s, input.0, input.1).command);
@@ -1031,6 +1034,26 @@ fn main() -> ! {
         step_libm_expm1f_f32,
         |k| relax_arg(sweep_velocity(k)) as f32,
         |k| relax_arg(stress_velocity(k)) as f32,
+        STRESS_LEN,
+    );
+    // the parts of Q16.16: a product, a quotient (a force over forces of
+    // 230 to 330, as LuGre's 1/g; beyond 1 on the stress sequence) and
+    // e^-x over [0, 3]
+    let two = Fixed32::from_f64(2.0);
+    let force = |k: usize| Fixed32::from_f64(280.0 + 50.0 * libm::sin(k as f64));
+    let ramp = |k: usize| Fixed32::from_f64(0.3 + k as f64);
+    row(pt, "q16-mul", "step_q16_mul", "fixed", Form::Fixed, &two, step_q16_mul, force, ramp, STRESS_LEN);
+    row(pt, "q16-div", "step_q16_div", "fixed", Form::Fixed, &two, step_q16_div, force, ramp, STRESS_LEN);
+    row(
+        pt,
+        "q16-exp",
+        "step_q16_exp",
+        "fixed",
+        Form::Fixed,
+        &(),
+        step_q16_exp,
+        |k| Fixed32::from_f64(3.0 * libm::fabs(libm::sin(k as f64))),
+        |k| Fixed32::from_f64(0.01 * k as f64),
         STRESS_LEN,
     );
     hprintln!("cost-done");
