@@ -292,6 +292,14 @@ impl_float_scalar!(
     libm::pow
 );
 
+/// `log2(1 / k)` for a force scale `k` ([`Scalar::force_scale`], a power
+/// of two within `2^-14 ..= 2^14`, 1 in floating point): the exponent that
+/// [`Scalar::rescale_pow2`] divides by `k` with.
+pub(crate) fn inverse_scale_exp(k: f64) -> i8 {
+    // a whole number within -14 ..= 14
+    -(libm::round(libm::log2(k)).clamp(-14.0, 14.0) as i8)
+}
+
 /// Whether floating-point arithmetic runs on a floating-point unit: not on
 /// an ARM target with the soft-float ABI (Cortex-M0, or M3), where each
 /// operation is a library call of tens of instructions.

@@ -116,7 +116,7 @@ impl DahlParams {
             sigma_h_over_fc: convert_derived("sigma", sigma_h / self.fc)?,
             delta_minus_one: convert("delta", self.delta - 1.0)?,
             sigma2: convert("sigma2", k * self.sigma2)?,
-            inv_scale: convert_derived("fc", 1.0 / k)?,
+            inv_scale_exp: crate::scalar::inverse_scale_exp(k),
             h,
         })
     }
@@ -246,7 +246,9 @@ pub struct DahlAt<S> {
     sigma_h_over_fc: S,
     delta_minus_one: S,
     sigma2: S,
-    inv_scale: S,
+    /// `log2(1 / k)`: dividing by the force scale `k` is a shift by it in
+    /// fixed point ([`Scalar::rescale_pow2`]).
+    inv_scale_exp: i8,
     h: f64,
 }
 
@@ -297,7 +299,7 @@ impl<S: Scalar> DahlAt<S> {
             // Fc y (scaled), and y = 1 - sign(v) F / Fc from the unscaled 1/Fc
             let gap = self.fc - signed(v, f);
             if gap > S::ZERO {
-                let y = (gap * self.inv_fc).rescale(self.inv_scale);
+                let y = (gap * self.inv_fc).rescale_pow2(self.inv_scale_exp);
                 let p = self.sigma_h * speed; // sigma h |v|, scaled: Fc k
                 let d = self.delta_minus_one;
                 let incr = if d > S::ZERO {
@@ -343,14 +345,16 @@ impl<S: Scalar> FixedStepModel<S> for DahlAt<S> {
     #[inline]
     fn step(&self, state: &mut DahlState<S>, v: S) -> S {
         match checked_velocity(v) {
-            Some(v) => self.advance(state, v, S::ZERO).rescale(self.inv_scale),
+            Some(v) => self
+                .advance(state, v, S::ZERO)
+                .rescale_pow2(self.inv_scale_exp),
             None => self.hold_force(state),
         }
     }
 
     /// `F`.
     fn hold_force(&self, state: &DahlState<S>) -> S {
-        state.f.rescale(self.inv_scale)
+        state.f.rescale_pow2(self.inv_scale_exp)
     }
 }
 
@@ -358,12 +362,13 @@ impl<S: Scalar> FixedStepModel<S> for DahlAt<S> {
 /// the exact step; Dahl has no `sigma1`, `damping` has no effect.
 impl<S: Scalar> FixedStepObservable<S> for DahlAt<S> {
     fn step_corrected(&self, state: &mut DahlState<S>, v: S, correction: S, _damping: bool) -> S {
-        self.advance(state, v, correction).rescale(self.inv_scale)
+        self.advance(state, v, correction)
+            .rescale_pow2(self.inv_scale_exp)
     }
 
     /// `Fc + sigma2 |v|`.
     fn force_bound(&self, v: S) -> S {
-        (self.fc + self.sigma2 * v.abs()).rescale(self.inv_scale)
+        (self.fc + self.sigma2 * v.abs()).rescale_pow2(self.inv_scale_exp)
     }
 }
 

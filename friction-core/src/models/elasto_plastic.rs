@@ -555,14 +555,14 @@ impl<S: Scalar> ElastoPlasticAt<S> {
 
     /// The break-away force `sigma0 z_ba` (N).
     pub fn w_ba(&self) -> S {
-        self.w_ba.rescale(self.lugre.inv_scale())
+        self.lugre.unscale(self.w_ba)
     }
 
     /// `a / w_max` for `0 <= a <= w_max` (scaled forces), from the unscaled
     /// `1 / g`: `(a / g) k <= k` fits, and no factor is a tiny number.
     #[inline]
     fn ratio(&self, a: S, inv_w_max: S) -> S {
-        (a * inv_w_max).rescale(self.lugre.inv_scale())
+        self.lugre.unscale(a * inv_w_max)
     }
 
     /// `dW/dX` at the force along the motion `w`, with `w_max = g(v)`
@@ -578,7 +578,7 @@ impl<S: Scalar> ElastoPlasticAt<S> {
         } else if w >= w_max {
             // 1 - w / w_max, with w - w_max <= Fs - Fc (scaled) in the product
             Slip {
-                slope: -((w - w_max) * inv_w_max).rescale(self.lugre.inv_scale()),
+                slope: -self.lugre.unscale((w - w_max) * inv_w_max),
                 zone_rate: S::ZERO,
             }
         } else {
@@ -706,16 +706,14 @@ impl<S: Scalar> FixedStepModel<S> for ElastoPlasticAt<S> {
     #[inline]
     fn step(&self, state: &mut LuGreAtState<S>, v: S) -> S {
         match checked_velocity(v) {
-            Some(v) => self
-                .advance(state, v, S::ZERO, true)
-                .rescale(self.lugre.inv_scale()),
+            Some(v) => self.lugre.unscale(self.advance(state, v, S::ZERO, true)),
             None => self.hold_force(state),
         }
     }
 
     /// `w = sigma0 z`.
     fn hold_force(&self, state: &LuGreAtState<S>) -> S {
-        state.w.rescale(self.lugre.inv_scale())
+        self.lugre.unscale(state.w)
     }
 }
 
@@ -724,8 +722,8 @@ impl<S: Scalar> FixedStepModel<S> for ElastoPlasticAt<S> {
 /// phi(lambda h)` (see `corrected_shift`), then `|w| <= Fs`.
 impl<S: Scalar> FixedStepObservable<S> for ElastoPlasticAt<S> {
     fn step_corrected(&self, state: &mut LuGreAtState<S>, v: S, correction: S, damping: bool) -> S {
-        self.advance(state, v, correction, damping)
-            .rescale(self.lugre.inv_scale())
+        self.lugre
+            .unscale(self.advance(state, v, correction, damping))
     }
 
     /// As LuGre's.

@@ -178,7 +178,7 @@ impl LuGreParams {
             },
             fs: convert("fs", k * fs)?,
             rate_factor: convert_derived("fs", 1.0 + fs / fc)?,
-            inv_scale: convert_derived("fs", 1.0 / k)?,
+            inv_scale_exp: crate::scalar::inverse_scale_exp(k),
             scale_s: convert("fs", k)?,
             scale: k,
             h,
@@ -359,7 +359,9 @@ pub struct LuGreAt<S> {
     inv_vd_sq: S,
     fs: S,
     rate_factor: S,
-    inv_scale: S,
+    /// `log2(1 / k)`: [`Scalar::rescale_pow2`] by it divides by the force
+    /// scale, a shift in fixed point instead of a product with `1 / k`.
+    inv_scale_exp: i8,
     scale_s: S,
     scale: f64,
     h: f64,
@@ -433,9 +435,12 @@ impl<S: Scalar> LuGreAt<S> {
         self.scale_s
     }
 
-    /// `1 / k`: turns a scaled force back into newtons (exact, a power of two).
-    pub(crate) fn inv_scale(&self) -> S {
-        self.inv_scale
+    /// `x / k`, turning a scaled force back into newtons: a shift in fixed
+    /// point ([`Scalar::rescale_pow2`], rounding to nearest, saturating),
+    /// nothing in floating point.
+    #[inline(always)]
+    pub(crate) fn unscale(&self, x: S) -> S {
+        x.rescale_pow2(self.inv_scale_exp)
     }
 
     /// `sigma0 h`, times the force scale.
@@ -477,14 +482,14 @@ impl<S: Scalar> LuGreAt<S> {
         // products below are ordered so that none is a tiny number, which
         // fixed point would round to a few steps
         let p = self.sigma0_h * speed;
-        let x = (p * inv_g).rescale(self.inv_scale); // = sigma0 h |v| / g, finite or +inf
+        let x = self.unscale(p * inv_g); // = sigma0 h |v| / g, finite or +inf
         let w0 = state.w;
         // at v = 0 nothing moves (p = 0): the target's sign is moot
         let gap = signed(v, g) - w0;
         let (mut w, phi) = if x < S::from_f64(0.1) {
             // gap (1 - e^-x) = p (gap / g) phi(x)
             let phi = phi_series(x);
-            (w0 + p * (gap * inv_g).rescale(self.inv_scale) * phi, phi)
+            (w0 + p * self.unscale(gap * inv_g) * phi, phi)
         } else {
             let one_minus_e = S::ONE - x.exp_neg();
             (w0 + gap * one_minus_e, one_minus_e / x)
@@ -498,7 +503,7 @@ impl<S: Scalar> LuGreAt<S> {
         let mut f = w + self.sigma2 * v;
         if damping {
             // dz/dt = (v - c) - |v| w / g, zero while held at the bound
-            let ratio = (w * inv_g).rescale(self.inv_scale);
+            let ratio = self.unscale(w * inv_g);
             let dz = (v - c) - speed * ratio;
             if !(w.abs() >= self.fs && dz * w > S::ZERO) {
                 // sigma1 dz/dt = (sigma1 |v| / g) (sign(v) g - w) - sigma1 c:
@@ -507,7 +512,7 @@ impl<S: Scalar> LuGreAt<S> {
                 // 1/g, so that no rounding of a ratio (1.5e-5 in fixed
                 // point) is multiplied by sigma1 |v|, and with no division
                 let d = self.damping(v);
-                let factor = d.rescale(self.inv_scale) * speed * inv_g;
+                let factor = self.unscale(d) * speed * inv_g;
                 f = f + (factor * gap_end(v, g, w) - d * c);
             }
         }
@@ -525,29 +530,25 @@ impl<S: Scalar> FixedStepModel<S> for LuGreAt<S> {
     #[inline]
     fn step(&self, state: &mut LuGreAtState<S>, v: S) -> S {
         match checked_velocity(v) {
-            Some(v) => self
-                .advance(state, v, S::ZERO, true)
-                .rescale(self.inv_scale),
+            Some(v) => self.unscale(self.advance(state, v, S::ZERO, true)),
             None => self.hold_force(state),
         }
     }
 
     /// `w = sigma0 z`.
     fn hold_force(&self, state: &LuGreAtState<S>) -> S {
-        state.w.rescale(self.inv_scale)
+        self.unscale(state.w)
     }
 }
 
 impl<S: Scalar> FixedStepObservable<S> for LuGreAt<S> {
     fn step_corrected(&self, state: &mut LuGreAtState<S>, v: S, correction: S, damping: bool) -> S {
-        self.advance(state, v, correction, damping)
-            .rescale(self.inv_scale)
+        self.unscale(self.advance(state, v, correction, damping))
     }
 
     fn force_bound(&self, v: S) -> S {
         let speed = v.abs();
-        (self.fs + (self.damping(v) * self.rate_factor + self.sigma2) * speed)
-            .rescale(self.inv_scale)
+        self.unscale(self.fs + (self.damping(v) * self.rate_factor + self.sigma2) * speed)
     }
 }
 
