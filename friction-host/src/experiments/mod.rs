@@ -91,30 +91,71 @@ fn rig_dt(name: &str, opts: Options) -> Option<f64> {
     }
 }
 
-/// Largest `omega h` of the rig's step, `omega = sqrt(k / m)` the mass on
-/// the contact's stiffness at rest: the explicit step ([`rig_core`]) is
-/// unstable beyond 2, and at 1 samples that oscillation about 6 times a
-/// period (every shipped set has at least 10).
+/// Largest `omega h` and `c h / m` of the rig's step, `omega = sqrt(k / m)`
+/// the mass on the contact's stiffness at rest (and the stick-slip rig's
+/// spring) and `c` the contact's damping at rest: the explicit step
+/// ([`rig_core`]) is unstable beyond 2 on either, and at 1 samples the
+/// oscillation about 6 times a period and the damping's decay in a step or
+/// more (every shipped set is at 0.62 or less).
 pub const MAX_RIG_OMEGA_H: f64 = 1.0;
 
 /// Why the rig cannot resolve the mass on the contact at period `h`, if it
 /// cannot ([`MAX_RIG_OMEGA_H`]).
 fn unresolved_rig(name: &str, file: &ParamFile, h: f64) -> Option<Refusal> {
-    let (k, m) = (file.model.rest_stiffness(), mass(file));
+    let spring = if name == "stick-slip" {
+        file.rig.stiffness.unwrap_or(0.0)
+    } else {
+        0.0
+    };
+    let (k, c, m) = (
+        file.model.rest_stiffness() + spring,
+        file.model.rest_damping(),
+        mass(file),
+    );
     let omega = (k / m).sqrt();
+    let decay = c / m;
     // NaN (a zero mass and stiffness) is refused too
-    let resolved = omega * h <= MAX_RIG_OMEGA_H;
-    (!resolved).then(|| {
-        Refusal(format!(
-            "experiment `{name}`: the rig's mass {} on the contact's stiffness at rest {} oscillates at omega = sqrt(k / m) = {} rad/s, which its explicit step at --dt {} s does not resolve (omega h = {} > {MAX_RIG_OMEGA_H}; the step is unstable beyond 2): shorten --dt below {} s or raise [rig] `mass`",
-            short(m),
-            short(k),
-            short(omega),
-            short(h),
-            short(omega * h),
-            short(MAX_RIG_OMEGA_H / omega)
-        ))
-    })
+    let resolved = omega * h <= MAX_RIG_OMEGA_H && decay * h <= MAX_RIG_OMEGA_H;
+    if resolved {
+        return None;
+    }
+    // name the larger of the two
+    let (what, rate) = if omega >= decay || omega.is_nan() {
+        (
+            format!(
+                "on the {} stiffness {} oscillates at omega = sqrt(k / m) = {} rad/s",
+                if spring > 0.0 {
+                    "contact's and spring's"
+                } else {
+                    "contact's"
+                },
+                short(k),
+                short(omega)
+            ),
+            omega,
+        )
+    } else {
+        (
+            format!(
+                "on the contact's damping at rest {} decays at c / m = {} 1/s",
+                short(c),
+                short(decay)
+            ),
+            decay,
+        )
+    };
+    Some(Refusal(format!(
+        "experiment `{name}`: the rig's mass {} {what}, which its explicit step at --dt {} s does not resolve ({} h = {} > {MAX_RIG_OMEGA_H}; the step is unstable beyond 2): shorten --dt below {} s or raise [rig] `mass`",
+        short(m),
+        short(h),
+        if rate == omega { "omega" } else { "c / m x" },
+        if rate * h < 10.0 {
+            format!("{:.3}", rate * h)
+        } else {
+            short(rate * h)
+        },
+        short(MAX_RIG_OMEGA_H / rate)
+    )))
 }
 
 /// The experiments whose length is fixed by their definition (no `--duration`).
@@ -266,13 +307,20 @@ pub fn run(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Ou
     if let Some(refusal) = rig_dt(name, opts).and_then(|h| unresolved_rig(name, file, h)) {
         return Err(refusal.into());
     }
-    let existed = dir.exists();
+    // the folders this run creates, deepest first
+    let created: Vec<PathBuf> = dir
+        .ancestors()
+        .take_while(|d| !d.as_os_str().is_empty() && !d.exists())
+        .map(Path::to_path_buf)
+        .collect();
     std::fs::create_dir_all(dir)
         .with_context(|| format!("--output {}: cannot create the folder", dir.display()))?;
     let out = run_in(name, file, opts, dir);
-    if out.is_err() && !existed {
-        // a run that failed leaves no folder it created (only if empty)
-        let _ = std::fs::remove_dir(dir);
+    if out.is_err() {
+        // a run that failed leaves no folder it created (only empty ones)
+        for d in &created {
+            let _ = std::fs::remove_dir(d);
+        }
     }
     out
 }

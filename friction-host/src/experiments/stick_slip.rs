@@ -19,6 +19,8 @@ pub struct StickSlipFigures {
     pub peak_velocity: f64,
     /// Final position (m).
     pub final_position: f64,
+    /// The run's last sample time (s).
+    pub end: f64,
 }
 
 impl StickSlipFigures {
@@ -27,6 +29,7 @@ impl StickSlipFigures {
             onsets: slip_onsets(&tr.t, &tr.v, 0.5 * pull),
             peak_velocity: tr.v.iter().copied().fold(f64::NEG_INFINITY, f64::max),
             final_position: tr.x.last().copied().unwrap_or(0.0),
+            end: tr.t.last().copied().unwrap_or(0.0),
         }
     }
 }
@@ -38,15 +41,32 @@ impl StickSlipFigures {
 /// from the continuous one by a fraction of a step (canudas1995 at 1 kHz:
 /// about 1 ms of 6.4 s), which adds up over a long run: after 5,000 s the
 /// phase has drifted 0.85 s while every cycle still agrees within 0.02 %.
-/// The drift is reported.
+/// The drift is reported, and a last slip that one of them reaches within
+/// the drift of the run's end and the other not is not a difference in
+/// count.
 pub fn compare_stick_slip(core: &StickSlipFigures, reference: &StickSlipFigures) -> (bool, String) {
-    let same_count = core.onsets.len() == reference.onsets.len();
+    let common = core.onsets.len().min(reference.onsets.len());
+    // the phase drift by the last common onset
+    let drift_by_end = match common {
+        0 => 0.0,
+        n => (core.onsets[n - 1] - reference.onsets[n - 1]).abs(),
+    };
     let period = if reference.onsets.len() >= 2 {
         (reference.onsets[reference.onsets.len() - 1] - reference.onsets[0])
             / (reference.onsets.len() - 1) as f64
     } else {
         f64::INFINITY
     };
+    // one slip more on one side, within the drift (and 1 % of the period)
+    // of the end: the other reaches it after the run
+    let longer = if core.onsets.len() > common {
+        &core.onsets
+    } else {
+        &reference.onsets
+    };
+    let same_count = longer.len() == common
+        || (longer.len() == common + 1
+            && longer[common] > reference.end - drift_by_end - 0.01 * period.min(reference.end));
     let first_err = match (core.onsets.first(), reference.onsets.first()) {
         (Some(a), Some(b)) => (a - b).abs(),
         _ => 0.0,
@@ -69,9 +89,14 @@ pub fn compare_stick_slip(core: &StickSlipFigures, reference: &StickSlipFigures)
         (core.final_position - reference.final_position).abs() / reference.final_position.abs();
     let pass = same_count && onset_err <= 0.01 * period && peak_err <= 0.02 && pos_err <= 0.01;
     let text = format!(
-        "{} slips (reference {}), onsets within {:.2} ms cycle by cycle ({:.2} % of the {:.3} s period, bound 1 %; phase drift {:.2} ms by the last), peak velocity {:.4} vs {:.4} m/s ({:.2} %, bound 2 %), final position {:.5} vs {:.5} m ({:.3} %, bound 1 %)",
+        "{} slips (reference {}{}), onsets within {:.2} ms cycle by cycle ({:.2} % of the {:.3} s period, bound 1 %; phase drift {:.2} ms by the last), peak velocity {:.4} vs {:.4} m/s ({:.2} %, bound 2 %), final position {:.5} vs {:.5} m ({:.3} %, bound 1 %)",
         core.onsets.len(),
         reference.onsets.len(),
+        if same_count && longer.len() != common {
+            "; the last slip of one falls within the phase drift of the end"
+        } else {
+            ""
+        },
         1e3 * onset_err,
         100.0 * onset_err / period,
         period,

@@ -117,6 +117,9 @@ impl HostModel for ElastoPlasticParams {
     fn sigma2(&self) -> f64 {
         self.lugre.sigma2
     }
+    fn rest_damping(&self) -> f64 {
+        self.lugre.sigma1 + self.lugre.sigma2
+    }
     fn continuous(&self) -> Option<Box<dyn Continuous>> {
         Some(Box::new(ElastoPlasticOde(*self)))
     }

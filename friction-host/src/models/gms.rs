@@ -258,6 +258,9 @@ impl HostModel for GmsSpec {
     fn sigma2(&self) -> f64 {
         self.sigma2
     }
+    fn rest_damping(&self) -> f64 {
+        self.elements.iter().map(|e| e.sigma1).sum::<f64>() + self.sigma2
+    }
     fn continuous(&self) -> Option<Box<dyn super::Continuous>> {
         None
     }

@@ -205,6 +205,9 @@ impl HostModel for LeuvenSpec {
     fn sigma2(&self) -> f64 {
         self.params.sigma2
     }
+    fn rest_damping(&self) -> f64 {
+        self.params.sigma1 + self.params.sigma2
+    }
     fn continuous(&self) -> Option<Box<dyn super::Continuous>> {
         None
     }

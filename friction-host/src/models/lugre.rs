@@ -145,6 +145,9 @@ impl HostModel for LuGreParams {
     fn sigma2(&self) -> f64 {
         self.sigma2
     }
+    fn rest_damping(&self) -> f64 {
+        self.sigma1 + self.sigma2
+    }
     fn continuous(&self) -> Option<Box<dyn Continuous>> {
         Some(Box::new(LuGreOde(*self)))
     }

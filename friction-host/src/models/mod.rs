@@ -217,6 +217,12 @@ pub trait HostModel {
     fn sigma2(&self) -> f64 {
         0.0
     }
+    /// The damping of the contact at rest, `dF/dv` while it sticks:
+    /// `sigma1 + sigma2` where the model has a bristle damping `sigma1` (the
+    /// sum over the elements for GMS), `sigma2` by default.
+    fn rest_damping(&self) -> f64 {
+        self.sigma2()
+    }
     /// The stiffness of the contact at rest, `dF/dx` for small
     /// displacements: `Fs / presliding_scale` by default (LuGre's `sigma0`),
     /// the sum of the element stiffnesses for the multi-element models.
@@ -405,6 +411,10 @@ impl ModelSpec {
     /// See [`HostModel::lag_time`].
     pub fn lag_time(&self, v: f64) -> f64 {
         self.host().lag_time(v)
+    }
+    /// See [`HostModel::rest_damping`].
+    pub fn rest_damping(&self) -> f64 {
+        self.host().rest_damping()
     }
     /// See [`HostModel::sigma2`].
     pub fn sigma2(&self) -> f64 {

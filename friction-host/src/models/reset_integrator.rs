@@ -133,6 +133,9 @@ impl HostModel for ResetIntegratorParams {
     fn presliding_scale(&self) -> f64 {
         self.z0
     }
+    fn rest_damping(&self) -> f64 {
+        self.sigma1
+    }
     fn continuous(&self) -> Option<Box<dyn Continuous>> {
         Some(Box::new(ResetIntegratorOde(*self)))
     }
