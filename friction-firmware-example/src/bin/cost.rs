@@ -1042,8 +1042,30 @@ fn main() -> ! {
     let two = Fixed32::from_f64(2.0);
     let force = |k: usize| Fixed32::from_f64(280.0 + 50.0 * libm::sin(k as f64));
     let ramp = |k: usize| Fixed32::from_f64(0.3 + k as f64);
-    row(pt, "q16-mul", "step_q16_mul", "fixed", Form::Fixed, &two, step_q16_mul, force, ramp, STRESS_LEN);
-    row(pt, "q16-div", "step_q16_div", "fixed", Form::Fixed, &two, step_q16_div, force, ramp, STRESS_LEN);
+    row(
+        pt,
+        "q16-mul",
+        "step_q16_mul",
+        "fixed",
+        Form::Fixed,
+        &two,
+        step_q16_mul,
+        force,
+        ramp,
+        STRESS_LEN,
+    );
+    row(
+        pt,
+        "q16-div",
+        "step_q16_div",
+        "fixed",
+        Form::Fixed,
+        &two,
+        step_q16_div,
+        force,
+        ramp,
+        STRESS_LEN,
+    );
     row(
         pt,
         "q16-exp",
