@@ -169,6 +169,15 @@ pub fn friction_plot(path: &Path, title: &str, fit: &Fit, s: &Signals) -> Result
         pts.iter().chain(&curve).map(|&(_, y)| y),
         crate::plot::Axis::Linear,
     );
+    // drawn within the axes (plotters' pixel arithmetic overflows far
+    // outside its range); NaN points left out
+    let inside = |pts: Vec<(f64, f64)>| -> Vec<(f64, f64)> {
+        pts.into_iter()
+            .filter(|(x, y)| !(x.is_nan() || y.is_nan()))
+            .map(|(x, y)| (x.clamp(x_range.0, x_range.1), y.clamp(y_range.0, y_range.1)))
+            .collect()
+    };
+    let (pts, curve) = (inside(pts), inside(curve));
     let err = |e: &dyn std::fmt::Display| anyhow!("plot {}: {e}", path.display());
     let mut svg = String::new();
     let root = SVGBackend::with_string(&mut svg, (900, 560)).into_drawing_area();
