@@ -62,6 +62,16 @@ pub(crate) fn range(values: impl Iterator<Item = f64>, axis: Axis) -> (f64, f64)
     (lo - pad, hi + pad)
 }
 
+/// `points` clamped into the axis ranges `x` and `y`: plotters' pixel
+/// arithmetic overflows far outside its range, so values beyond an axis
+/// are drawn at its edge.
+pub(crate) fn within(points: Vec<(f64, f64)>, x: (f64, f64), y: (f64, f64)) -> Vec<(f64, f64)> {
+    points
+        .into_iter()
+        .map(|(a, b)| (a.clamp(x.0, x.1), b.clamp(y.0, y.1)))
+        .collect()
+}
+
 /// Draws `series` into an SVG file at `path` (written atomically).
 pub fn line_plot(
     path: &Path,
@@ -186,10 +196,7 @@ fn draw_chart<DB: DrawingBackend>(
                 };
                 // beyond AXIS_LIMIT, drawn at the axis' edge (plotters'
                 // pixel arithmetic overflows far outside its range)
-                let pts = thin(pts)
-                    .into_iter()
-                    .map(|(x, y)| (x.clamp(x0, x1), y.clamp(y0, y1)))
-                    .collect::<Vec<_>>();
+                let pts = within(thin(pts), (x0, x1), (y0, y1));
                 chart
                     .draw_series(LineSeries::new(pts, color.stroke_width(2)))
                     .map_err(|e| err(&e))?

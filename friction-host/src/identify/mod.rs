@@ -543,10 +543,7 @@ pub fn identify(o: &Options) -> Result<Outcome> {
         }
     }
     if out.rejected.is_none() {
-        if let Some(e) = out
-            .estimation
-            .filter(|e| !(e.rms.is_finite() && e.relative.is_finite()))
-        {
+        if let Some(e) = out.estimation.filter(|e| !e.is_finite()) {
             out.rejected = Some(format!(
                 "the prediction error is not finite (RMS {:e}, relative {:e} %)",
                 e.rms, e.relative
@@ -554,10 +551,7 @@ pub fn identify(o: &Options) -> Result<Outcome> {
         }
     }
     if out.rejected.is_none() {
-        if let Some(e) = out
-            .validation
-            .filter(|e| !(e.rms.is_finite() && e.relative.is_finite()))
-        {
+        if let Some(e) = out.validation.filter(|e| !e.is_finite()) {
             out.rejected = Some(format!(
                 "the cross-validation error on {} is not finite (RMS {:e}, relative {:e} %): its forces overflow or vanish in double precision, or the fit predicts none there",
                 o.validate.as_ref().map_or_else(String::new, |p| p.display().to_string()),

@@ -22,6 +22,11 @@ pub struct ErrorStats {
 }
 
 impl ErrorStats {
+    /// Whether the RMS and relative errors are finite numbers.
+    pub fn is_finite(&self) -> bool {
+        self.rms.is_finite() && self.relative.is_finite()
+    }
+
     /// Compares measured `y` and predicted `p`.
     pub fn new(y: &[f64], p: &[f64]) -> Self {
         let (mut e2, mut y2, mut max) = (0.0, 0.0, 0.0f64);
@@ -171,11 +176,9 @@ pub fn friction_plot(path: &Path, title: &str, fit: &Fit, s: &Signals) -> Result
     );
     // drawn within the axes (plotters' pixel arithmetic overflows far
     // outside its range); NaN points left out
-    let inside = |pts: Vec<(f64, f64)>| -> Vec<(f64, f64)> {
-        pts.into_iter()
-            .filter(|(x, y)| !(x.is_nan() || y.is_nan()))
-            .map(|(x, y)| (x.clamp(x_range.0, x_range.1), y.clamp(y_range.0, y_range.1)))
-            .collect()
+    let inside = |pts: Vec<(f64, f64)>| {
+        let finite_or_inf = pts.into_iter().filter(|(x, y)| !(x.is_nan() || y.is_nan()));
+        crate::plot::within(finite_or_inf.collect(), x_range, y_range)
     };
     let (pts, curve) = (inside(pts), inside(curve));
     let err = |e: &dyn std::fmt::Display| anyhow!("plot {}: {e}", path.display());
