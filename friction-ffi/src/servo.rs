@@ -32,8 +32,8 @@ pub struct friction_servo_f64 {
     pub opaque: [u64; FRICTION_SERVO_F64_WORDS],
 }
 
-opaque!(friction_servo_f32, Servo<f32>, 0x4646_4646_5353_5353);
-opaque!(friction_servo_f64, Servo<f64>, 0x4646_4646_7373_7373);
+opaque!(friction_servo_f32, Servo<f32>, 0x5353_5353);
+opaque!(friction_servo_f64, Servo<f64>, 0x7373_7373);
 
 /// The desired motion at a tick, in `float`.
 #[repr(C)]

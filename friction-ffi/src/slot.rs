@@ -2,7 +2,7 @@
 //!
 //! C allocates each object (`friction_model_f64`, ...) as a plain array of
 //! 64-bit words whose size the header states. A constructor writes a tag
-//! word (the object type's `MAGIC`) followed by a Rust value into it; every
+//! (the object type's 32-bit `MAGIC`) followed by a Rust value into it; every
 //! later call checks the tag before it views the words as that value. The
 //! size and alignment of each value are checked at compile time; every
 //! stored value is `Copy` (no destructor, no pointer into itself), so C
@@ -12,19 +12,20 @@
 pub(crate) trait Opaque: Sized {
     /// What the object holds.
     type Value: Copy;
-    /// The tag word written by the constructor: one per object type, so a
-    /// never-initialised object (or one of another type) is refused. Each
-    /// 32-bit half repeats one byte (`FFFF` then `MMMM`, `mmmm`, `OOOO`,
-    /// ...): Thumb-2 encodes such a word as an instruction's immediate, so
-    /// the check is two `eor`s and no constant to build (four instructions
-    /// fewer a call on the Cortex-M4F).
-    const MAGIC: u64;
+    /// The tag written by the constructor: one per object type, so a
+    /// never-initialised object (or one of another type) is refused. It
+    /// repeats one byte (`MMMM`, `mmmm`, `OOOO`, ...): Thumb-2 encodes such
+    /// a word as an instruction's immediate, so the check is one `cmp` and
+    /// no constant to build. 32 bits, not 64: a 64-bit tag took two `eor`s
+    /// and an `orr` more a call on the Cortex-M4F (the servo tick through
+    /// the C ABI, 1.10x the Rust tick's instructions, counts them).
+    const MAGIC: u32;
 }
 
 /// The layout a constructor writes: the tag word, then the value.
 #[repr(C)]
 struct Slot<V> {
-    magic: u64,
+    magic: u32,
     value: V,
 }
 
@@ -37,11 +38,11 @@ const fn fits<O: Opaque>() -> bool {
 /// The object's tag word (its first word: `Slot` is `repr(C)` with the tag
 /// first). Read through a pointer: the rest of the words may hold a value's
 /// padding, which is not data.
-fn tag<O: Opaque>(object: &O) -> u64 {
+fn tag<O: Opaque>(object: &O) -> u32 {
     const { assert!(core::mem::size_of::<O>() >= 8 && core::mem::align_of::<O>() >= 8) };
     // SAFETY: the object is at least one aligned u64 long, and its first
-    // word is either C's bytes or a tag this module wrote.
-    unsafe { (object as *const O).cast::<u64>().read() }
+    // 32 bits are either C's bytes or a tag this module wrote.
+    unsafe { (object as *const O).cast::<u32>().read() }
 }
 
 /// Writes `value` into `out` with its tag.
@@ -87,7 +88,7 @@ macro_rules! opaque {
     ($name:ident, $value:ty, $magic:expr) => {
         impl crate::slot::Opaque for $name {
             type Value = $value;
-            const MAGIC: u64 = $magic;
+            const MAGIC: u32 = $magic;
         }
     };
 }
