@@ -167,15 +167,17 @@ impl LuGreParams {
             ..self.curve
         }
         .build()?;
+        let inv_vd_sq = match self.vd {
+            Some(vd) => convert_derived("vd", 1.0 / (vd * vd))?,
+            None => S::ZERO,
+        };
         Ok(LuGreAt {
             curve,
             sigma0_h: convert("sigma0", k * sigma0_h)?,
             sigma1: convert("sigma1", k * self.sigma1)?,
             sigma2: convert("sigma2", k * self.sigma2)?,
-            inv_vd_sq: match self.vd {
-                Some(vd) => convert_derived("vd", 1.0 / (vd * vd))?,
-                None => S::ZERO,
-            },
+            inv_vd_sq,
+            fades: inv_vd_sq > S::ZERO,
             fs: convert("fs", k * fs)?,
             rate_factor: convert_derived("fs", 1.0 + fs / fc)?,
             inv_scale_exp: crate::scalar::inverse_scale_exp(k),
@@ -362,6 +364,9 @@ pub struct LuGreAt<S> {
     /// `log2(1 / k)`: [`Scalar::rescale_pow2`] by it divides by the force
     /// scale, a shift in fixed point instead of a product with `1 / k`.
     inv_scale_exp: i8,
+    /// `inv_vd_sq > 0`: `sigma1` fades with speed (a flag, one load and
+    /// one branch instead of a floating-point comparison a step).
+    fades: bool,
     scale_s: S,
     scale: f64,
     h: f64,
@@ -461,7 +466,7 @@ impl<S: Scalar> LuGreAt<S> {
     /// `sigma1(v)`.
     #[inline(always)]
     pub(crate) fn damping(&self, v: S) -> S {
-        if self.inv_vd_sq > S::ZERO {
+        if self.fades {
             self.sigma1 * (v * v * self.inv_vd_sq).exp_neg()
         } else {
             self.sigma1
@@ -507,14 +512,17 @@ impl<S: Scalar> LuGreAt<S> {
             // phi = 0 when x is infinite: the product stays a number
             w = w - self.sigma0_h * c * phi;
         }
-        let w = w.sat(self.fs);
+        // w.sat(fs), with the test for the bound kept for the damping term
+        // (|w+| >= Fs exactly when |w| >= Fs; a NaN is neither)
+        let at_bound = w.abs() >= self.fs;
+        let w = if at_bound { signed(w, self.fs) } else { w };
         state.w = w;
         let mut f = w + self.sigma2 * v;
         if damping {
             // dz/dt = (v - c) - |v| w / g, zero while held at the bound
             let ratio = self.unscale(w * inv_g);
             let dz = (v - c) - speed * ratio;
-            if !(w.abs() >= self.fs && dz * w > S::ZERO) {
+            if !(at_bound && dz * w > S::ZERO) {
                 // sigma1 dz/dt = (sigma1 |v| / g) (sign(v) g - w) - sigma1 c:
                 // the small difference of two scaled forces times a
                 // dimensionless factor formed from the unscaled sigma1 and
