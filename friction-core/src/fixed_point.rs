@@ -154,6 +154,18 @@ fn split_saturated_product(a: i32, b: i32) -> i32 {
     }
 }
 
+/// `(a b + 2^15) >> 16` for a fraction `0 <= b < 2^16` (below 1 in Q16.16)
+/// from two 16 by 16-bit products: `b`'s high half is 0, the low 16 bits
+/// of `ah b 2^16` are whole, so only `al b` is rounded, exactly as in
+/// [`split_product`]. `|ah b| < 2^31`, `al b + 2^15 < 2^32`, and the result's
+/// magnitude is at most `|a|`: no sum overflows (tested on the host).
+#[cfg(any(test, all(target_arch = "arm", not(target_has_atomic = "32"))))]
+#[inline]
+fn fraction_product(a: i32, b: u32) -> i32 {
+    let (ah, al) = (a >> 16, (a as u32) & 0xffff);
+    ah * b as i32 + ((al * b + 0x8000) >> 16) as i32
+}
+
 /// The rare case of [`split_saturated_product`], out of line: the common
 /// case then keeps its values in registers.
 #[cfg(any(test, all(target_arch = "arm", not(target_has_atomic = "32"))))]
@@ -325,6 +337,21 @@ impl Scalar for Fixed32 {
         }
     }
 
+    /// On ARMv6-M a factor in `0..1` takes [`fraction_product`] (two
+    /// partial products, no saturation), any other the full product: the
+    /// same value either way.
+    #[inline]
+    fn mul_fraction(self, f: Self) -> Self {
+        #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+        {
+            let b = f.to_bits() as u32;
+            if b < 1 << 16 {
+                return Self::from_bits(fraction_product(self.to_bits(), b));
+            }
+        }
+        self * f
+    }
+
     /// Rounds to nearest, saturating; NaN gives 0.
     fn from_f64(x: f64) -> Self {
         if x.is_nan() {
@@ -398,6 +425,45 @@ impl Scalar for Fixed32 {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn the_armv6m_fraction_product_is_exact() {
+        let mut rng = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            rng
+        };
+        let edges_a = [
+            i32::MIN,
+            i32::MIN + 1,
+            -65537,
+            -65536,
+            -32768,
+            -1,
+            0,
+            1,
+            32767,
+            65535,
+            65536,
+            i32::MAX,
+        ];
+        let edges_b = [0u32, 1, 32767, 32768, 65534, 65535];
+        let check = |a: i32, b: u32| {
+            let want = ((i64::from(a) * i64::from(b) + 0x8000) >> 16) as i32;
+            assert_eq!(super::fraction_product(a, b), want, "{a} x {b}");
+        };
+        for &a in &edges_a {
+            for &b in &edges_b {
+                check(a, b);
+            }
+        }
+        for _ in 0..1_000_000 {
+            let r = next();
+            check((r >> 32) as i32 >> (r % 31), (r as u32) & 0xffff);
+        }
+    }
+
     #[test]
     fn the_armv6m_product_is_exact() {
         let edges = [

@@ -139,6 +139,17 @@ pub trait Scalar:
         }
     }
 
+    /// `self * f` where the caller knows the factor is a fraction,
+    /// `0 <= f < 1` (such as `e^-x`, `1 - e^-x`, a ratio below its bound):
+    /// the same value as the product for any `f`. Fixed point on ARMv6-M
+    /// overrides it with two 16 by 16-bit partial products instead of four
+    /// and no saturation, which cannot occur (about 12 instructions instead
+    /// of 27 on a Cortex-M0); any other `f` takes the full product.
+    #[inline]
+    fn mul_fraction(self, f: Self) -> Self {
+        self * f
+    }
+
     /// `e^-x` for `x >= 0` (a negative `x` counts as 0; NaN stays NaN): the
     /// bounded-range exponential of the fixed-step forms. `f64` calls
     /// `libm::exp`; `f32` uses a range-reduced polynomial in `f32` alone

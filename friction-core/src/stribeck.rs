@@ -135,7 +135,7 @@ impl<S: Scalar> StribeckCurve<S> {
         } else {
             p.exp_neg()
         };
-        self.fc + self.fs_minus_fc * e
+        self.fc + self.fs_minus_fc.mul_fraction(e)
     }
 
     /// The Coulomb level `Fc`.

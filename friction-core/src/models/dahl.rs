@@ -313,16 +313,16 @@ impl<S: Scalar> DahlAt<S> {
                         let r = ln_1p_ratio(q);
                         let l = k * y_d * r;
                         if l < S::from_f64(0.1) {
-                            p * y * y_d * r * phi_series(l)
+                            (p * y * y_d * r).mul_fraction(phi_series(l))
                         } else {
                             gap * -(-l).exp_m1()
                         }
                     }
                 } else if k < S::from_f64(0.1) {
                     // Fc y (1 - e^-k) = sigma h |v| y phi(k)
-                    p * y * phi_series(k)
+                    (p * y).mul_fraction(phi_series(k))
                 } else {
-                    gap * relax(k).0
+                    gap.mul_fraction(relax(k).0)
                 };
                 f = (f + signed(v, incr)).sat(self.fc);
             }

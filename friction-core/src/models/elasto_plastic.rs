@@ -246,9 +246,9 @@ impl<S: Scalar> ElastoPlastic<S> {
 /// normalised zone position `u` in `[0, 1]`.
 #[inline]
 fn relaxed_fraction<S: Scalar>(u: S) -> S {
-    let x = S::from_f64(Q) * u * u;
+    let x = S::from_f64(Q).mul_fraction(u).mul_fraction(u);
     let p = sin_over_x(x);
-    (S::ONE - x * p * p).max(S::ZERO)
+    (S::ONE - x.mul_fraction(p).mul_fraction(p)).max(S::ZERO)
 }
 
 /// The observer's correction over one step against the model's relaxation.
@@ -357,13 +357,13 @@ fn zone_step<S: Scalar>(mut u: S, mut left: S, eps: S) -> (S, usize) {
         // h r <= c keeps the sub-step within the local relaxation length, and
         // the Q u term shortens it where alpha's sine curves most
         let h = (c / (r + S::from_f64(Q) * u)).min(left);
-        let k1 = u * r;
+        let k1 = r.mul_fraction(u);
         let u2 = u - half * h * k1;
-        let k2 = u2 * zone_rate(u2, eps).0;
+        let k2 = zone_rate(u2, eps).0.mul_fraction(u2);
         let u3 = u - half * h * k2;
-        let k3 = u3 * zone_rate(u3, eps).0;
+        let k3 = zone_rate(u3, eps).0.mul_fraction(u3);
         let u4 = u - h * k3;
-        let k4 = u4 * zone_rate(u4, eps).0;
+        let k4 = zone_rate(u4, eps).0.mul_fraction(u4);
         u = (u - sixth * h * (k1 + S::from_f64(2.0) * (k2 + k3) + k4)).max(S::ZERO);
         left = left - h;
         taken += 1;
@@ -387,10 +387,14 @@ fn zone_step<S: Scalar>(mut u: S, mut left: S, eps: S) -> (S, usize) {
 /// `P = sin(phi) / phi` (`phi = pi u / 2`) a polynomial: returns `(r, b)`.
 #[inline]
 fn zone_rate<S: Scalar>(u: S, eps: S) -> (S, S) {
-    let x = S::from_f64(Q) * u * u; // phi^2 <= (pi/2)^2
+    // u, eps, p = sin(phi)/phi and 1 - eps u are fractions
+    let x = S::from_f64(Q).mul_fraction(u).mul_fraction(u); // phi^2 <= (pi/2)^2
     let p = sin_over_x(x);
-    let b = S::from_f64(Q) * p * p * (S::ONE - eps * u);
-    (eps + b * u, b)
+    let b = S::from_f64(Q)
+        .mul_fraction(p)
+        .mul_fraction(p)
+        .mul_fraction(S::ONE - eps.mul_fraction(u));
+    (eps + b.mul_fraction(u), b)
 }
 
 /// `sin(phi) / phi` for `x = phi^2 <= (pi/2)^2`: the Taylor series to
@@ -458,13 +462,13 @@ fn zone_step_at<S: Scalar>(
         } else {
             (left, xi)
         };
-        let k1 = u * r;
+        let k1 = r.mul_fraction(u);
         let u2 = u - half * h * k1;
-        let k2 = u2 * zone_rate(u2, eps).0;
+        let k2 = zone_rate(u2, eps).0.mul_fraction(u2);
         let u3 = u - half * h * k2;
-        let k3 = u3 * zone_rate(u3, eps).0;
+        let k3 = zone_rate(u3, eps).0.mul_fraction(u3);
         let u4 = u - h * k3;
-        let k4 = u4 * zone_rate(u4, eps).0;
+        let k4 = zone_rate(u4, eps).0.mul_fraction(u4);
         let slope = k1 + two * (k2 + k3) + k4;
         u = (u - sixth * h * slope).max(S::ZERO);
         rise = rise + h_w * slope * sixth;

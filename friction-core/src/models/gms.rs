@@ -666,11 +666,12 @@ fn element_step_at<S: Scalar>(
         // x = (C h / alpha_i) s / g; below 0.1 the increment
         // (target - F_i)(1 - e^-x) = ((target - F_i) C h / alpha_i) (s / g) phi(x),
         // the scaled difference first, so that a slow relaxation is not lost to rounding
+        // (the relaxations below are fractions)
         let x = e.c_h_over_alpha * inv_g * left;
         f = if x < S::from_f64(0.1) {
-            f + (target - f) * e.c_h_over_alpha * (inv_g * left) * phi_series(x)
+            f + ((target - f) * e.c_h_over_alpha * (inv_g * left)).mul_fraction(phi_series(x))
         } else {
-            target + (f - target) * x.exp_neg()
+            target + (f - target).mul_fraction(x.exp_neg())
         };
     }
     (f.sat(e.f_max), mode)

@@ -392,14 +392,17 @@ pub(crate) fn phi_series<S: Scalar>(x: S) -> S {
     let c = |n: f64| S::from_f64(1.0 / n);
     let coarse = S::from_f64(1.0 + 1e-9) == S::ONE;
     // 1/(n+1)! nested
+    // x < 0.1: every product is with a fraction
+    let nest = |acc: S, n: f64| c(n) - acc.mul_fraction(x);
     if coarse {
-        S::ONE - x * (c(2.0) - x * (c(6.0) - x * (c(24.0) - x * c(120.0))))
-    } else {
         S::ONE
-            - x * (c(2.0)
-                - x * (c(6.0)
-                    - x * (c(24.0)
-                        - x * (c(120.0) - x * (c(720.0) - x * (c(5040.0) - x * c(40320.0)))))))
+            - [24.0, 6.0, 2.0]
+                .into_iter()
+                .fold(c(120.0), nest)
+                .mul_fraction(x)
+    } else {
+        let terms = [5040.0, 720.0, 120.0, 24.0, 6.0, 2.0];
+        S::ONE - terms.into_iter().fold(c(40320.0), nest).mul_fraction(x)
     }
 }
 
@@ -503,10 +506,10 @@ impl<S: Scalar> LuGreAt<S> {
         let (mut w, phi) = if x < S::from_f64(0.1) {
             // gap (1 - e^-x) = p (gap / g) phi(x)
             let phi = phi_series(x);
-            (w0 + p * self.unscale(gap * inv_g) * phi, phi)
+            (w0 + (p * self.unscale(gap * inv_g)).mul_fraction(phi), phi)
         } else {
             let one_minus_e = S::ONE - x.exp_neg();
-            (w0 + gap * one_minus_e, one_minus_e / x)
+            (w0 + gap.mul_fraction(one_minus_e), one_minus_e / x)
         };
         if CORRECTED {
             // phi = 0 when x is infinite: the product stays a number

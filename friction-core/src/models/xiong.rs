@@ -479,7 +479,9 @@ impl<S: Scalar, const N: usize> XiongAt<S, N> {
             // slips (often), where `sat`'s in-range test is one more
             let f = (*w + e.scale * u).min(cap).max(-cap);
             // r w + (1 - r) f as an increment: no rounding of a large w by r
-            let next = (*w + (f - *w) * e.one_minus_r).min(cap).max(-cap);
+            let next = (*w + (f - *w).mul_fraction(e.one_minus_r))
+                .min(cap)
+                .max(-cap);
             *w = next;
             total = total + if damping { f } else { next };
         }
