@@ -451,7 +451,6 @@ fn zone_step_at<S: Scalar>(
     let (c, tail) = (S::from_f64(RK_REACH), S::from_f64(TAIL));
     let half = S::from_f64(0.5);
     let sixth = S::from_f64(1.0 / 6.0);
-    let two = S::from_f64(2.0);
     let mut rise = S::ZERO;
     let mut taken = 0;
     while taken < max_substeps && u > tail {
@@ -463,15 +462,16 @@ fn zone_step_at<S: Scalar>(
             (left, xi)
         };
         let k1 = r.mul_fraction(u);
-        let u2 = u - half * h * k1;
+        let u2 = u - h.mul_fraction(half) * k1;
         let k2 = zone_rate(u2, eps).0.mul_fraction(u2);
-        let u3 = u - half * h * k2;
+        let u3 = u - h.mul_fraction(half) * k2;
         let k3 = zone_rate(u3, eps).0.mul_fraction(u3);
         let u4 = u - h * k3;
         let k4 = zone_rate(u4, eps).0.mul_fraction(u4);
-        let slope = k1 + two * (k2 + k3) + k4;
-        u = (u - sixth * h * slope).max(S::ZERO);
-        rise = rise + h_w * slope * sixth;
+        let middle = k2 + k3;
+        let slope = k1 + (middle + middle) + k4;
+        u = (u - h.mul_fraction(sixth) * slope).max(S::ZERO);
+        rise = rise + (h_w * slope).mul_fraction(sixth);
         left = left - h;
         xi = xi - h_w;
         taken += 1;
@@ -480,17 +480,21 @@ fn zone_step_at<S: Scalar>(
         }
         (r, b) = zone_rate(u, eps);
     }
-    let x = eps * left;
+    // eps, u, phi, 1 - (1 - e^-x), a half and a sixth are fractions
+    let x = left.mul_fraction(eps);
     let (one_minus_e, phi) = relax(x);
-    let grown = b * u * (phi * left);
+    let grown = b.mul_fraction(u) * left.mul_fraction(phi);
     if x < S::from_f64(0.1) {
         // u - u+ = u left phi (eps + b u) / (1 + b u phi left), times width
         // (xi = left width): the force-unit distance first
-        rise + xi * (eps + b * u) * u * phi / (S::ONE + grown)
+        rise + (xi * (eps + b.mul_fraction(u)))
+            .mul_fraction(u)
+            .mul_fraction(phi)
+            / (S::ONE + grown)
     } else {
         // u+ / u = (1 - one_minus_e) / (1 + grown), applied to the gap
         let left_gap = (gap - rise).max(S::ZERO);
-        gap - left_gap * (S::ONE - one_minus_e) / (S::ONE + grown)
+        gap - left_gap.mul_fraction(S::ONE - one_minus_e) / (S::ONE + grown)
     }
 }
 
