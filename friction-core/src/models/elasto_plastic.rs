@@ -660,8 +660,16 @@ impl<S: Scalar> ElastoPlasticAt<S> {
         (w + zone_step_at(u, xi, width, eps, w_max - w, usize::from(self.max_substeps))).min(w_max)
     }
 
+    // CORRECTED: the observer's step, with its correction `c`; the model's
+    // (c = 0) forms none of its terms (as `LuGreAt`'s)
     #[inline]
-    fn advance(&self, state: &mut LuGreAtState<S>, v: S, c: S, damping: bool) -> S {
+    fn advance<const CORRECTED: bool>(
+        &self,
+        state: &mut LuGreAtState<S>,
+        v: S,
+        c: S,
+        damping: bool,
+    ) -> S {
         let lugre = &self.lugre;
         let w_max = lugre.curve().eval_fast(v); // scaled
         let inv_w_max = lugre.scale_s() / w_max; // 1/g unscaled, g >= Fc > 0
@@ -675,7 +683,7 @@ impl<S: Scalar> ElastoPlasticAt<S> {
         let w_model = w;
         // the fraction of the correction's rate left at the end of the step
         let mut kept = S::ONE;
-        if c != S::ZERO {
+        if CORRECTED && c != S::ZERO {
             // as ElastoPlastic's `advance`, in scaled forces
             let shift = lugre.sigma0_h() * c;
             let relax = |a: S| self.alpha(a, w_max) * a;
@@ -691,13 +699,20 @@ impl<S: Scalar> ElastoPlasticAt<S> {
             // at v = 0 the slip is multiplied by 0: its argument's sign is moot
             // the model's rate on its own path plus the correction's share
             let slip = self.slip(signed(v, w_model), w_max, inv_w_max);
-            let dz = v * slip.slope - c * kept;
+            let dz = if CORRECTED {
+                v * slip.slope - c * kept
+            } else {
+                v * slip.slope
+            };
             if !(w.abs() >= lugre.fs() && dz * w > S::ZERO) {
                 // sigma1 dz/dt = (sigma1 v) dW/dX - sigma1 c kept, with the
                 // product formed so that no rounding of a ratio (1.5e-5 in
                 // fixed point) is multiplied by sigma1 v
                 let d = lugre.damping(v);
-                f = f + self.damped_slip(d * v, signed(v, w_model), w_max, slip) - d * c * kept;
+                f = f + self.damped_slip(d * v, signed(v, w_model), w_max, slip);
+                if CORRECTED {
+                    f = f - d * c * kept;
+                }
             }
         }
         f
@@ -714,7 +729,9 @@ impl<S: Scalar> FixedStepModel<S> for ElastoPlasticAt<S> {
     #[inline]
     fn step(&self, state: &mut LuGreAtState<S>, v: S) -> S {
         match checked_velocity(v) {
-            Some(v) => self.lugre.unscale(self.advance(state, v, S::ZERO, true)),
+            Some(v) => self
+                .lugre
+                .unscale(self.advance::<false>(state, v, S::ZERO, true)),
             None => self.hold_force(state),
         }
     }
@@ -731,7 +748,7 @@ impl<S: Scalar> FixedStepModel<S> for ElastoPlasticAt<S> {
 impl<S: Scalar> FixedStepObservable<S> for ElastoPlasticAt<S> {
     fn step_corrected(&self, state: &mut LuGreAtState<S>, v: S, correction: S, damping: bool) -> S {
         self.lugre
-            .unscale(self.advance(state, v, correction, damping))
+            .unscale(self.advance::<true>(state, v, correction, damping))
     }
 
     /// As LuGre's.
