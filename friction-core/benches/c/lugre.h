@@ -15,5 +15,6 @@ struct lugre_c {
 };
 
 double lugre_c_step(const struct lugre_c *m, double *state, double v, double h);
+double lugre_c_ie_step(const struct lugre_c *m, double *state, double v, double h);
 
 #endif

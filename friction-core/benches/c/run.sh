@@ -46,11 +46,16 @@ if command -v valgrind >/dev/null && command -v callgrind_annotate >/dev/null; t
       function n(s) { gsub(/,/, "", s); return s + 0 }
       function most(old) { return n($1) > old ? n($1) : old }
       index($0, "friction_bench_c::rust_fixed_step") > 0 { f = most(f) }
+      index($0, "friction_bench_c::c_ie_step") > 0 { ie = most(ie) }
       index($0, "libm::math::exp::exp") > 0 { e = most(e) }
       END {
         if (!f) { print "callgrind: fixed-step function not found"; exit 1 }
         printf "  rust fixed-step (LuGreAt::step)      %7.1f (exp %.1f)\n", f / steps, e / steps
         printf "  ratio rust fixed-step / c            %7.3f\n", f / steps / c
+        if (ie) {
+          printf "  c implicit Euler, one exp (lugre.c)  %7.1f\n", ie / steps
+          printf "  ratio rust fixed-step / c implicit Euler %.3f (issue 19: 1.2)\n", f / ie
+        }
       }'
 else
   echo "callgrind: valgrind not installed, skipped"

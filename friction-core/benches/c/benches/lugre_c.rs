@@ -1,8 +1,12 @@
 //! friction-core's f64 LuGre step against the hand-written C step, in one
 //! criterion run: the same canudas1995 parameters and 10 mm/s sine sweep as
-//! the core's `step` benchmark, both called out of line.
+//! the core's `step` benchmark, all called out of line; `c-implicit-euler`
+//! is the minimal implicit-Euler C step (one `exp`) issue 19 sizes the host
+//! step against.
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use friction_bench_c::{c_step, rust_fixed_step, rust_step, velocities, CLuGre, H, PARAMS};
+use friction_bench_c::{
+    c_ie_step, c_step, rust_fixed_step, rust_step, velocities, CLuGre, H, PARAMS,
+};
 use friction_core::{LuGreAtState, LuGreState};
 
 fn compare(c: &mut Criterion) {
@@ -33,6 +37,14 @@ fn compare(c: &mut Criterion) {
         b.iter(|| {
             i = (i + 1) & 1023;
             black_box(c_step(&cm, &mut z, black_box(vs[i]), black_box(H)))
+        })
+    });
+    group.bench_function("c-implicit-euler", |b| {
+        let mut z = 0.0;
+        let mut i = 0;
+        b.iter(|| {
+            i = (i + 1) & 1023;
+            black_box(c_ie_step(&cm, &mut z, black_box(vs[i]), black_box(H)))
         })
     });
     group.finish();

@@ -51,6 +51,7 @@ mod ffi {
     use super::CLuGre;
     extern "C" {
         pub fn lugre_c_step(m: *const CLuGre, state: *mut f64, v: f64, h: f64) -> f64;
+        pub fn lugre_c_ie_step(m: *const CLuGre, state: *mut f64, v: f64, h: f64) -> f64;
     }
 }
 
@@ -61,6 +62,16 @@ pub fn c_step(m: &CLuGre, z: &mut f64, v: f64, h: f64) -> f64 {
     // SAFETY: `m` and `z` are valid, aligned and exclusive for the call; the
     // C function reads `*m`, reads and writes `*z`, and keeps neither.
     unsafe { ffi::lugre_c_step(m, z, v, h) }
+}
+
+/// One step of the minimal C implicit-Euler LuGre (`lugre_c_ie_step`: one
+/// `exp`, one division, first order in `h`), the figure issue 19 sizes the
+/// host step against.
+#[inline(never)]
+#[allow(unsafe_code)]
+pub fn c_ie_step(m: &CLuGre, z: &mut f64, v: f64, h: f64) -> f64 {
+    // SAFETY: as in `c_step`.
+    unsafe { ffi::lugre_c_ie_step(m, z, v, h) }
 }
 
 /// One step of friction-core's LuGre, out of line like the C step.
