@@ -540,12 +540,12 @@ impl<S: Scalar> ElastoPlasticAt<S> {
     /// to 1), the state `w` is off by at most 8.7 % of the zone's width
     /// `g(v) - sigma0 z_ba` with `k = 1` (5.0 % with 2, 2.8 % with 3, 1.5 %
     /// with 4, 0.4 % with 6, 7e-5 with 12). The worst step on a Cortex-M4F
-    /// (f32) costs 414 instructions with `k = 1` (3.9x the average, within
-    /// the 4x a real-time loop is sized by) and 670 with `k = 3` (6.3x),
-    /// against 2,210 (21x; the entry, the tail's exponentials and the
-    /// damping term's zone rate stay); in Q16.16 on a Cortex-M0 6,006 with
-    /// `k = 1` (8.1x: each of its divisions is a long division there) and
-    /// 9,574 with `k = 3`, against 26,293 (the cost table's
+    /// (f32) costs 388 instructions with `k = 1` (3.7x the average, within
+    /// the 4x a real-time loop is sized by) and 644 with `k = 3` (6.2x),
+    /// against 2,185 (21x; the entry, the tail's exponentials and the
+    /// damping term's zone rate stay); in Q16.16 on a Cortex-M0 4,573 with
+    /// `k = 1` (6.3x: each of its divisions is a long division there) and
+    /// 7,091 with `k = 3`, against 18,782 (the cost table's
     /// `elasto-plastic-k1` and `-k3` rows).
     ///
     /// ```
