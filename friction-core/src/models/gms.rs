@@ -586,7 +586,8 @@ impl<S: Scalar, const N: usize> GmsAt<S, N> {
             .zip(state.force.iter_mut())
             .zip(state.mode.iter_mut())
         {
-            let b = e.alpha * g;
+            // alpha_i g, alpha_i <= 1 (a fraction but for a single element)
+            let b = g.mul_fraction(e.alpha);
             // used only while slipping, so with v != 0
             let target = signed(v, b);
             let (nf, nm) = element_step_at(e, *f, *mode, v, u, b, target, inv_g);
