@@ -315,6 +315,7 @@ impl Scalar for Fixed32 {
     const MIN_POSITIVE: Self = Self(I16F16::DELTA);
     const VELOCITY_LIMIT: Self = Self::from_bits(4 << 16);
     const SCALES_FORCES: bool = true;
+    const ALWAYS_FINITE: bool = true;
 
     /// A shift in 32-bit arithmetic (a 64-bit shift is a library call on
     /// ARMv6-M): right rounds to nearest (ties up), left saturates.

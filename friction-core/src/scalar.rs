@@ -113,6 +113,10 @@ pub trait Scalar:
     /// Whether [`Scalar::force_scale`] can differ from 1 (fixed point).
     const SCALES_FORCES: bool = false;
 
+    /// Whether every value is finite (fixed point: no NaN or infinity), so
+    /// that an input check is a clamp alone.
+    const ALWAYS_FINITE: bool = false;
+
     /// `self * factor` for a factor derived from [`Scalar::force_scale`]:
     /// skipped where forces are never scaled (floats), so that the
     /// fixed-step forms pay nothing for scaling in floating point.
