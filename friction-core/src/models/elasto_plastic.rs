@@ -543,9 +543,9 @@ impl<S: Scalar> ElastoPlasticAt<S> {
     /// (f32) costs 388 instructions with `k = 1` (3.7x the average, within
     /// the 4x a real-time loop is sized by) and 644 with `k = 3` (6.2x),
     /// against 2,185 (21x; the entry, the tail's exponentials and the
-    /// damping term's zone rate stay); in Q16.16 on a Cortex-M0 4,573 with
-    /// `k = 1` (6.3x: each of its divisions is a long division there) and
-    /// 7,091 with `k = 3`, against 18,782 (the cost table's
+    /// damping term's zone rate stay); in Q16.16 on a Cortex-M0 4,545 with
+    /// `k = 1` (6.4x: each of its divisions is a long division there) and
+    /// 7,058 with `k = 3`, against 18,706 (the cost table's
     /// `elasto-plastic-k1` and `-k3` rows).
     ///
     /// ```
