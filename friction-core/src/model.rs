@@ -154,7 +154,9 @@ pub(crate) fn non_negative(name: &'static str, value: f64) -> Result<f64, ParamE
 /// a non-zero value that underflows or loses more than 0.1 % to rounding is
 /// [`ParamError::Underflow`].
 pub(crate) fn convert<S: Scalar>(name: &'static str, value: f64) -> Result<S, ParamError> {
-    S::try_from_f64(value).map_err(|e| match e {
+    // `+ 0.0`: a parameter of -0 (which validation lets through as 0) is
+    // carried as +0, so that no product with it flips the sign of a zero
+    S::try_from_f64(value + 0.0).map_err(|e| match e {
         Conversion::Overflow => ParamError::NotRepresentable(name),
         Conversion::Underflow | Conversion::Rounding => ParamError::Underflow(name),
     })

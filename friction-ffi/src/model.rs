@@ -38,8 +38,8 @@ pub struct friction_model_f64 {
     pub opaque: [u64; FRICTION_MODEL_F64_WORDS],
 }
 
-opaque!(friction_model_f32, Model<f32>, 0x4D4D_4D4D);
-opaque!(friction_model_f64, Model<f64>, 0x6D6D_6D6D);
+opaque!(friction_model_f32, Model<f32>, 0xB1B1_B1B1);
+opaque!(friction_model_f64, Model<f64>, 0xB2B2_B2B2);
 
 /// Any core model with its state.
 #[derive(Clone, Copy, Debug)]

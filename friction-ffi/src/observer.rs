@@ -28,8 +28,8 @@ pub struct friction_observer_f64 {
     pub opaque: [u64; FRICTION_OBSERVER_F64_WORDS],
 }
 
-opaque!(friction_observer_f32, Estimator<f32>, 0x4F4F_4F4F);
-opaque!(friction_observer_f64, Estimator<f64>, 0x6F6F_6F6F);
+opaque!(friction_observer_f32, Estimator<f32>, 0xB3B3_B3B3);
+opaque!(friction_observer_f64, Estimator<f64>, 0xB4B4_B4B4);
 
 /// An observer with the state of its model.
 #[derive(Clone, Copy, Debug)]

@@ -32,8 +32,8 @@ pub struct friction_servo_f64 {
     pub opaque: [u64; FRICTION_SERVO_F64_WORDS],
 }
 
-opaque!(friction_servo_f32, Servo<f32>, 0x5353_5353);
-opaque!(friction_servo_f64, Servo<f64>, 0x7373_7373);
+opaque!(friction_servo_f32, Servo<f32>, 0xB5B5_B5B5);
+opaque!(friction_servo_f64, Servo<f64>, 0xB6B6_B6B6);
 
 /// The desired motion at a tick, in `float`.
 #[repr(C)]

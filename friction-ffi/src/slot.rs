@@ -14,15 +14,17 @@ pub(crate) trait Opaque: Sized {
     type Value: Copy;
     /// The tag written by the constructor: one per object type, so a
     /// never-initialised object (or one of another type) is refused. It
-    /// repeats one byte (`MMMM`, `mmmm`, `OOOO`, ...): Thumb-2 encodes such
-    /// a word as an instruction's immediate, so the check is one `cmp` and
-    /// no constant to build. 32 bits, not 64: a 64-bit tag took two `eor`s
-    /// and an `orr` more a call on the Cortex-M4F (the servo tick through
-    /// the C ABI, 1.10x the Rust tick's instructions, counts them).
+    /// repeats one byte, `0xB1` to `0xB6`: Thumb-2 encodes such a word as an
+    /// instruction's immediate, so the check is one `cmp` and no constant
+    /// to build; and the bytes are neither ASCII text nor a usual fill
+    /// pattern (`0x00`, `0xFF`, `0xAA`, `0x55`, `0xCD`, `0xDEADBEEF`) that
+    /// reused memory could hold. 32 bits, not 64: a 64-bit tag took two
+    /// `eor`s and an `orr` more a call on the Cortex-M4F (the servo tick
+    /// through the C ABI, 1.10x the Rust tick's instructions, counts them).
     const MAGIC: u32;
 }
 
-/// The layout a constructor writes: the tag word, then the value.
+/// The layout a constructor writes: the tag, then the value.
 #[repr(C)]
 struct Slot<V> {
     magic: u32,
@@ -35,7 +37,7 @@ const fn fits<O: Opaque>() -> bool {
         && core::mem::align_of::<Slot<O::Value>>() <= core::mem::align_of::<O>()
 }
 
-/// The object's tag word (its first word: `Slot` is `repr(C)` with the tag
+/// The object's tag (its first 32 bits: `Slot` is `repr(C)` with the tag
 /// first). Read through a pointer: the rest of the words may hold a value's
 /// padding, which is not data.
 fn tag<O: Opaque>(object: &O) -> u32 {

@@ -611,6 +611,49 @@ mod tests {
         assert!(LuGreParams { sigma2: 200.0, ..P }.is_passive());
     }
 
+    /// A parameter of -0 (let through as 0) is carried as +0: LuGre and
+    /// elasto-plastic models with `sigma1` = -0 and = +0 agree bit for bit,
+    /// the sign of a zero force included.
+    #[test]
+    fn negative_zero_parameters_are_zero() {
+        let plus = LuGreParams {
+            sigma1: 0.0,
+            ..LuGreParams::CANUDAS_1995
+        };
+        let minus = LuGreParams {
+            sigma1: -0.0,
+            ..LuGreParams::CANUDAS_1995
+        };
+        let vs = [0.0f32, -0.0, 1e-30, -1e-30, 1e-3, -2e-3, -0.0, 0.0];
+        let ep = |p: LuGreParams| {
+            let z_ba = 0.5 * p.curve.fc / p.sigma0;
+            crate::ElastoPlasticParams { lugre: p, z_ba }
+                .build_at::<f32>(1e-3)
+                .unwrap()
+        };
+        for start in [0.0f32, -0.0] {
+            let (a, b) = (
+                plus.build_at::<f32>(1e-3).unwrap(),
+                minus.build_at::<f32>(1e-3).unwrap(),
+            );
+            let (c, d) = (ep(plus), ep(minus));
+            let (mut sa, mut sb) = (LuGreAtState { w: start }, LuGreAtState { w: start });
+            let (mut sc, mut sd) = (LuGreAtState { w: start }, LuGreAtState { w: start });
+            for v in vs {
+                let (fa, fb) = (a.step(&mut sa, v), b.step(&mut sb, v));
+                assert_eq!(fa.to_bits(), fb.to_bits(), "LuGre, v = {v}");
+                assert_eq!(sa.w.to_bits(), sb.w.to_bits());
+                let (fc, fd) = (c.step(&mut sc, v), d.step(&mut sd, v));
+                assert_eq!(
+                    fc.to_bits(),
+                    fd.to_bits(),
+                    "elasto-plastic, v = {v}, from {start}"
+                );
+                assert_eq!(sc.w.to_bits(), sd.w.to_bits());
+            }
+        }
+    }
+
     #[test]
     fn zero_step_returns_force_at_current_state() {
         let m = P.build::<f64>().unwrap();
