@@ -338,7 +338,7 @@ impl Scalar for Fixed32 {
         }
     }
 
-    /// On ARMv6-M a factor in `0..1` takes [`fraction_product`] (two
+    /// On ARMv6-M a factor in `0..1` takes `fraction_product` (two
     /// partial products, no saturation), any other the full product: the
     /// same value either way.
     #[inline]
