@@ -689,7 +689,7 @@ impl<S: Scalar> ElastoPlasticAt<S> {
             let relax = |a: S| self.alpha(a, w_max) * a;
             let along = signed(v, shift).sat(lugre.fs() + lugre.fs());
             let (phi, left) = corrected_shift(signed(v, w), along, xi / w_max, relax);
-            w = w - shift * phi;
+            w = w - shift.mul_fraction(phi);
             kept = left;
         }
         let w = w.sat(lugre.fs());
@@ -711,7 +711,7 @@ impl<S: Scalar> ElastoPlasticAt<S> {
                 let d = lugre.damping(v);
                 f = f + self.damped_slip(d * v, signed(v, w_model), w_max, slip);
                 if CORRECTED {
-                    f = f - d * c * kept;
+                    f = f - (d * c).mul_fraction(kept);
                 }
             }
         }

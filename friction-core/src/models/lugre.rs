@@ -517,7 +517,7 @@ impl<S: Scalar> LuGreAt<S> {
         };
         if CORRECTED {
             // phi = 0 when x is infinite: the product stays a number
-            w = w - self.sigma0_h * c * phi;
+            w = w - (self.sigma0_h * c).mul_fraction(phi);
         }
         // w.sat(fs), with the test for the bound kept for the damping term
         // (|w+| >= Fs exactly when |w| >= Fs; a NaN is neither)
