@@ -36,8 +36,8 @@
 //! One long step matches many tiny ones, and the sheet's equation with `sin`
 //! integrated finely, to `3e-5 (z_max - z_ba)` in `w` for any distance; on
 //! the validation signals the step is the exact solution for the held
-//! velocity to `5e-6 Fs` RMS in force. The distance past `z_ba` is capped at `1000 z_max`
-//! (beyond it `e^(-1000)` rounds to 0), so every step is finite for any
+//! velocity to `5e-6 Fs` RMS in force. The distance past `z_ba` is capped at `1024 z_max`
+//! (beyond it `e^(-1024)` rounds to 0), so every step is finite for any
 //! finite `v` and `h`, also in `f32`; `|z| <= Fs/sigma0` is kept by a final
 //! clamp, and the steady state (`u = 0`, `w = z_max`) is exactly the Stribeck map.
 //!
@@ -51,7 +51,7 @@
 
 use crate::fixed_step::{checked_velocity, signed, FixedStepModel, FixedStepObservable};
 use crate::model::{checked_inputs, convert, magnitude, FrictionModel, ParamError};
-use crate::models::lugre::{relax, LuGre, LuGreAt, LuGreAtState, LuGreParams, LuGreState};
+use crate::models::lugre::{phi_series, LuGre, LuGreAt, LuGreAtState, LuGreParams, LuGreState};
 use crate::observer::Observable;
 use crate::Scalar;
 
@@ -170,8 +170,8 @@ impl<S: Scalar> ElastoPlastic<S> {
             xi = xi - reach;
         }
         // Past the elastic part every path relaxes onto z_max at least as
-        // fast as e^(-xi / z_max): beyond 1000 z_max nothing is left to move
-        // (e^-1000 is 0 in f32 and f64). The cap keeps xi finite (f32's
+        // fast as e^(-xi / z_max): beyond 1024 z_max nothing is left to move
+        // (e^-1024 is 0 in f32 and f64). The cap keeps xi finite (f32's
         // `v h` can overflow) and every product below free of inf * 0.
         xi = xi.min(S::from_f64(XI_CAP) * z_max);
         // above z_max alpha = 1: dw/dxi = 1 - w / z_max, exact relaxation
@@ -247,7 +247,7 @@ impl<S: Scalar> ElastoPlastic<S> {
 #[inline]
 fn relaxed_fraction<S: Scalar>(u: S) -> S {
     let x = S::from_f64(Q).mul_fraction(u).mul_fraction(u);
-    let p = sin_over_x(x);
+    let p = sin_over_phi(x.mul_fraction(S::from_f64(0.25)));
     (S::ONE - x.mul_fraction(p).mul_fraction(p)).max(S::ZERO)
 }
 
@@ -333,7 +333,7 @@ fn shift_factors<S: Scalar>(x: S) -> (S, S) {
 
 /// Largest distance slid past the elastic part that a step integrates, in
 /// units of `z_max` (see `advance_w`).
-const XI_CAP: f64 = 1000.0;
+const XI_CAP: f64 = 1024.0;
 /// Sub-steps of the transition zone: each has `h r <= RK_REACH`.
 const RK_REACH: f64 = 0.5;
 /// Most sub-steps in one step; 22 suffice from `u = 1` down to `TAIL` (the
@@ -387,9 +387,9 @@ fn zone_step<S: Scalar>(mut u: S, mut left: S, eps: S) -> (S, usize) {
 /// `P = sin(phi) / phi` (`phi = pi u / 2`) a polynomial: returns `(r, b)`.
 #[inline]
 fn zone_rate<S: Scalar>(u: S, eps: S) -> (S, S) {
-    // u, eps, p = sin(phi)/phi and 1 - eps u are fractions
-    let x = S::from_f64(Q).mul_fraction(u).mul_fraction(u); // phi^2 <= (pi/2)^2
-    let p = sin_over_x(x);
+    // u, eps, p = sin(phi)/phi, (phi/2)^2 and 1 - eps u are fractions
+    let y = S::from_f64(Q / 4.0).mul_fraction(u).mul_fraction(u); // (phi/2)^2
+    let p = sin_over_phi(y);
     let b = S::from_f64(Q)
         .mul_fraction(p)
         .mul_fraction(p)
@@ -397,23 +397,29 @@ fn zone_rate<S: Scalar>(u: S, eps: S) -> (S, S) {
     (eps + b.mul_fraction(u), b)
 }
 
-/// `sin(phi) / phi` for `x = phi^2 <= (pi/2)^2`: the Taylor series to
-/// `phi^12`, whose error is below `(pi/2)^14 / 15! = 4.3e-10` there.
+/// `sin(phi) / phi` from `y = (phi/2)^2 <= (pi/4)^2`: the Taylor series
+/// `sum_n (-4y)^n / (2n + 1)!` with `4^n` folded into the coefficients, so
+/// that in fixed point every product is with the fraction `y` (Cortex-M0,
+/// Q16.16: about 12 instructions instead of 27). Its terms run to `phi^12`
+/// in `f64` (error below `(pi/2)^14 / 15! = 4.3e-10`), to `phi^10` in a
+/// scalar that cannot tell `1 + 1e-9` from 1 (`f32`: below `3.6e-8`, under
+/// half its unit at 1) and to `phi^8` in one that cannot tell `1 + 4e-6`
+/// from 1 (Q16.16: below `2.3e-6`, a third of its half step): tests the
+/// compiler folds away.
 #[inline]
-fn sin_over_x<S: Scalar>(x: S) -> S {
-    const C: [f64; 6] = [
-        -1.0 / 6.0,
-        1.0 / 120.0,
-        -1.0 / 5040.0,
-        1.0 / 362_880.0,
-        -1.0 / 39_916_800.0,
-        1.0 / 6_227_020_800.0,
-    ];
-    let mut acc = S::ZERO;
-    for c in C.iter().rev() {
-        acc = (acc + S::from_f64(*c)) * x;
-    }
-    S::ONE + acc
+fn sin_over_phi<S: Scalar>(y: S) -> S {
+    // 4^n / (2n + 1)!
+    let c = |four_n: f64, factorial: f64| S::from_f64(four_n / factorial);
+    let y_times = |a: S| a.mul_fraction(y);
+    let tail = if S::from_f64(1.0 + 4e-6) == S::ONE {
+        c(256.0, 362_880.0)
+    } else if S::from_f64(1.0 + 1e-9) == S::ONE {
+        c(256.0, 362_880.0) - y_times(c(1024.0, 39_916_800.0))
+    } else {
+        c(256.0, 362_880.0) - y_times(c(1024.0, 39_916_800.0) - y_times(c(4096.0, 6_227_020_800.0)))
+    };
+    S::ONE
+        - y_times(c(4.0, 6.0) - y_times(c(16.0, 120.0) - y_times(c(64.0, 5040.0) - y_times(tail))))
 }
 
 /// `dW/dX` of the fixed-step form at a force `w` along the motion, and in
@@ -436,7 +442,8 @@ struct Slip<S> {
 /// relaxed step ends on `w_max` exactly: a gap of one rounding step there is
 /// multiplied by `sigma1 |v| / width` in the damping term (in Q16.16, 9 % of
 /// Fs for `sigma1 = 95`, `Fs = 0.063` at 1 m/s). The caller clamps
-/// `w + rise` to `w_max`. The tail's exponentials come from [`relax`].
+/// `w + rise` to `w_max`. The tail's `phi` comes from its series below
+/// `x = 0.1`, `e^-x` from [`Scalar::exp_neg`] above.
 fn zone_step_at<S: Scalar>(
     mut u: S,
     mut xi: S,
@@ -480,23 +487,33 @@ fn zone_step_at<S: Scalar>(
         }
         (r, b) = zone_rate(u, eps);
     }
-    // eps, u, phi, 1 - (1 - e^-x), a half and a sixth are fractions
+    // eps, u, phi, e^-x, 1 - e^-x, a half and a sixth are fractions
     let x = left.mul_fraction(eps);
-    let (one_minus_e, phi) = relax(x);
-    let grown = b.mul_fraction(u) * left.mul_fraction(phi);
     if x < S::from_f64(0.1) {
         // u - u+ = u left phi (eps + b u) / (1 + b u phi left), times width
         // (xi = left width): the force-unit distance first
+        let phi = phi_series(x);
+        let grown = b.mul_fraction(u) * left.mul_fraction(phi);
         rise + (xi * (eps + b.mul_fraction(u)))
             .mul_fraction(u)
             .mul_fraction(phi)
             / (S::ONE + grown)
     } else {
-        // u+ / u = (1 - one_minus_e) / (1 + grown), applied to the gap
+        // u+ / u = e^-x / (1 + b u (1 - e^-x) / eps), applied to the gap, as
+        // one quotient in [0, 1]: e^-x eps / (eps + b u (1 - e^-x)), its two
+        // small terms lifted by 2^8 (a shift in fixed point, where a lone
+        // rounding of eps e^-x would be relative; nothing in floating point)
+        let e = x.exp_neg();
+        let eps_lifted = eps.rescale_pow2(LIFT);
+        let bu_lifted = b.mul_fraction(u).rescale_pow2(LIFT);
+        let kept = eps_lifted.mul_fraction(e) / (eps_lifted + bu_lifted.mul_fraction(S::ONE - e));
         let left_gap = (gap - rise).max(S::ZERO);
-        gap - left_gap.mul_fraction(S::ONE - one_minus_e) / (S::ONE + grown)
+        gap - left_gap.mul_fraction(kept)
     }
 }
+
+/// The power of two the tail's quotient lifts its small terms by.
+const LIFT: i8 = 8;
 
 /// The elasto-plastic model built for one sample period `h`
 /// ([`ElastoPlasticParams::build_at`]), with the elastic force `w = sigma0 z`
@@ -531,22 +548,24 @@ pub struct ElastoPlasticAt<S> {
 
 impl<S: Scalar> ElastoPlasticAt<S> {
     /// The same model with at most `k` RK4 sub-steps of the transition zone
-    /// a step (1 to 24, clamped; 24 when built, enough for any distance):
+    /// a step (0 to 24, clamped; 24 when built, enough for any distance):
     /// a real-time loop sized by its worst step trades accuracy for a
     /// bound. The distance left after `k` sub-steps goes to the closed-form
-    /// tail with the rate's `b` frozen where the sub-steps stopped. Only a
-    /// step that crosses most of the zone at once is affected: measured
-    /// against the full step over every distance and zone shape (`eps` 0.01
-    /// to 1), the state `w` is off by at most 8.7 % of the zone's width
-    /// `g(v) - sigma0 z_ba` with `k = 1` (5.0 % with 2, 2.8 % with 3, 1.5 %
-    /// with 4, 0.4 % with 6, 7e-5 with 12). The worst step on a Cortex-M4F
-    /// (f32) costs 388 instructions with `k = 1` (3.7x the average, within
-    /// the 4x a real-time loop is sized by) and 644 with `k = 3` (6.2x),
-    /// against 2,185 (21x; the entry, the tail's exponentials and the
-    /// damping term's zone rate stay); in Q16.16 on a Cortex-M0 4,545 with
-    /// `k = 1` (6.4x: each of its divisions is a long division there) and
-    /// 7,058 with `k = 3`, against 18,706 (the cost table's
-    /// `elasto-plastic-k1` and `-k3` rows).
+    /// tail with the rate's `b` frozen where the sub-steps stopped (with
+    /// `k = 0`, where the step started). Only a step that crosses most of
+    /// the zone at once is affected: measured against the full step over
+    /// every distance and zone shape (`eps` 0.01 to 1), the state `w` is off
+    /// by at most 14.1 % of the zone's width `g(v) - sigma0 z_ba` with
+    /// `k = 0`, 8.7 % with 1 (5.0 % with 2, 2.8 % with 3, 1.5 % with 4,
+    /// 0.4 % with 6, 7e-5 with 12). The worst step on a Cortex-M4F (f32)
+    /// costs 259 instructions with `k = 0` (2.5x the average), 381 with
+    /// `k = 1` (3.7x, both within the 4x a real-time loop is sized by) and
+    /// 622 with `k = 3` (6.0x), against 2,067 (20x; the entry, the tail's
+    /// exponential and the damping term's zone rate stay); in Q16.16 on a
+    /// Cortex-M0 2,724 with `k = 0` (3.8x), 3,693 with `k = 1` (5.2x: each
+    /// of its seven divisions is a long division there) and 5,650 with
+    /// `k = 3`, against 14,864 (the cost table's `elasto-plastic-k0`, `-k1`
+    /// and `-k3` rows).
     ///
     /// ```
     /// use friction_core::{ElastoPlasticParams, LuGreParams};
@@ -557,7 +576,7 @@ impl<S: Scalar> ElastoPlasticAt<S> {
     /// ```
     #[must_use]
     pub fn with_max_substeps(mut self, k: u8) -> Self {
-        self.max_substeps = k.clamp(1, MAX_SUBSTEPS as u8);
+        self.max_substeps = k.min(MAX_SUBSTEPS as u8);
         self
     }
 
@@ -628,7 +647,8 @@ impl<S: Scalar> ElastoPlasticAt<S> {
         } else {
             (w_max - self.w_ba, slip.zone_rate)
         };
-        if dv.abs() < width * S::from_f64(8192.0) {
+        // |dv| < 8192 width, without a product that would saturate
+        if dv.abs().mul_fraction(S::from_f64(1.0 / 8192.0)) < width {
             (dv / width) * (w_max - w) * r
         } else {
             dv * slip.slope
@@ -647,7 +667,10 @@ impl<S: Scalar> ElastoPlasticAt<S> {
             w = self.w_ba;
             xi = xi - reach;
         }
-        xi = xi.min(S::from_f64(XI_CAP) * w_max);
+        // xi <= XI_CAP w_max, without a product that would saturate
+        if xi.mul_fraction(S::from_f64(1.0 / XI_CAP)) > w_max {
+            xi = S::from_f64(XI_CAP) * w_max;
+        }
         if w >= w_max {
             // xi / w_max as a quotient of two scaled forces: any product
             // form would saturate (k xi / g) or use a tiny 1/(k g)

@@ -557,6 +557,7 @@ macro_rules! fixed_step_rows {
             ("elasto-plastic-k3", 0.5, 3),
             ("elasto-plastic-z99-k3", 0.99, 3),
             ("elasto-plastic-k1", 0.5, 1),
+            ("elasto-plastic-k0", 0.5, 0),
         ] {
             let ep = ElastoPlasticParams {
                 lugre: NOMINAL,
