@@ -10,7 +10,8 @@
 # Needs qemu-system-arm, the thumbv6m-none-eabi target, the rustup
 # component llvm-tools and python3; source lines need
 # arm-none-eabi-addr2line. The log (about 350 MB) goes to target/profile/
-# and is removed afterwards. Usage: profile.sh [LINES]
+# and is removed afterwards. Usage: profile.sh [LINES [WITHIN]] (see
+# cost/profile.py)
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -32,4 +33,4 @@ timeout "$limit" qemu-system-arm -machine mps2-an385 -nographic \
   -semihosting-config enable=on,target=native -singlestep \
   -d exec,nochain -D "$out/trace.log" -kernel "$elf"
 # steps per case: a sweep period, one step, one step, a sweep period
-python3 cost/profile.py "$nm" "$elf" "$out/trace.log" 64,1,1,64 "${1:-12}"
+python3 cost/profile.py "$nm" "$elf" "$out/trace.log" 64,1,1,64 "${1:-12}" "${2:-src/models/}"

@@ -117,6 +117,12 @@ pub trait Scalar:
     /// that an input check is a clamp alone.
     const ALWAYS_FINITE: bool = false;
 
+    /// Whether a quotient is one instruction (floating point on a core with
+    /// a floating-point unit), so that a step forms one it may not need
+    /// rather than test whether it needs it; not in fixed point (a long
+    /// division) or soft float (a library call).
+    const CHEAP_DIVISION: bool = false;
+
     /// `self * factor` for a factor derived from [`Scalar::force_scale`]:
     /// skipped where forces are never scaled (floats), so that the
     /// fixed-step forms pay nothing for scaling in floating point.
@@ -223,6 +229,7 @@ macro_rules! impl_float_scalar {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
             const EXP2_FOLDS: bool = true;
+            const CHEAP_DIVISION: bool = FLOAT_UNIT;
             const MIN_POSITIVE: Self = <$t>::MIN_POSITIVE;
             const VELOCITY_LIMIT: Self = crate::model::VELOCITY_LIMIT as $t;
             #[inline]

@@ -1,13 +1,15 @@
 #!/usr/bin/env python3
 """Counts a QEMU execution trace by function and source line (profile.sh).
 
-Usage: profile.py NM ELF TRACE STEPS [LINES]
+Usage: profile.py NM ELF TRACE STEPS [LINES [WITHIN]]
 
 NM is llvm-nm, ELF the profile binary, TRACE the log of
 `qemu-system-arm -singlestep -d exec,nochain` (one line per executed
 instruction), STEPS the comma-separated number of steps each case runs
 (the counts are divided by it), LINES how many source lines to print per
-case (default 12; needs arm-none-eabi-addr2line, skipped without it).
+case (default 12; needs arm-none-eabi-addr2line, skipped without it), and
+WITHIN the part of a source path a line is attributed to when arithmetic is
+inlined into it (default `src/models/`: the model's own line).
 
 Only the instructions between an entry into `mark_begin` and the next
 entry into `mark_end` are counted; each such span is one case.
@@ -43,6 +45,7 @@ def symbols(nm, elf):
 def main():
     nm, elf, trace, steps = sys.argv[1:5]
     lines = int(sys.argv[5]) if len(sys.argv) > 5 else 12
+    within = sys.argv[6] if len(sys.argv) > 6 else "src/models/"
     steps = [float(s) for s in steps.split(",")]
     syms = symbols(nm, elf)
     starts = [s[0] for s in syms]
@@ -89,15 +92,19 @@ def main():
         if not (addr2line and lines):
             continue
         addrs = sorted(counts)
-        where = subprocess.run(
-            [addr2line, "-e", elf] + [hex(a) for a in addrs],
-            capture_output=True,
-            text=True,
-            check=True,
-        ).stdout.splitlines()
         by_line = collections.Counter()
-        for addr, loc in zip(addrs, where):
-            loc = re.sub(r".*/(friction-core|friction-firmware-example|library)/", r"\1/", loc)
+        for addr in addrs:
+            # the inlined frames, innermost first: the line is the first
+            # that matches `within` (a model's own source, not the
+            # arithmetic inlined into it), else the innermost
+            frames = subprocess.run(
+                [addr2line, "-i", "-e", elf, hex(addr)],
+                capture_output=True,
+                text=True,
+                check=True,
+            ).stdout.split()
+            frames = [re.sub(r".*/(friction-core|friction-firmware-example|library)/", r"\1/", f) for f in frames]
+            loc = next((f for f in frames if within in f), frames[0] if frames else "?")
             by_line[loc] += counts[addr]
         for loc, k in by_line.most_common(lines):
             print(f"    {k / per:8.1f}  {loc}")

@@ -577,9 +577,14 @@ impl<S: Scalar, const N: usize> GmsAt<S, N> {
         // g scaled (>= Fc scaled > 0); 1/g unscaled: in fixed point the
         // reciprocal of a scaled g would be a few steps
         let g = self.curve.eval_fast(v);
-        let inv_g = self.scale_s / g;
+        // formed only if an element slips: a step where every element sticks
+        // (pre-sliding, the servo's holding) takes no division
+        let mut inv_g = Reciprocal::new(self.scale_s, g);
         let u = v - c;
         let mut total = self.sigma2 * v;
+        // sum of sigma1_i over the sticking elements (at most sigma1_sum,
+        // which fits), times u once after the loop
+        let mut stuck_sigma1 = S::ZERO;
         for ((e, f), mode) in self
             .elements
             .iter()
@@ -590,24 +595,59 @@ impl<S: Scalar, const N: usize> GmsAt<S, N> {
             let b = g.mul_fraction(e.alpha);
             // used only while slipping, so with v != 0
             let target = signed(v, b);
-            let (nf, nm) = element_step_at(e, *f, *mode, v, u, b, target, inv_g);
+            let (nf, nm) = element_step_at(e, *f, *mode, v, u, b, target, &mut inv_g);
             *f = nf;
             *mode = nm;
             total = total + nf;
             if damping {
-                total = total
-                    + if nm.slips_with(v) {
-                        // sigma1_i dz_i/dt = sigma1_i C / (alpha_i k_i) (target - F_i) / g:
-                        // the scaled force difference times an unscaled ratio
-                        (target - nf) * (e.slip_sigma1 * inv_g)
-                    } else if (u > S::ZERO && nf >= b) || (u < S::ZERO && -nf >= b) {
-                        S::ZERO // held at the bound by a correction against v
-                    } else {
-                        e.sigma1 * u
-                    };
+                if nm.slips_with(v) {
+                    // sigma1_i dz_i/dt = sigma1_i C / (alpha_i k_i) (target - F_i) / g:
+                    // the scaled force difference times an unscaled ratio
+                    total = total + (target - nf) * (e.slip_sigma1 * inv_g.get());
+                } else if !((u > S::ZERO && nf >= b) || (u < S::ZERO && -nf >= b)) {
+                    // sticking (not held at the bound by a correction
+                    // against v): sigma1_i u
+                    stuck_sigma1 = stuck_sigma1 + e.sigma1;
+                }
             }
         }
+        if damping {
+            total = total + stuck_sigma1 * u;
+        }
         total
+    }
+}
+
+/// `n / d`, divided on first use and kept (at once where a division is one
+/// instruction, [`Scalar::CHEAP_DIVISION`]): GMS's `1/g`, which only a
+/// slipping element needs. Q16.16 GMS(4) on a Cortex-M0 over the cost
+/// table's sweep, where every element sticks: 1,219 -> 921 instructions.
+struct Reciprocal<S> {
+    n: S,
+    d: S,
+    quotient: Option<S>,
+}
+
+impl<S: Scalar> Reciprocal<S> {
+    #[inline(always)]
+    fn new(n: S, d: S) -> Self {
+        Self {
+            n,
+            d,
+            quotient: if S::CHEAP_DIVISION { Some(n / d) } else { None },
+        }
+    }
+
+    #[inline(always)]
+    fn get(&mut self) -> S {
+        match self.quotient {
+            Some(q) => q,
+            None => {
+                let q = self.n / self.d;
+                self.quotient = Some(q);
+                q
+            }
+        }
     }
 }
 
@@ -627,7 +667,7 @@ fn element_step_at<S: Scalar>(
     u: S,
     b: S,
     target: S,
-    inv_g: S,
+    inv_g: &mut Reciprocal<S>,
 ) -> (S, SlipMode) {
     let mut f = f;
     let mut mode = mode;
@@ -668,6 +708,7 @@ fn element_step_at<S: Scalar>(
         // (target - F_i)(1 - e^-x) = ((target - F_i) C h / alpha_i) (s / g) phi(x),
         // the scaled difference first, so that a slow relaxation is not lost to rounding
         // (the relaxations below are fractions)
+        let inv_g = inv_g.get();
         let x = e.c_h_over_alpha * inv_g * left;
         f = if x < S::from_f64(0.1) {
             f + ((target - f) * e.c_h_over_alpha * (inv_g * left)).mul_fraction(phi_series(x))

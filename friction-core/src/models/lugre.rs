@@ -171,16 +171,20 @@ impl LuGreParams {
             Some(vd) => convert_derived("vd", 1.0 / (vd * vd))?,
             None => S::ZERO,
         };
+        let sigma1 = convert("sigma1", k * self.sigma1)?;
+        let inv_scale_exp = crate::scalar::inverse_scale_exp(k);
         Ok(LuGreAt {
             curve,
             sigma0_h: convert("sigma0", k * sigma0_h)?,
-            sigma1: convert("sigma1", k * self.sigma1)?,
+            sigma1,
+            // the step's own unscaling, done once
+            sigma1_unscaled: sigma1.rescale_pow2(inv_scale_exp),
             sigma2: convert("sigma2", k * self.sigma2)?,
             inv_vd_sq,
             fades: inv_vd_sq > S::ZERO,
             fs: convert("fs", k * fs)?,
             rate_factor: convert_derived("fs", 1.0 + fs / fc)?,
-            inv_scale_exp: crate::scalar::inverse_scale_exp(k),
+            inv_scale_exp,
             scale_s: convert("fs", k)?,
             scale: k,
             h,
@@ -357,6 +361,8 @@ pub struct LuGreAt<S> {
     /// `sigma0 h`, times the force scale.
     sigma0_h: S,
     sigma1: S,
+    /// `sigma1` unscaled (the damping factor's; formed at build).
+    sigma1_unscaled: S,
     sigma2: S,
     inv_vd_sq: S,
     fs: S,
@@ -527,16 +533,26 @@ impl<S: Scalar> LuGreAt<S> {
         let mut f = w + self.sigma2 * v;
         if damping {
             // dz/dt = (v - c) - |v| w / g, zero while held at the bound
-            let ratio = self.unscale(w * inv_g);
-            let dz = (v - c) - speed * ratio;
-            if !(at_bound && dz * w > S::ZERO) {
+            // (formed only at the bound: Q16.16 on a Cortex-M0 saves two
+            // products and a rescale a step)
+            let held = at_bound && {
+                let ratio = self.unscale(w * inv_g);
+                let dz = (v - c) - speed * ratio;
+                dz * w > S::ZERO
+            };
+            if !held {
                 // sigma1 dz/dt = (sigma1 |v| / g) (sign(v) g - w) - sigma1 c:
                 // the small difference of two scaled forces times a
                 // dimensionless factor formed from the unscaled sigma1 and
                 // 1/g, so that no rounding of a ratio (1.5e-5 in fixed
                 // point) is multiplied by sigma1 |v|, and with no division
-                let d = self.damping(v);
-                let factor = self.unscale(d) * speed * inv_g;
+                let (d, d_unscaled) = if self.fades {
+                    let d = self.damping(v);
+                    (d, self.unscale(d))
+                } else {
+                    (self.sigma1, self.sigma1_unscaled)
+                };
+                let factor = d_unscaled * speed * inv_g;
                 let mut damped = factor * gap_end(v, g, w);
                 if CORRECTED {
                     damped = damped - d * c;
