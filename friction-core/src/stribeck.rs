@@ -122,6 +122,14 @@ impl<S: Scalar> StribeckCurve<S> {
     pub fn eval_fast(&self, v: S) -> S {
         let r = (v * self.inv_vs_fast).abs();
         let p = match self.shape {
+            // in fixed point r at most 181, so that r^2 fits (32,761) and
+            // does not take the saturating product's slow path (47
+            // instructions instead of 27 on a Cortex-M0): e^-x is 0 from
+            // x = 11.1 on either way
+            Shape::Square if S::ALWAYS_FINITE => {
+                let r = r.min(S::from_f64(181.0));
+                r * r
+            }
             Shape::Square => r * r,
             Shape::Linear => r,
             Shape::Power(delta) if S::EXP2_FOLDS => {

@@ -555,17 +555,20 @@ impl<S: Scalar> ElastoPlasticAt<S> {
     /// `k = 0`, where the step started). Only a step that crosses most of
     /// the zone at once is affected: measured against the full step over
     /// every distance and zone shape (`eps` 0.01 to 1), the state `w` is off
-    /// by at most 14.1 % of the zone's width `g(v) - sigma0 z_ba` with
+    /// by at most 14.5 % of the zone's width `g(v) - sigma0 z_ba` with
     /// `k = 0`, 8.7 % with 1 (5.0 % with 2, 2.8 % with 3, 1.5 % with 4,
     /// 0.4 % with 6, 7e-5 with 12). The worst step on a Cortex-M4F (f32)
-    /// costs 259 instructions with `k = 0` (2.5x the average), 381 with
+    /// costs 259 instructions with `k = 0` (2.5x the average), 382 with
     /// `k = 1` (3.7x, both within the 4x a real-time loop is sized by) and
     /// 622 with `k = 3` (6.0x), against 2,067 (20x; the entry, the tail's
     /// exponential and the damping term's zone rate stay); in Q16.16 on a
-    /// Cortex-M0 2,724 with `k = 0` (3.8x), 3,693 with `k = 1` (5.2x: each
-    /// of its seven divisions is a long division there) and 5,650 with
-    /// `k = 3`, against 14,864 (the cost table's `elasto-plastic-k0`, `-k1`
-    /// and `-k3` rows).
+    /// Cortex-M0 2,592 with `k = 0` (3.9x), 3,561 with `k = 1` (5.4x: each
+    /// of its seven divisions is a long division there) and 5,525 with
+    /// `k = 3`, against 14,743 (the cost table's `elasto-plastic-k0`, `-k1`
+    /// and `-k3` rows). The damping term `sigma1 |v| dW/dX` carries the
+    /// state's error into the force: from rest, at a speed that crosses
+    /// the zone in one step, by up to 49 Fs with `k = 0` (35 Fs with 1, 12
+    /// Fs with 3), one step's transient.
     ///
     /// ```
     /// use friction_core::{ElastoPlasticParams, LuGreParams};
