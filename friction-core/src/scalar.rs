@@ -224,12 +224,12 @@ pub trait Scalar:
 }
 
 macro_rules! impl_float_scalar {
-    ($t:ty, $abs:path, $exp:path, $exp_neg:path, $exp2_neg:path, $expm1:path, $log1p:path, $pow:path) => {
+    ($t:ty, $cheap_division:expr, $abs:path, $exp:path, $exp_neg:path, $exp2_neg:path, $expm1:path, $log1p:path, $pow:path) => {
         impl Scalar for $t {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
             const EXP2_FOLDS: bool = true;
-            const CHEAP_DIVISION: bool = FLOAT_UNIT;
+            const CHEAP_DIVISION: bool = $cheap_division;
             const MIN_POSITIVE: Self = <$t>::MIN_POSITIVE;
             const VELOCITY_LIMIT: Self = crate::model::VELOCITY_LIMIT as $t;
             #[inline]
@@ -295,6 +295,7 @@ macro_rules! impl_float_scalar {
 
 impl_float_scalar!(
     f32,
+    FLOAT_UNIT,
     libm::fabsf,
     libm::expf,
     exp_neg_f32,
@@ -303,8 +304,11 @@ impl_float_scalar!(
     libm::log1pf,
     libm::powf
 );
+// an ARM core's floating-point unit, where it has one, is taken to be
+// single precision (Cortex-M4F, M33): f64 is a library call there
 impl_float_scalar!(
     f64,
+    FLOAT_UNIT && !cfg!(target_arch = "arm"),
     libm::fabs,
     libm::exp,
     exp_neg_f64,

@@ -528,8 +528,9 @@ struct ElementAt<S> {
 ///
 /// the variable-step form's exact held-velocity step (Lampaert, Al-Bender,
 /// Swevers 2003; see [`Gms`]) with `k_i h`, `C h / alpha_i` and
-/// `sigma1_i C / (alpha_i k_i)` formed in `f64` at build time, one reciprocal `1/g`
-/// per step and, for the relaxation, a series below `x = 0.1` then
+/// `sigma1_i C / (alpha_i k_i)` formed in `f64` at build time, at most one
+/// reciprocal `1/g` per step (none while every element sticks, in fixed
+/// point and soft float) and, for the relaxation, a series below `x = 0.1` then
 /// [`Scalar::exp_neg`]. Forces (the element forces of the state included)
 /// are carried times a power of two `k` ([`Scalar::force_scale`]: 1 in
 /// floating point), as in [`LuGreAt`](crate::LuGreAt), and the force is
@@ -621,7 +622,8 @@ impl<S: Scalar, const N: usize> GmsAt<S, N> {
 /// `n / d`, divided on first use and kept (at once where a division is one
 /// instruction, [`Scalar::CHEAP_DIVISION`]): GMS's `1/g`, which only a
 /// slipping element needs. Q16.16 GMS(4) on a Cortex-M0 over the cost
-/// table's sweep, where every element sticks: 1,219 -> 921 instructions.
+/// table's sweep, where every element sticks: 1,219 -> 921 instructions
+/// (856 with the sticking elements' damping summed, below).
 struct Reciprocal<S> {
     n: S,
     d: S,
