@@ -501,8 +501,9 @@ fn zone_step_at<S: Scalar>(
     } else {
         // u+ / u = e^-x / (1 + b u (1 - e^-x) / eps), applied to the gap, as
         // one quotient in [0, 1]: e^-x eps / (eps + b u (1 - e^-x)), its two
-        // small terms lifted by 2^8 (a shift in fixed point, where a lone
-        // rounding of eps e^-x would be relative; nothing in floating point)
+        // small terms lifted by 2^8 (a shift in fixed point, whose rounding
+        // of an unlifted eps e^-x would be large relative to it; nothing in
+        // floating point)
         let e = x.exp_neg();
         let eps_lifted = eps.rescale_pow2(LIFT);
         let bu_lifted = b.mul_fraction(u).rescale_pow2(LIFT);
