@@ -52,9 +52,9 @@ use friction_core::{
 use friction_core::{
     Bristle, BristleParams, BristleState, Compensator, CompensatorState, CoulombViscous,
     CoulombViscousParams, Dahl, DahlParams, DahlState, ElastoPlastic, ElastoPlasticParams,
-    FrictionModel, Gms, GmsElement, GmsParams, GmsState, LuGre, LuGreState, Observer,
-    ResetIntegrator, ResetIntegratorParams, ResetIntegratorState, Scalar, Setpoint, StribeckMap,
-    StribeckMapParams, Xiong, XiongElement, XiongParams, XiongState,
+    FrictionModel, Gms, GmsState, LuGre, LuGreState, Observer, ResetIntegrator,
+    ResetIntegratorParams, ResetIntegratorState, Scalar, Setpoint, StribeckMap, StribeckMapParams,
+    Xiong, XiongElement, XiongParams, XiongState,
 };
 
 // the servo's model, loop period (the variable-step rows pass `H` through
@@ -62,6 +62,11 @@ use friction_core::{
 #[path = "../setup.rs"]
 mod setup;
 use setup::{adaptation, controller, leuven_nominal, H, NOMINAL, OBSERVER_GAIN};
+// the sweep, the stress sequence and the GMS / Xiong elements, shared with
+// the profile (`profile.rs`)
+#[path = "../inputs.rs"]
+mod inputs;
+use inputs::{element, gms_params, stress_velocity, sweep_velocity, STRESS_LEN};
 
 /// The position error the observer rows see.
 const OBSERVER_ERROR: f32 = 1e-5;
@@ -71,13 +76,6 @@ const SWEEP_STEPS: usize = 1024;
 /// Repetitions of a replayed step (one SysTick tick is 40 instructions, so
 /// the worst case is resolved to better than one instruction).
 const REPS: u32 = 64;
-/// Magnitudes (rad/s) of the stress sequence; 1e7 is clamped to 1e6.
-const STRESS: [f64; 14] = [
-    1e-4, 1e-3, 3e-3, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0, 50.0, 1e3, 1e6, 1e7,
-];
-/// Signs of the stress sequence at each magnitude: reversing every step,
-/// then held.
-const PATTERN: [f64; 6] = [1.0, -1.0, 1.0, 1.0, -1.0, -1.0];
 
 /// The core label from the target the binary was built for.
 const CORE: &str = match env!("COST_TARGET").as_bytes() {
@@ -369,20 +367,6 @@ fn hundredths(x: f32) -> Fixed {
     Fixed(round(100.0 * x), 2)
 }
 
-/// The sweep: `0.01 sin(0.1963 k)` rad/s, two periods in 64 steps, repeated.
-fn sweep_velocity(k: usize) -> f64 {
-    0.01 * libm::sin((k % 64) as f64 * 0.1963)
-}
-
-/// Step `k` of the stress sequence.
-fn stress_velocity(k: usize) -> f64 {
-    let m = STRESS.get(k / PATTERN.len()).copied().unwrap_or(0.0);
-    let s = PATTERN.get(k % PATTERN.len()).copied().unwrap_or(1.0);
-    m * s
-}
-
-const STRESS_LEN: usize = STRESS.len() * PATTERN.len();
-
 /// One non-inlined step function per row: `step_fn!(name, Model, State, Input
 /// => Output, |model, state, input| body)`.
 macro_rules! step_fn {
@@ -587,38 +571,6 @@ macro_rules! fixed_step_rows {
             row!($pt, "xiong16", $label, f, &m, $xiong16, $S);
         }
     }};
-}
-
-/// GMS and Xiong elements for `N`: stiffnesses spread geometrically over a
-/// factor 8 and summing to sigma0 = 260 N m/rad, weights falling linearly
-/// with stiffness, damping (Xiong: viscosity) sharing sigma1 = 0.6 in
-/// proportion to stiffness.
-fn element(i: usize, n: usize) -> (f64, f64, f64) {
-    let spread = |j: usize| {
-        if n > 1 {
-            libm::pow(8.0, j as f64 / (n - 1) as f64)
-        } else {
-            1.0
-        }
-    };
-    let total: f64 = (0..n).map(spread).sum();
-    let k = NOMINAL.sigma0 * spread(i) / total;
-    let weight = (n - i) as f64 / (n * (n + 1) / 2) as f64;
-    (k, weight, NOMINAL.sigma1 * k / NOMINAL.sigma0)
-}
-
-fn gms_params<const N: usize>() -> GmsParams<N> {
-    let mut elements = [GmsElement::default(); N];
-    for (i, e) in elements.iter_mut().enumerate() {
-        let (k, alpha, sigma1) = element(i, N);
-        *e = GmsElement { k, alpha, sigma1 };
-    }
-    GmsParams {
-        curve: NOMINAL.curve,
-        sigma2: NOMINAL.sigma2,
-        c: 20.0,
-        elements,
-    }
 }
 
 fn gms<const N: usize>() -> Gms<f32, N> {

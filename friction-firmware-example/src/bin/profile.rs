@@ -19,12 +19,17 @@ use core::hint::black_box;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::hprintln;
-use friction_core::{ElastoPlasticParams, Fixed32, FixedStepModel, GmsElement, GmsParams, Scalar};
+use friction_core::{ElastoPlasticParams, Fixed32, FixedStepModel, Scalar};
 
 #[path = "../setup.rs"]
 #[allow(dead_code)]
 mod setup;
 use setup::{H, NOMINAL};
+// the cost table's sweep, stress sequence and GMS elements
+#[path = "../inputs.rs"]
+#[allow(dead_code)]
+mod inputs;
+use inputs::{gms_params, stress_velocity, sweep_velocity};
 
 #[inline(never)]
 fn mark_begin() {
@@ -37,16 +42,11 @@ fn mark_end() {
 }
 
 fn sweep(k: usize) -> Fixed32 {
-    Fixed32::from_f64(0.01 * libm::sin((k % 64) as f64 * 0.1963))
+    Fixed32::from_f64(sweep_velocity(k))
 }
 
-const STRESS: [f64; 14] = [
-    1e-4, 1e-3, 3e-3, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0, 50.0, 1e3, 1e6, 1e7,
-];
-const PATTERN: [f64; 6] = [1.0, -1.0, 1.0, 1.0, -1.0, -1.0];
-
 fn stress(k: usize) -> Fixed32 {
-    Fixed32::from_f64(STRESS[k / PATTERN.len()] * PATTERN[k % PATTERN.len()])
+    Fixed32::from_f64(stress_velocity(k))
 }
 
 /// Steps `model` through the stress sequence up to `at`, then profiles step `at`.
@@ -92,24 +92,9 @@ fn main() -> ! {
         .with_max_substeps(k);
         worst(&ep, at);
     }
-    let mut elements = [GmsElement::default(); 4];
-    let total: f64 = (0..4).map(|j| libm::pow(8.0, j as f64 / 3.0)).sum();
-    for (i, e) in elements.iter_mut().enumerate() {
-        let k = NOMINAL.sigma0 * libm::pow(8.0, i as f64 / 3.0) / total;
-        *e = GmsElement {
-            k,
-            alpha: (4 - i) as f64 / 10.0,
-            sigma1: NOMINAL.sigma1 * k / NOMINAL.sigma0,
-        };
-    }
-    let gms = GmsParams {
-        curve: NOMINAL.curve,
-        sigma2: NOMINAL.sigma2,
-        c: 20.0,
-        elements,
-    }
-    .build_at::<Fixed32>(h)
-    .unwrap_or_else(|_| fail("GMS parameters"));
+    let gms = gms_params::<4>()
+        .build_at::<Fixed32>(h)
+        .unwrap_or_else(|_| fail("GMS parameters"));
     period(&gms);
     debug::exit(EXIT_SUCCESS);
     halt()
