@@ -669,6 +669,52 @@ fn fail(what: &str) -> ! {
     }
 }
 
+/// `a / b` in Q16.16 as `Fixed32`'s division defines it (round half up,
+/// saturate, `x / 0` the largest value of its sign) from a 64-bit integer
+/// division, a call of several hundred instructions here.
+fn reference_quotient(a: i32, b: i32) -> i32 {
+    if b == 0 {
+        return match a.signum() {
+            1 => i32::MAX,
+            -1 => i32::MIN,
+            _ => 0,
+        };
+    }
+    let q = (u64::from(a.unsigned_abs()) << 17) / u64::from(b.unsigned_abs());
+    let q = ((q >> 1) + (q & 1)) as i64;
+    let q = if (a < 0) != (b < 0) { -q } else { q };
+    q.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32
+}
+
+/// The Q16.16 quotient on this core (on ARMv6-M, `Fixed32`'s own division,
+/// not the host's) against [`reference_quotient`] over pseudo-random pairs of
+/// every magnitude.
+fn check_division(pairs: u32) {
+    let mut x = 0x2545_f491u32;
+    let mut next = || {
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        x
+    };
+    for _ in 0..pairs {
+        let (a, b, shift) = (next() as i32, next() as i32, next());
+        let (a, b) = (a >> (shift & 31), b >> ((shift >> 5) & 31));
+        let got = (Fixed32::from_bits(a) / Fixed32::from_bits(b)).to_bits();
+        if got != reference_quotient(a, b) {
+            hprintln!(
+                "cost: {} / {}: {} against {}",
+                a,
+                b,
+                got,
+                reference_quotient(a, b)
+            );
+            fail("Q16.16 division");
+        }
+    }
+    hprintln!("cost-check q16-div {} pairs match a 64-bit division", pairs);
+}
+
 #[entry]
 fn main() -> ! {
     let Some(mut cp) = cortex_m::Peripherals::take() else {
@@ -685,6 +731,7 @@ fn main() -> ! {
         "cost-calibration {} instructions per SysTick tick",
         tenths(pt)
     );
+    check_division(20_000);
 
     let curve = NOMINAL.curve;
     let coulomb = CoulombViscousParams {
