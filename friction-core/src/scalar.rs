@@ -178,6 +178,15 @@ pub trait Scalar:
         (self * Self::from_f64(core::f64::consts::LN_2)).exp_neg()
     }
 
+    /// `e^-(x^2)`: the Stribeck curve of the fixed-step forms with
+    /// `delta = 2` in a scalar without [`Scalar::EXP2_FOLDS`]. Default:
+    /// [`Scalar::exp_neg`] of `x x`; fixed point evaluates a table of cubic
+    /// segments instead (no product, no range reduction).
+    #[inline]
+    fn exp_neg_square(self) -> Self {
+        (self * self).exp_neg()
+    }
+
     /// Whether [`Scalar::exp2_neg`] is the cheaper exponential (the floats):
     /// then the fixed-step Stribeck curve folds `log2 e` into `1/vs` when it
     /// is built. Fixed point keeps [`Scalar::exp_neg`] and `1/vs` as given
