@@ -87,9 +87,15 @@ pub(crate) fn checked_velocity<S: Scalar>(v: S) -> Option<S> {
 /// nothing there).
 #[inline]
 pub(crate) fn signed<S: Scalar>(v: S, x: S) -> S {
-    if v < S::ZERO {
-        -x
+    // on ARM the comparison itself: through the trait method, GMS(4) in f32
+    // on a Cortex-M4F took 244 -> 268 instructions (the compiler's inlining)
+    if cfg!(target_arch = "arm") {
+        if v < S::ZERO {
+            -x
+        } else {
+            x
+        }
     } else {
-        x
+        x.negated_if_negative(v)
     }
 }

@@ -122,19 +122,28 @@ impl<S: Scalar> StribeckCurve<S> {
     #[inline(always)]
     pub fn eval_fast(&self, v: S) -> S {
         let r = (v * self.inv_vs_fast).abs();
-        // e^-|v/vs|^delta, as 2^-(|v/vs|^delta log2 e) where that is cheaper
-        // (log2 e then folded into 1/vs for delta = 1, 2)
         let e = match self.shape {
-            // fixed point: a table of cubic segments in r (29 instructions
-            // on a Cortex-M0 instead of the product r r and e^-x, 92)
+            // fixed point: a table of cubic segments in r (about 30
+            // instructions on a Cortex-M0 instead of the product r r and
+            // e^-x, about 90)
             Shape::Square if !S::EXP2_FOLDS => r.exp_neg_square(),
-            Shape::Square => (r * r).exp2_neg(),
-            Shape::Linear if S::EXP2_FOLDS => r.exp2_neg(),
-            Shape::Linear => r.exp_neg(),
-            Shape::Power(delta) if S::EXP2_FOLDS => {
-                (r.powf(delta) * S::from_f64(core::f64::consts::LOG2_E)).exp2_neg()
+            _ => {
+                let p = match self.shape {
+                    Shape::Square => r * r,
+                    Shape::Linear => r,
+                    Shape::Power(delta) if S::EXP2_FOLDS => {
+                        r.powf(delta) * S::from_f64(core::f64::consts::LOG2_E)
+                    }
+                    Shape::Power(delta) => r.powf(delta),
+                };
+                // e^-|v/vs|^delta, as 2^-(|v/vs|^delta log2 e) where that
+                // is cheaper
+                if S::EXP2_FOLDS {
+                    p.exp2_neg()
+                } else {
+                    p.exp_neg()
+                }
             }
-            Shape::Power(delta) => r.powf(delta).exp_neg(),
         };
         self.fc + self.fs_minus_fc.mul_fraction(e)
     }
