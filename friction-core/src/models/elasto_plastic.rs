@@ -563,10 +563,10 @@ impl<S: Scalar> ElastoPlasticAt<S> {
     /// `k = 1` (3.7x, both within the 4x a real-time loop is sized by) and
     /// 622 with `k = 3` (6.0x), against 2,067 (20x; the entry, the tail's
     /// exponential and the damping term's zone rate stay); in Q16.16 on a
-    /// Cortex-M0 2,592 with `k = 0` (3.9x), 3,561 with `k = 1` (5.4x: each
-    /// of its seven divisions is a long division there) and 5,525 with
-    /// `k = 3`, against 14,743 (the cost table's `elasto-plastic-k0`, `-k1`
-    /// and `-k3` rows). The damping term `sigma1 |v| dW/dX` carries the
+    /// Cortex-M0 2,066 with `k = 0` (3.8x), 2,956 with `k = 1` (5.5x: seven
+    /// divisions of about 130 instructions there) and 4,738 with `k = 3`,
+    /// against 13,206 (the cost table's `elasto-plastic-k0`, `-k1` and
+    /// `-k3` rows). The damping term `sigma1 |v| dW/dX` carries the
     /// state's error into the force: from rest, at a speed that crosses
     /// the zone in one step, by up to 49 Fs with `k = 0` (35 Fs with 1, 12
     /// Fs with 3), one step's transient.
