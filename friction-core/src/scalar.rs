@@ -161,10 +161,11 @@ pub trait Scalar:
     }
 
     /// `e^-x` for `x >= 0` (a negative `x` counts as 0; NaN stays NaN): the
-    /// bounded-range exponential of the fixed-step forms. `f64` calls
-    /// `libm::exp`; `f32` uses a range-reduced polynomial in `f32` alone
-    /// (libm's `expf` works partly in `f64`, which an M4F's FPU lacks), within
-    /// 3 units in the last place.
+    /// bounded-range exponential of the fixed-step forms. `f32` uses a
+    /// range-reduced polynomial in `f32` alone (libm's `expf` works partly in
+    /// `f64`, which an M4F's FPU lacks), within 3 units in the last place;
+    /// `f64` a table of `2^-(j/64)` and a polynomial, within 1 unit in the
+    /// last place of `libm::exp` (0 beyond 746, where it rounds to 0).
     fn exp_neg(self) -> Self;
 
     /// `2^-x` for `x >= 0` (a negative `x` counts as 0; NaN stays NaN), for
@@ -476,39 +477,56 @@ fn nearest_integer(y: f64) -> (u32, f64) {
     (shifted.to_bits() as u32, shifted - SHIFT)
 }
 
-/// `2^-(n/64) (1 + p)` for `0 <= n < 64 1022` and a small `p`: `n = 64 q + j`,
-/// and the table's `2^-(j/64)` (in `(1/2, 1]`, exponent field 1022 or 1023)
-/// times `2^-q` by taking `q` off its exponent field, which stays at least
-/// `1022 - 1021 = 1` (a normal number).
+/// [`EXP2_NEG_SIXTY_FOURTHS`] times `2^256` (its exponent fields raised by
+/// 256, exact), for [`times_table`].
+// evaluated at compile time: an index out of range fails the build
+#[allow(clippy::indexing_slicing)]
+const EXP2_NEG_SIXTY_FOURTHS_RAISED: [u64; 64] = {
+    let mut table = EXP2_NEG_SIXTY_FOURTHS;
+    let mut j = 0;
+    while j < 64 {
+        table[j] += 256 << 52;
+        j += 1;
+    }
+    table
+};
+
+/// `2^-(n/64) (1 + p)` for a small `p` and `n < 64 1077`: `n = 64 q + j`,
+/// `t = 2^(256 - j/64 - q)` from the raised table by taking `q` off its
+/// exponent field (which stays within 202 ..= 1279, a normal number), and
+/// `(t + t p) 2^-256`: exact scaling for a normal result, one rounding for
+/// a subnormal one (where the unraised `t p` would itself have rounded).
 #[inline]
 fn times_table(n: u32, p: f64) -> f64 {
-    let bits = EXP2_NEG_SIXTY_FOURTHS
+    const TWO_TO_MINUS_256: f64 = 8.636_168_555_094_445e-78;
+    let bits = EXP2_NEG_SIXTY_FOURTHS_RAISED
         .get((n & 63) as usize)
         .copied()
         .unwrap_or(0); // the index is below 64
     let t = f64::from_bits(bits.wrapping_sub(u64::from(n >> 6) << 52));
-    t + t * p
+    (t + t * p) * TWO_TO_MINUS_256
 }
 
 /// `e^-x` in `f64`: `x = n ln2 / 64 + r` with `|r| <= ln2 / 128` (Cody-Waite:
 /// `ln2 / 64` split in a part whose product with `n < 2^17` is exact and a
 /// correction), `e^-r - 1` by its degree-5 Taylor polynomial (truncation
 /// under `r^6 / 6! < 4e-17`), `2^-(n/64)` from a table of 64 and the
-/// exponent bits: within 1 unit in the last place of `libm::exp` (tested),
-/// about half its instructions. Returns 0 beyond `x = 708`, where
-/// the result leaves the normal range (`e^-708 = 3.3e-308`).
+/// exponent bits ([`times_table`]): within 1 unit in the last place of
+/// `libm::exp` over its whole range, subnormal results included (tested),
+/// about half its instructions; 0 beyond 746, where `e^-x` rounds to 0.
 #[inline]
 fn exp_neg_f64(x: f64) -> f64 {
     const SIXTY_FOUR_LOG2E: f64 = 64.0 * core::f64::consts::LOG2_E;
-    // ln2 / 64 = STEP_HI + STEP_LO: STEP_HI with 33 significant bits
-    // (0x1.62e42fefap-7), STEP_LO the rest of ln2 / 64 to 50 digits, rounded
-    // (`LN_2 / 64.0 - STEP_HI` would carry LN_2's rounding, 3.6e-19)
+    // ln2 / 64 = STEP_HI + STEP_LO: STEP_HI with 36 significant bits
+    // (0x1.62e42fefap-7; n < 2^17), STEP_LO the rest of ln2 / 64 to 50
+    // digits, rounded (`LN_2 / 64.0 - STEP_HI` would carry LN_2's rounding,
+    // 3.6e-19)
     const STEP_HI: f64 = 0.010_830_424_696_223_417;
     const STEP_LO: f64 = 2.572_804_622_327_669e-14;
-    // one comparison of the bits admits exactly 0 <= x <= 708 (not -0.0:
+    // one comparison of the bits admits exactly 0 <= x <= 746 (not -0.0:
     // the sign bit, not NaN or infinity: the largest exponent); e^-0 comes
     // out as 1 exactly
-    const TOP: u64 = 0x4086_2000_0000_0000; // 708.0
+    const TOP: u64 = 0x4087_5000_0000_0000; // 746.0
     if x.to_bits() > TOP {
         return beyond_range_f64(x);
     }
@@ -591,14 +609,14 @@ fn times_pow2_neg(p: f32, k: i32) -> f32 {
 /// `64 x` and `|s| <= 1/2` (`s = n - 64 x` is exact), `2^(s/64) - 1` by its
 /// degree-5 Taylor polynomial in `s ln2 / 64` (truncation under
 /// `0.0055^6 / 6! < 4e-17`) and `2^-(n/64)` as in [`exp_neg_f64`]: within
-/// 1 unit in the last place of `libm::exp2` (tested). Returns 0 beyond
-/// `x = 1021`, near where the result leaves the normal range.
+/// 1 unit in the last place of `libm::exp2` over its whole range (tested);
+/// 0 beyond 1075, where `2^-x` rounds to 0.
 #[inline]
 fn exp2_neg_f64(x: f64) -> f64 {
     const STEP: f64 = core::f64::consts::LN_2 / 64.0;
-    // one comparison of the bits admits exactly 0 <= x <= 1021, as in
+    // one comparison of the bits admits exactly 0 <= x <= 1075, as in
     // exp_neg_f64; 2^-0 comes out as 1 exactly
-    const TOP: u64 = 0x408f_e800_0000_0000; // 1021.0
+    const TOP: u64 = 0x4090_cc00_0000_0000; // 1075.0
     if x.to_bits() > TOP {
         return beyond_range_f64(x);
     }
@@ -712,23 +730,29 @@ mod tests {
 
     /// The worst error of `f` in units in the last place of `libm`'s
     /// `reference` (itself within one of the exact value) over a sweep of
-    /// `(0, end)` and pseudo-random points, dense near 0 and at every power of
-    /// two; beyond `top` `f` must give 0.
-    fn worst_ulp_f64(f: fn(f64) -> f64, reference: fn(f64) -> f64, top: f64, end: f64) -> f64 {
+    /// `(0, end)`, dense near 0 and over `band` (where the result nears the
+    /// subnormal range), pseudo-random points and every power of two.
+    fn worst_ulp_f64(
+        f: fn(f64) -> f64,
+        reference: fn(f64) -> f64,
+        band: (f64, f64),
+        end: f64,
+    ) -> f64 {
         let mut worst = 0.0f64;
         let mut check = |x: f64| {
             let (want, got) = (reference(x), f(x));
-            if x <= top {
-                let ulp = f64::from_bits(want.to_bits() + 1) - want;
-                worst = worst.max((got - want).abs() / ulp);
-            } else {
-                assert_eq!(got, 0.0, "x {x}");
-            }
+            let ulp = f64::from_bits(want.to_bits() + 1) - want;
+            worst = worst.max((got - want).abs() / ulp);
         };
         let mut x = 1e-300;
         while x < end {
             check(x);
             x = x * 1.000_03 + 1e-9;
+        }
+        let mut x = band.0;
+        while x < band.1 {
+            check(x);
+            x += 1e-6;
         }
         let mut seed = 0x2545_f491_4f6c_dd1du64;
         for _ in 0..1_000_000 {
@@ -759,7 +783,7 @@ mod tests {
 
     #[test]
     fn exp_neg_f64_is_within_1_ulp_of_libm() {
-        let worst = worst_ulp_f64(exp_neg_f64, |x| libm::exp(-x), 708.0, 760.0);
+        let worst = worst_ulp_f64(exp_neg_f64, |x| libm::exp(-x), (700.0, 750.0), 760.0);
         std::println!("exp_neg_f64: worst {worst} ulp");
         assert!(worst <= 1.0, "worst {worst} ulp");
         assert_eq!(exp_neg_f64(0.0), 1.0);
@@ -770,12 +794,13 @@ mod tests {
 
     #[test]
     fn exp2_neg_f64_is_within_1_ulp_of_libm() {
-        let worst = worst_ulp_f64(exp2_neg_f64, |x| libm::exp2(-x), 1021.0, 1100.0);
+        let worst = worst_ulp_f64(exp2_neg_f64, |x| libm::exp2(-x), (1005.0, 1080.0), 1100.0);
         std::println!("exp2_neg_f64: worst {worst} ulp");
         assert!(worst <= 1.0, "worst {worst} ulp");
-        for k in 0..=1021 {
-            assert_eq!(exp2_neg_f64(f64::from(k)), 2.0f64.powi(-k), "2^-{k}");
+        for k in 0..=1074 {
+            assert_eq!(exp2_neg_f64(f64::from(k)), libm::ldexp(1.0, -k), "2^-{k}");
         }
+        assert_eq!(exp2_neg_f64(f64::INFINITY), 0.0);
         assert!(exp2_neg_f64(f64::NAN).is_nan());
         assert_eq!(exp2_neg_f64(-0.0), 1.0);
     }
