@@ -614,13 +614,7 @@ impl Scalar for Fixed32 {
 mod tests {
     #[test]
     fn the_armv6m_fraction_product_is_exact() {
-        let mut rng = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            rng
-        };
+        let mut next = crate::test_rng::xorshift64(0x2545_f491_4f6c_dd1d);
         let edges_a = [
             i32::MIN,
             i32::MIN + 1,
@@ -672,12 +666,10 @@ mod tests {
             i32::MAX - 1,
             i32::MAX,
         ];
-        let mut rng = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rng = crate::test_rng::xorshift64(0x9e37_79b9_7f4a_7c15);
         let mut next = || {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            (rng >> 32) as i32 >> (rng % 31)
+            let r = rng();
+            (r >> 32) as i32 >> (r % 31)
         };
         let check = |a: i32, b: i32| {
             let want = (i64::from(a) * i64::from(b) + 0x8000) >> 16;
@@ -763,12 +755,10 @@ mod tests {
 
     #[test]
     fn division_rounds_to_nearest_everywhere() {
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut rng = crate::test_rng::xorshift64(0x2545_f491_4f6c_dd1d);
         let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed as u32 as i32 >> (seed >> 59) as u32 // magnitudes of every size
+            let r = rng();
+            r as u32 as i32 >> (r >> 59) as u32 // magnitudes of every size
         };
         for _ in 0..200_000 {
             let (a, b) = (next(), next());
@@ -795,13 +785,7 @@ mod tests {
     /// and every quotient's edges.
     #[test]
     fn small_quotients_match_the_u32_division() {
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
+        let mut next = crate::test_rng::xorshift64(0x9e37_79b9_7f4a_7c15);
         let mut pairs = std::vec::Vec::new();
         for _ in 0..1_000_000 {
             let x = next();
@@ -880,13 +864,7 @@ mod tests {
             assert_eq!(want, ((u64::from(r) << 17) / u64::from(d)) as u32);
             assert_eq!(fraction_quotient(r, d), want, "{r} / {d}");
         };
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
+        let mut next = crate::test_rng::xorshift64(0x2545_f491_4f6c_dd1d);
         let mut divisors = std::vec![1u32, 2, 3, (1 << 31) - 1, 1 << 31];
         for k in 0..32 {
             divisors.extend([(1u32 << k) - 1, 1 << k, (1u32 << k).wrapping_add(1)]);
@@ -923,12 +901,10 @@ mod tests {
     /// panic, with the overflow checks of a debug build on.
     #[test]
     fn no_operation_panics_on_any_bits() {
-        let mut x = 0x1234_5678_9abc_def1u64;
+        let mut next = crate::test_rng::xorshift64(0x1234_5678_9abc_def1);
         let mut values = std::vec![i32::MIN, i32::MIN + 1, -1, 0, 1, i32::MAX - 1, i32::MAX];
         for _ in 0..2000 {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
+            let x = next();
             values.push((x >> 32) as i32 >> (x & 31) as u32);
         }
         for &a in &values {

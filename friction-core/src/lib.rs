@@ -26,6 +26,8 @@ pub mod random;
 pub mod rls;
 pub mod scalar;
 pub mod stribeck;
+#[cfg(test)]
+mod test_rng;
 
 pub use adaptive::{AdaptiveObserver, AdaptiveParams, AdaptiveState};
 pub use compensator::{

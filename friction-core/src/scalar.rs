@@ -507,10 +507,17 @@ fn times_table(n: u32, p: f64) -> f64 {
     (t + t * p) * TWO_TO_MINUS_256
 }
 
+/// `e^t - 1` for `|t| <= ln2 / 128` by its degree-5 Taylor polynomial
+/// (truncation under `0.0055^6 / 6! < 4e-17`): the reduced argument's part
+/// of [`exp_neg_f64`] and [`exp2_neg_f64`].
+#[inline]
+fn exp_m1_small(t: f64) -> f64 {
+    t * (1.0 + t * (1.0 / 2.0 + t * (1.0 / 6.0 + t * (1.0 / 24.0 + t * (1.0 / 120.0)))))
+}
+
 /// `e^-x` in `f64`: `x = n ln2 / 64 + r` with `|r| <= ln2 / 128` (Cody-Waite:
 /// `ln2 / 64` split in a part whose product with `n < 2^17` is exact and a
-/// correction), `e^-r - 1` by its degree-5 Taylor polynomial (truncation
-/// under `r^6 / 6! < 4e-17`), `2^-(n/64)` from a table of 64 and the
+/// correction), `e^-r - 1` by [`exp_m1_small`], `2^-(n/64)` from a table of 64 and the
 /// exponent bits ([`times_table`]): within 1 unit in the last place of
 /// `libm::exp` over its whole range, subnormal results included (tested),
 /// about half its instructions; 0 beyond 746, where `e^-x` rounds to 0.
@@ -532,8 +539,7 @@ fn exp_neg_f64(x: f64) -> f64 {
     }
     let (n, nf) = nearest_integer(x * SIXTY_FOUR_LOG2E);
     let s = nf * STEP_HI - x + nf * STEP_LO; // -r, within ±ln2 / 128
-    let p = s * (1.0 + s * (1.0 / 2.0 + s * (1.0 / 6.0 + s * (1.0 / 24.0 + s * (1.0 / 120.0)))));
-    times_table(n, p)
+    times_table(n, exp_m1_small(s))
 }
 
 /// [`exp_neg_f64`] and [`exp2_neg_f64`] outside their polynomial's range:
@@ -606,9 +612,8 @@ fn times_pow2_neg(p: f32, k: i32) -> f32 {
 }
 
 /// `2^-x` in `f64`: `x = (n - s) / 64` with `n` the nearest integer to
-/// `64 x` and `|s| <= 1/2` (`s = n - 64 x` is exact), `2^(s/64) - 1` by its
-/// degree-5 Taylor polynomial in `s ln2 / 64` (truncation under
-/// `0.0055^6 / 6! < 4e-17`) and `2^-(n/64)` as in [`exp_neg_f64`]: within
+/// `64 x` and `|s| <= 1/2` (`s = n - 64 x` is exact), `2^(s/64) - 1` by
+/// [`exp_m1_small`] of `s ln2 / 64` and `2^-(n/64)` as in [`exp_neg_f64`]: within
 /// 1 unit in the last place of `libm::exp2` over its whole range (tested);
 /// 0 beyond 1075, where `2^-x` rounds to 0.
 #[inline]
@@ -623,8 +628,7 @@ fn exp2_neg_f64(x: f64) -> f64 {
     let y = 64.0 * x; // exact
     let (n, nf) = nearest_integer(y);
     let t = (nf - y) * STEP; // s ln2 / 64, within ±ln2 / 128
-    let p = t * (1.0 + t * (1.0 / 2.0 + t * (1.0 / 6.0 + t * (1.0 / 24.0 + t * (1.0 / 120.0)))));
-    times_table(n, p)
+    times_table(n, exp_m1_small(t))
 }
 
 /// `2^-x` in `f32` arithmetic only: `x = k - s` with `k` the nearest
@@ -754,12 +758,9 @@ mod tests {
             check(x);
             x += 1e-6;
         }
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = crate::test_rng::xorshift64(0x2545_f491_4f6c_dd1d);
         for _ in 0..1_000_000 {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            check((seed >> 11) as f64 / (1u64 << 53) as f64 * end);
+            check((next() >> 11) as f64 / (1u64 << 53) as f64 * end);
         }
         for k in -60..10 {
             let p = 2.0f64.powi(k);
