@@ -14,18 +14,10 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-limit="${QEMU_TIMEOUT:-300}"
-tdir="${CARGO_TARGET_DIR:-target}"
+# shellcheck source=cost/setup.sh
+source cost/setup.sh llvm-nm llvm-objdump
 out="$tdir/cost"
 mkdir -p "$out"
-host=$(rustc -vV | sed -n 's/^host: //p')
-tools="$(rustc --print sysroot)/lib/rustlib/$host/bin"
-for tool in llvm-nm llvm-objdump; do
-  if [ ! -x "$tools/$tool" ]; then
-    echo "cost.sh: $tool not found: rustup component add llvm-tools" >&2
-    exit 127
-  fi
-done
 
 # target, QEMU machine (and cpu), core label
 rows=(

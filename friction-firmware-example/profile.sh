@@ -15,16 +15,11 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-limit="${QEMU_TIMEOUT:-300}"
-tdir="${CARGO_TARGET_DIR:-target}"
+# shellcheck source=cost/setup.sh
+source cost/setup.sh llvm-nm
+nm="$tools/llvm-nm"
 out="$tdir/profile"
 mkdir -p "$out"
-host=$(rustc -vV | sed -n 's/^host: //p')
-nm="$(rustc --print sysroot)/lib/rustlib/$host/bin/llvm-nm"
-if [ ! -x "$nm" ]; then
-  echo "profile.sh: llvm-nm not found: rustup component add llvm-tools" >&2
-  exit 127
-fi
 target=thumbv6m-none-eabi
 cargo build --release --bin profile --target "$target" --quiet
 elf="$tdir/$target/release/profile"
