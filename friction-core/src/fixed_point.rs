@@ -126,31 +126,33 @@ fn saturated_product(a: i32, b: i32) -> i32 {
     split_saturated_product(a, b)
 }
 
-/// [`split_product`]'s four partial products summed in `i32` with overflow
-/// checks (an `adds` and a branch on its overflow flag each), and in `i64`
-/// only when a sum overflows, which is when the result saturates or nearly
-/// does: the same value as the 64-bit sum, saturated (tested on the host),
-/// in about 25 instructions on ARMv6-M instead of 40 with the 64-bit
-/// additions and clamp.
+/// `(a b + 2^15) >> 16` saturated, from three 32-bit products where the
+/// operands' high halves show that it cannot overflow, and otherwise from
+/// [`split_product`] out of line (the same value as the 64-bit product,
+/// saturated: tested on the host).
+///
+/// With `a = ah 2^16 + al` (`ah` signed, `al` in `0..2^16`),
+/// `|a| <= (A + 1) 2^16` for `A = ah` (`a >= 0`) or `!ah = -ah - 1`
+/// (`a < 0`), and `b` alike; `(A + 1)(B + 1) < 2^15` then bounds
+/// `|a b| < 2^47 - 2^32`, so the result is within `i32` and the sum
+/// `a bh + ah bl + (al bl + 2^15) >> 16`, equal to it modulo 2^32
+/// (`a bh = ah bh 2^16 + al bh`), is exact in wrapping arithmetic. About 18
+/// instructions on ARMv6-M, against 27 for four partial products summed
+/// with an overflow test each.
 #[cfg(any(test, all(target_arch = "arm", not(target_has_atomic = "32"))))]
 #[inline]
 fn split_saturated_product(a: i32, b: i32) -> i32 {
     let (ah, al) = (a >> 16, (a as u32) & 0xffff);
     let (bh, bl) = (b >> 16, (b as u32) & 0xffff);
-    // |ah bh| <= 2^30; |ah bl|, |al bh| < 2^31; (al bl + 2^15) >> 16 < 2^16
-    let high = ah * bh;
-    let shifted = high.wrapping_shl(16);
-    let sum = if shifted >> 16 == high {
-        (ah * bl as i32)
-            .checked_add(al as i32 * bh)
-            .and_then(|m| m.checked_add(((al * bl + 0x8000) >> 16) as i32))
-            .and_then(|m| m.checked_add(shifted))
+    let magnitude_a = (ah ^ (a >> 31)) as u32 + 1;
+    let magnitude_b = (bh ^ (b >> 31)) as u32 + 1;
+    // each at most 2^15: the product fits u32
+    if magnitude_a * magnitude_b < 1 << 15 {
+        a.wrapping_mul(bh)
+            .wrapping_add(ah.wrapping_mul(bl as i32))
+            .wrapping_add(((al * bl + 0x8000) >> 16) as i32)
     } else {
-        None
-    };
-    match sum {
-        Some(p) => p,
-        None => saturated_split_product(a, b),
+        saturated_split_product(a, b)
     }
 }
 
@@ -238,8 +240,7 @@ fn small_quotient(n: u32, d: u32) -> (u32, u32) {
 
 /// `floor(2^31 / (2^15 + (i + 1) 2^9))` for `i` in `0..64`: from below,
 /// within 2^-6, the reciprocal of a 16-bit divisor whose top six bits after
-/// its leading one are `i` (for [`fraction_quotient`]).
-#[cfg(any(test, target_arch = "arm"))]
+/// its leading one are `i` (for [`Divisor`]).
 // evaluated at compile time: an index out of range fails the build
 #[allow(clippy::indexing_slicing)]
 const RECIPROCAL_SEED: [u16; 64] = {
@@ -252,21 +253,65 @@ const RECIPROCAL_SEED: [u16; 64] = {
     table
 };
 
+/// A divisor `D` in `[2^30, 2^31)` and its 16-bit reciprocal `R <= 2^46 / D`
+/// within 2^-11, from which quotients are formed digit by digit
+/// ([`Divisor::digit`]) with 16 by 16-bit products and one correction each:
+/// no divide instruction (a Cortex-M0 has none) and no 64-bit arithmetic.
+struct Divisor {
+    d: u32,
+    reciprocal: u32,
+}
+
+impl Divisor {
+    /// `D = d 2^s` in `[2^30, 2^31)` for `0 < d < 2^31`, and `s`.
+    ///
+    /// `R0 <= 2^31 / (Dh + 1)` within 2^-6 comes from [`RECIPROCAL_SEED`]
+    /// (`Dh = D >> 15` in `[2^15, 2^16)`), then `R = R0 + R0 e / 2^31`,
+    /// `e = 2^31 - (Dh + 1) R0` in `[0, 2^25]`: the Newton step from below
+    /// stays below, within 2^-12 + 2^-15.
+    #[inline(always)]
+    fn normalized(d: u32) -> (Self, u32) {
+        let (mut d, mut s) = (d, 0);
+        for k in [16, 8, 4, 2, 1] {
+            if d < 1 << (31 - k) {
+                d <<= k;
+                s += k;
+            }
+        }
+        let dh1 = (d >> 15) + 1;
+        // the index is below 64: no fallback is ever taken
+        let seed = RECIPROCAL_SEED.get(((d >> 24) & 63) as usize);
+        let r0 = u32::from(seed.copied().unwrap_or(0));
+        let e = (1u32 << 31) - dh1 * r0;
+        let reciprocal = r0 + ((r0 * (e >> 10)) >> 21);
+        (Self { d, reciprocal }, s)
+    }
+
+    /// `(floor(x 2^m / D), its remainder)` for `x < D` and `m <= 10`: the
+    /// estimate `(x >> 15) R >> (31 - m)` is from below and at most 1 short
+    /// (`2^m 2^-11 + 2^(m - 15) < 1`), so the remainder `x 2^m - q D` is in
+    /// `[0, 2 D)`: it fits `u32`, its wrapping product and shift are exact,
+    /// and one comparison corrects `q`.
+    #[inline(always)]
+    fn digit(&self, x: u32, m: u32) -> (u32, u32) {
+        let q = ((x >> 15) * self.reciprocal) >> (31 - m);
+        let rem = (x << m).wrapping_sub(q.wrapping_mul(self.d));
+        if rem >= self.d {
+            (q + 1, rem - self.d)
+        } else {
+            (q, rem)
+        }
+    }
+}
+
 /// `floor(r 2^17 / d)` for `r < d <= 2^31`, the fraction bits of a
 /// quotient (and one rounding bit), on ARM: about 60 instructions on a
 /// Cortex-M0 (no divide instruction) instead of a 17-step shift-subtract
 /// loop of about 200, and cheaper than the loop on a Cortex-M4 too (the
 /// `q16-div` cost row 135 -> 89). The same bits: tested on the host against
 /// the loop, and on both cores by the cost benchmark against a 64-bit
-/// division.
-///
-/// `d` is shifted to `D` in `[2^30, 2^31)` (and `r` with it), a 16-bit
-/// reciprocal `R <= 2^46 / D` within 2^-11 comes from [`RECIPROCAL_SEED`]
-/// and one Newton step, and the quotient is formed in two digits of 9 and 8
-/// bits. Each digit `q = floor(X 2^m / D)` is estimated from below as
-/// `(X >> 15) R >> (31 - m)`, at most 1 short (`2^m 2^-11 + 2^(m - 15) < 1`),
-/// so its remainder `X 2^m - q D` is in `[0, 2 D)`: it fits `u32`, its
-/// wrapping product and shift are exact, and one comparison corrects `q`.
+/// division. `d` is shifted into [`Divisor`]'s range, `r` with it, and the
+/// quotient formed in two digits of 9 and 8 bits.
 #[cfg(any(test, target_arch = "arm"))]
 #[inline]
 fn fraction_quotient(r: u32, d: u32) -> u32 {
@@ -274,34 +319,44 @@ fn fraction_quotient(r: u32, d: u32) -> u32 {
         return r >> 14;
     }
     // D = d 2^s in [2^30, 2^31), X = r 2^s < D
-    let (mut big_d, mut x) = (d, r);
-    for s in [16, 8, 4, 2, 1] {
-        if big_d < 1 << (31 - s) {
-            big_d <<= s;
-            x <<= s;
-        }
-    }
-    // R0 <= 2^31 / (Dh + 1) within 2^-6, Dh = D >> 15 in [2^15, 2^16), then
-    // R = R0 + R0 e / 2^31, e = 2^31 - (Dh + 1) R0 in [0, 2^25]: the Newton
-    // step from below stays below, within 2^-12 + 2^-15
-    let dh1 = (big_d >> 15) + 1;
-    // the index is below 64: no fallback is ever taken
-    let seed = RECIPROCAL_SEED.get(((big_d >> 24) & 63) as usize);
-    let r0 = u32::from(seed.copied().unwrap_or(0));
-    let e = (1u32 << 31) - dh1 * r0;
-    let recip = r0 + ((r0 * (e >> 10)) >> 21);
-    let digit = |x: u32, m: u32| -> (u32, u32) {
-        let q = ((x >> 15) * recip) >> (31 - m);
-        let rem = (x << m).wrapping_sub(q.wrapping_mul(big_d));
-        if rem >= big_d {
-            (q + 1, rem - big_d)
-        } else {
-            (q, rem)
-        }
-    };
-    let (high, x) = digit(x, 9);
-    let (low, _) = digit(x, 8);
+    let (divisor, s) = Divisor::normalized(d);
+    let (high, x) = divisor.digit(r << s, 9);
+    let (low, _) = divisor.digit(x, 8);
     (high << 8) | low
+}
+
+/// `floor(2^(e + 17) / g)` (a Q16.16 quotient `2^(e - 16) / g` with one
+/// rounding bit) for `0 < g < 2^31` and `e <= 30`, or `None` where it is
+/// not below `2^31` or `e + s < 14` (`g`'s shift `s` into [`Divisor`]'s
+/// range; a quotient below 2): with `D = g 2^s` and `j = e + s - 14`, the
+/// quotient is `floor(2^j 2^31 / D) = 2^j + floor(2^j (2^31 - D) / D)`, the
+/// second term in digits of at most 10 bits, straight-line (two for a
+/// force scale's reciprocal of a force above 1/8 of a unit, `j <= 20`).
+/// The same bits as the long division (tested on the host), with no whole
+/// part to divide first.
+#[inline]
+fn pow2_quotient(e: u32, g: u32) -> Option<u32> {
+    let (divisor, s) = Divisor::normalized(g);
+    let j = (e + s).checked_sub(14)?;
+    let x = (1 << 31) - divisor.d;
+    if j > 30 || x == divisor.d {
+        // beyond 2^31, or D = 2^30 (the quotient is 2^(j + 1)): rare
+        return None;
+    }
+    let (mut q, mut x) = (1u32, x);
+    let mut digit = |m: u32| {
+        let (d, rem) = divisor.digit(x, m);
+        q = (q << m) | d;
+        x = rem;
+    };
+    if j > 20 {
+        digit(j - 20);
+    }
+    if j > 10 {
+        digit((j - 10).min(10));
+    }
+    digit(j.min(10));
+    Some(q)
 }
 
 impl Div for Fixed32 {
@@ -519,6 +574,22 @@ impl Scalar for Fixed32 {
         }
     }
 
+    /// Rounds to nearest and saturates as the quotient does, with the same
+    /// bits (tested on the host); a force scale's exponent and a positive
+    /// `self` take `pow2_quotient`.
+    #[inline]
+    fn reciprocal_rescaled(self, exp: i8) -> Self {
+        let (g, e) = (self.to_bits(), 16 - i32::from(exp));
+        if g > 0 && (0..=30).contains(&e) {
+            if let Some(q) = pow2_quotient(e as u32, g as u32) {
+                // q has one bit more than the result: round half up
+                let q = (q >> 1) + (q & 1);
+                return Self::from_bits(q.min(i32::MAX as u32) as i32);
+            }
+        }
+        Self::ONE.rescale_pow2(exp.saturating_neg()) / self
+    }
+
     #[inline]
     fn exp_neg_square(self) -> Self {
         Self::from_bits(exp_neg_square_bits(self.to_bits()))
@@ -684,6 +755,27 @@ mod tests {
         }
         for _ in 0..200_000 {
             check(next(), next());
+        }
+        // either side of the fast path's bound (A + 1)(B + 1) < 2^15, every
+        // sign and low half at its edges
+        for m in 1..=(1i64 << 15) {
+            for n in [
+                (1i64 << 15) / m,
+                (1i64 << 15) / m + 1,
+                ((1i64 << 15) - 1) / m,
+            ] {
+                for (sa, sb) in [(1, 1), (1, -1), (-1, 1), (-1, -1)] {
+                    for (la, lb) in [(0, 0), (0xffff, 0xffff), (1, 0xffff), (0x8000, 0x8000)] {
+                        // A + 1 = m: ah = m - 1 (a >= 0) or -m (a < 0)
+                        let high = |k: i64, sign: i64| if sign > 0 { k - 1 } else { -k };
+                        let a = (high(m, sa) << 16) + la;
+                        let b = (high(n, sb) << 16) + lb;
+                        if let (Ok(a), Ok(b)) = (i32::try_from(a), i32::try_from(b)) {
+                            check(a, b);
+                        }
+                    }
+                }
+            }
         }
     }
 
@@ -894,6 +986,44 @@ mod tests {
             };
             let d = d.min(1 << 31);
             check(((x >> 20) % u64::from(d)) as u32, d);
+        }
+    }
+
+    /// `reciprocal_rescaled`: the same bits as the quotient `2^-exp / g` it
+    /// replaces, for every exponent (the force scales' and beyond), every
+    /// `g` near a power of two or a seed bin's edge, and random `g` of
+    /// every magnitude, negative and zero included.
+    #[test]
+    fn rescaled_reciprocals_match_the_quotient() {
+        let mut gs = std::vec![i32::MIN, -65_536, -1, 0, 1, 2, 3, i32::MAX - 1, i32::MAX];
+        for k in 0..31 {
+            gs.extend([(1i32 << k) - 1, 1 << k, (1 << k) + 1]);
+        }
+        for i in 0..=64i64 {
+            for k in 0..31 {
+                let edge = (((1i64 << 15) + i * (1 << 9)) << 15 >> k) as i32;
+                gs.extend([edge, edge + 1, edge - 1]);
+            }
+        }
+        let mut next = crate::test_rng::xorshift64(0x9e37_79b9_7f4a_7c15);
+        for _ in 0..200_000 {
+            let x = next();
+            gs.push((x >> 32) as i32 >> (x & 31) as u32);
+        }
+        for exp in -20i8..=20 {
+            let scale = Fixed32::ONE.rescale_pow2(-exp);
+            for &g in &gs {
+                let g = Fixed32::from_bits(g);
+                assert_eq!(g.reciprocal_rescaled(exp), scale / g, "2^{} / {g:?}", -exp);
+            }
+        }
+        // the extremes of the exponent go through the quotient
+        for exp in [i8::MIN, -31, 31, i8::MAX] {
+            let g = Fixed32::from_f64(0.3);
+            assert_eq!(
+                g.reciprocal_rescaled(exp),
+                Fixed32::ONE.rescale_pow2(exp.saturating_neg()) / g
+            );
         }
     }
 

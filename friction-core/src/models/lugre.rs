@@ -503,7 +503,7 @@ impl<S: Scalar> LuGreAt<S> {
         let g = self.curve.eval_fast(v); // scaled, >= Fc scaled > 0
                                          // 1/g unscaled: in fixed point a scaled g of hundreds has a
                                          // reciprocal of a few hundred steps, this one of hundreds of thousands
-        let inv_g = self.scale_s / g;
+        let inv_g = g.reciprocal_rescaled(self.inv_scale_exp);
         let speed = v.abs();
         // the elastic increment over the step, sigma0 h |v| (scaled): the
         // products below are ordered so that none is a tiny number, which
