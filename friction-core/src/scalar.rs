@@ -149,6 +149,18 @@ pub trait Scalar:
         }
     }
 
+    /// `self * b` where the caller has shown the product within a quarter of
+    /// the scalar's range for every input a model accepts (by the checks of
+    /// its `build_at` and the clamp of its velocity): fixed point then skips
+    /// its overflow test (on ARMv6-M three 32-bit products, about 10
+    /// instructions instead of 18). The product whenever it is within the
+    /// range; beyond it, fixed point wraps instead of saturating (never a
+    /// panic). This crate's own tests assert the bound at every call.
+    #[inline]
+    fn mul_bounded(self, b: Self) -> Self {
+        self * b
+    }
+
     /// `1 / (self 2^exp)` for `self > 0` and an `exp` derived from
     /// [`Scalar::force_scale`] (`-14..=14`; 0 in floating point): the
     /// unscaled reciprocal of a scaled force, such as LuGre's `k / g`, formed

@@ -508,7 +508,8 @@ impl<S: Scalar> LuGreAt<S> {
         // the elastic increment over the step, sigma0 h |v| (scaled): the
         // products below are ordered so that none is a tiny number, which
         // fixed point would round to a few steps
-        let p = self.sigma0_h * speed;
+        // within k sigma0 h v_max (checked at build_at): no overflow test
+        let p = self.sigma0_h.mul_bounded(speed);
         let x = self.unscale(p * inv_g); // = sigma0 h |v| / g, finite or +inf
         let w0 = state.w;
         // at v = 0 nothing moves (p = 0): the target's sign is moot
@@ -530,7 +531,7 @@ impl<S: Scalar> LuGreAt<S> {
         let at_bound = w.abs() >= self.fs;
         let w = if at_bound { signed(w, self.fs) } else { w };
         state.w = w;
-        let mut f = w + self.sigma2 * v;
+        let mut f = w + self.sigma2.mul_bounded(v); // within k sigma2 v_max
         if damping {
             // dz/dt = (v - c) - |v| w / g, zero while held at the bound
             // (formed only at the bound: Q16.16 on a Cortex-M0 saves two
@@ -552,8 +553,11 @@ impl<S: Scalar> LuGreAt<S> {
                 } else {
                     (self.sigma1, self.sigma1_unscaled)
                 };
-                let factor = d_unscaled * speed * inv_g;
-                let mut damped = factor * gap_end(v, g, w);
+                // sigma1 / g <= sigma1 / Fc and sigma1 |v| / g, checked
+                // at build_at, and the damping force within k sigma1 v_max
+                // (1 + Fs/Fc) (|sign(v) g - w| <= g + Fs): no overflow test
+                let factor = d_unscaled.mul_bounded(inv_g).mul_bounded(speed);
+                let mut damped = factor.mul_bounded(gap_end(v, g, w));
                 if CORRECTED {
                     damped = damped - d * c;
                 }
@@ -587,6 +591,14 @@ impl<S: Scalar> FixedStepModel<S> for LuGreAt<S> {
 
 impl<S: Scalar> FixedStepObservable<S> for LuGreAt<S> {
     fn step_corrected(&self, state: &mut LuGreAtState<S>, v: S, correction: S, damping: bool) -> S {
+        // the step's bounded products need |v| <= VELOCITY_LIMIT, which the
+        // caller promises; fixed point, where a broken promise would wrap
+        // them, clamps it again
+        let v = if S::ALWAYS_FINITE {
+            v.sat(S::VELOCITY_LIMIT)
+        } else {
+            v
+        };
         self.unscale(self.advance::<true>(state, v, correction, damping))
     }
 
@@ -738,6 +750,69 @@ mod tests {
         .unwrap();
         assert_eq!(m.damping(0.0), P.sigma1);
         assert!((m.damping(1e-3) - P.sigma1 / core::f64::consts::E).abs() < 1e-9);
+    }
+
+    /// The fixed-point step's bounded products ([`Scalar::mul_bounded`],
+    /// which asserts its bound in this crate's tests) over every parameter
+    /// set `build_at` accepts, drawn log-uniformly across and beyond their
+    /// ranges, with hostile inputs: velocities beyond the clamp, states at
+    /// the ends of the range, an observer's corrections at their limit and
+    /// a velocity its caller failed to clamp.
+    #[cfg(feature = "fixed")]
+    #[test]
+    fn fixed_point_bounded_products_stay_in_range() {
+        use crate::{Fixed32, FixedStepModel, FixedStepObservable};
+        let mut next = crate::test_rng::xorshift64(0x0bad_5eed_1234_5678);
+        let mut uniform = move || (next() >> 11) as f64 / (1u64 << 53) as f64;
+        let mut log_uniform = |lo: f64, hi: f64| lo * (hi / lo).powf(uniform());
+        let velocities = [
+            0.0, 1e-5, -1e-5, 1e-3, -0.02, 0.5, -3.9, 4.0, -4.0, 30.0, -1e6,
+        ];
+        let mut accepted = 0;
+        for set in 0..20_000 {
+            let fc = log_uniform(1e-4, 1e4);
+            let p = LuGreParams {
+                curve: StribeckParams {
+                    fc,
+                    fs: fc * log_uniform(1.0, 20.0),
+                    vs: log_uniform(1e-5, 10.0),
+                    exponent: [2.0, 1.0, 0.7][set % 3],
+                },
+                sigma0: log_uniform(1.0, 1e9),
+                sigma1: if set % 5 == 0 {
+                    0.0
+                } else {
+                    log_uniform(1e-4, 1e6)
+                },
+                sigma2: if set % 4 == 0 {
+                    0.0
+                } else {
+                    log_uniform(1e-4, 1e4)
+                },
+                vd: if set % 7 == 0 {
+                    Some(log_uniform(1e-4, 1.0))
+                } else {
+                    None
+                },
+            };
+            let h = log_uniform(1e-6, 1e-1);
+            let Ok(m) = p.build_at::<Fixed32>(h) else {
+                continue;
+            };
+            accepted += 1;
+            for w in [Fixed32::MIN, Fixed32::MAX, Fixed32::ZERO, m.fs(), -m.fs()] {
+                let mut s = LuGreAtState { w };
+                let mut o = LuGreAtState { w };
+                for (k, &v) in velocities.iter().enumerate() {
+                    let v = Fixed32::from_f64(v);
+                    m.step(&mut s, v);
+                    let c = Fixed32::from_f64([4.0, -4.0, 0.0][k % 3]);
+                    m.step_corrected(&mut o, v, c, k % 2 == 0);
+                }
+            }
+        }
+        // enough sets get through build_at for the test to mean something
+        assert!(accepted > 2_000, "{accepted} sets accepted");
     }
 
     fn arb_params() -> impl Strategy<Value = LuGreParams> {
