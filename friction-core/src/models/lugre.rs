@@ -515,9 +515,12 @@ impl<S: Scalar> LuGreAt<S> {
         // at v = 0 nothing moves (p = 0): the target's sign is moot
         let gap = signed(v, g) - w0;
         let (mut w, phi) = if x < S::from_f64(0.1) {
-            // gap (1 - e^-x) = p (gap / g) phi(x)
+            // gap (1 - e^-x) = p (gap / g) phi(x), where p (gap / g) =
+            // x gap is within a tenth of the range (a saturated gap / g only
+            // smaller): no overflow test
             let phi = phi_series_inlined(x);
-            (w0 + (p * self.unscale(gap * inv_g)).mul_fraction(phi), phi)
+            let rate = p.mul_bounded(self.unscale(gap * inv_g));
+            (w0 + rate.mul_fraction(phi), phi)
         } else {
             let one_minus_e = S::ONE - x.exp_neg();
             (w0 + gap.mul_fraction(one_minus_e), one_minus_e / x)
