@@ -134,7 +134,7 @@ fn saturated_product(a: i32, b: i32) -> i32 {
 /// With `a = ah 2^16 + al` (`ah` signed, `al` in `0..2^16`),
 /// `|a| <= (A + 1) 2^16` for `A = ah` (`a >= 0`) or `!ah = -ah - 1`
 /// (`a < 0`), and `b` alike; `(A + 1)(B + 1) < 2^15` then bounds
-/// `|a b| < 2^47 - 2^32`, so the result is within `i32` and the sum
+/// `|a b| <= 2^47 - 2^32`, so the result is within `i32` and the sum
 /// `a bh + ah bl + (al bl + 2^15) >> 16`, equal to it modulo 2^32
 /// (`a bh = ah bh 2^16 + al bh`), is exact in wrapping arithmetic. About 18
 /// instructions on ARMv6-M, against 27 for four partial products summed

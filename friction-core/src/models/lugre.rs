@@ -453,6 +453,13 @@ impl<S: Scalar> LuGreAt<S> {
         self.scale_s
     }
 
+    /// `k / g` for a scaled force `g > 0`: its reciprocal in newtons^-1
+    /// ([`Scalar::reciprocal_rescaled`]; the quotient's value).
+    #[inline(always)]
+    pub(crate) fn inverse_unscaled(&self, g: S) -> S {
+        g.reciprocal_rescaled(self.inv_scale_exp)
+    }
+
     /// `x / k`, turning a scaled force back into newtons: a shift in fixed
     /// point ([`Scalar::rescale_pow2`], rounding to nearest, saturating),
     /// nothing in floating point.
@@ -503,7 +510,7 @@ impl<S: Scalar> LuGreAt<S> {
         let g = self.curve.eval_fast(v); // scaled, >= Fc scaled > 0
                                          // 1/g unscaled: in fixed point a scaled g of hundreds has a
                                          // reciprocal of a few hundred steps, this one of hundreds of thousands
-        let inv_g = g.reciprocal_rescaled(self.inv_scale_exp);
+        let inv_g = self.inverse_unscaled(g);
         let speed = v.abs();
         // the elastic increment over the step, sigma0 h |v| (scaled): the
         // products below are ordered so that none is a tiny number, which
