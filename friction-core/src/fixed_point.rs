@@ -1067,7 +1067,7 @@ mod tests {
         for i in 0..=64i64 {
             for k in 0..31 {
                 let edge = (((1i64 << 15) + i * (1 << 9)) << 15 >> k) as i32;
-                gs.extend([edge, edge + 1, edge - 1]);
+                gs.extend([edge, edge.wrapping_add(1), edge.wrapping_sub(1)]);
             }
         }
         let mut next = crate::test_rng::xorshift64(0x9e37_79b9_7f4a_7c15);
