@@ -149,9 +149,9 @@ pub trait Scalar:
         }
     }
 
-    /// `self * b` where the caller has shown the product within a quarter of
-    /// the scalar's range for every input a model accepts (by the checks of
-    /// its `build_at` and the clamp of its velocity): fixed point then skips
+    /// `self * b` where the caller has shown the product within the scalar's
+    /// range, with a margin, for every input a model accepts (by the checks
+    /// of its `build_at` and the clamp of its velocity): fixed point then skips
     /// its overflow test (on ARMv6-M three 32-bit products, about 10
     /// instructions instead of 18). The product whenever it is within the
     /// range; beyond it, fixed point wraps instead of saturating (never a

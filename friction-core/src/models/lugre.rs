@@ -171,6 +171,11 @@ impl LuGreParams {
             Some(vd) => convert_derived("vd", 1.0 / (vd * vd))?,
             None => S::ZERO,
         };
+        // the step carries sigma1 unscaled as well (`sigma1_unscaled`): in
+        // fixed point it must fit, or the damping term would saturate
+        if let Err(crate::scalar::Conversion::Overflow) = S::try_from_f64(self.sigma1) {
+            return Err(ParamError::NotRepresentable("sigma1"));
+        }
         let sigma1 = convert("sigma1", k * self.sigma1)?;
         let inv_scale_exp = crate::scalar::inverse_scale_exp(k);
         Ok(LuGreAt {
@@ -523,8 +528,9 @@ impl<S: Scalar> LuGreAt<S> {
         let gap = signed(v, g) - w0;
         let (mut w, phi) = if x < S::from_f64(0.1) {
             // gap (1 - e^-x) = p (gap / g) phi(x), where p (gap / g) =
-            // x gap is within a tenth of the range (a saturated gap / g only
-            // smaller): no overflow test
+            // x gap is within an eighth of the range (the x tested is
+            // rounded, and with k = 2^-14 a true x up to 0.125 passes it; a
+            // saturated gap / g is only smaller): no overflow test
             let phi = phi_series_inlined(x);
             let rate = p.mul_bounded(self.unscale(gap * inv_g));
             (w0 + rate.mul_fraction(phi), phi)
@@ -564,8 +570,10 @@ impl<S: Scalar> LuGreAt<S> {
                     (self.sigma1, self.sigma1_unscaled)
                 };
                 // sigma1 / g <= sigma1 / Fc and sigma1 |v| / g, checked
-                // at build_at, and the damping force within k sigma1 v_max
-                // (1 + Fs/Fc) (|sign(v) g - w| <= g + Fs): no overflow test
+                // at build_at (about a quarter of the range), and the
+                // damping force within twice k sigma1 v_max (1 + Fs/Fc)
+                // (|sign(v) g - w| <= g + Fs; a 1/g of one Q16.16 step can
+                // be twice the exact one), half the range: no overflow test
                 let factor = d_unscaled.mul_bounded(inv_g).mul_bounded(speed);
                 let mut damped = factor.mul_bounded(gap_end(v, g, w));
                 if CORRECTED {
@@ -823,6 +831,68 @@ mod tests {
         }
         // enough sets get through build_at for the test to mean something
         assert!(accepted > 2_000, "{accepted} sets accepted");
+        // a review's worst cases: the damping force at half the range (a
+        // 1/g of one step, twice the exact one, k = 2^-14, Fs/Fc = 1023, from
+        // w at the bottom of the range) and the low-speed rate at an eighth
+        // (a rounded x of 0 for a true x just under 0.125)
+        let damping = LuGreParams {
+            curve: StribeckParams {
+                fc: 131_072.121_046_281_94,
+                fs: 134_032_033.759_008_24,
+                vs: 1e-3,
+                exponent: 2.0,
+            },
+            sigma0: 1e7,
+            sigma1: 32_749.375_873_960_103,
+            sigma2: 0.0,
+            vd: None,
+        };
+        let rate = LuGreParams {
+            curve: StribeckParams {
+                fc: 37.257,
+                fs: 62_457.05,
+                vs: 0.004_732,
+                exponent: 0.7,
+            },
+            sigma0: 1.041e12,
+            sigma1: 19_992.0,
+            sigma2: 0.0,
+            vd: Some(0.020_975),
+        };
+        for (p, h) in [(damping, 1e-3), (rate, 3.223e-5)] {
+            let m = p.build_at::<Fixed32>(h).unwrap();
+            for w in [Fixed32::MIN, Fixed32::MAX, Fixed32::ZERO, m.fs(), -m.fs()] {
+                for bits in (-(4 << 16)..=(4 << 16)).step_by(977) {
+                    let mut s = LuGreAtState { w };
+                    m.step(&mut s, Fixed32::from_bits(bits));
+                    m.step(&mut s, Fixed32::from_bits(bits));
+                }
+            }
+        }
+    }
+
+    /// An unscaled `sigma1` beyond Q16.16 is refused where it would have
+    /// saturated the damping term (a review's case: 33.3 N for 1000 N).
+    #[cfg(feature = "fixed")]
+    #[test]
+    fn fixed_point_refuses_an_unrepresentable_sigma1() {
+        let p = LuGreParams {
+            curve: StribeckParams {
+                fc: 1000.0,
+                fs: 1000.0,
+                vs: 1e-3,
+                exponent: 2.0,
+            },
+            sigma0: 1e5,
+            sigma1: 1e6,
+            sigma2: 0.0,
+            vd: None,
+        };
+        assert_eq!(
+            p.build_at::<crate::Fixed32>(1e-3).err(),
+            Some(ParamError::NotRepresentable("sigma1"))
+        );
+        assert!(p.build_at::<f32>(1e-3).is_ok());
     }
 
     fn arb_params() -> impl Strategy<Value = LuGreParams> {
