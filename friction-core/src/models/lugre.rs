@@ -771,11 +771,12 @@ mod tests {
     }
 
     /// The fixed-point step's bounded products ([`Scalar::mul_bounded`],
-    /// which asserts its bound in this crate's tests) over every parameter
-    /// set `build_at` accepts, drawn log-uniformly across and beyond their
-    /// ranges, with hostile inputs: velocities beyond the clamp, states at
-    /// the ends of the range, an observer's corrections at their limit and
-    /// a velocity its caller failed to clamp.
+    /// which asserts its bound in this crate's tests) over the parameter
+    /// sets `build_at` accepts among 20,000 drawn log-uniformly across and
+    /// beyond their ranges, and a review's worst cases, with hostile
+    /// inputs: velocities beyond the clamp, states at the ends of the range,
+    /// an observer's corrections at their limit and a velocity its caller
+    /// failed to clamp.
     #[cfg(feature = "fixed")]
     #[test]
     fn fixed_point_bounded_products_stay_in_range() {
@@ -792,7 +793,7 @@ mod tests {
             let p = LuGreParams {
                 curve: StribeckParams {
                     fc,
-                    fs: fc * log_uniform(1.0, 20.0),
+                    fs: fc * log_uniform(1.0, 2000.0),
                     vs: log_uniform(1e-5, 10.0),
                     exponent: [2.0, 1.0, 0.7][set % 3],
                 },
