@@ -167,8 +167,8 @@ pub trait Scalar:
     /// without rounding `self 2^exp` first. The same value as the quotient
     /// `2^-exp / self` ([`Scalar::rescale_pow2`] of 1) for any `self`; fixed
     /// point overrides it with a reciprocal in digits of a 16-bit estimate,
-    /// which has no whole part to divide first (Q16.16 LuGre's `1/g` on a
-    /// Cortex-M0: 157 -> about 90 instructions).
+    /// which has no whole part to divide first (on a Cortex-M0 about 60
+    /// instructions fewer than the quotient; see the cost guide).
     #[inline]
     fn reciprocal_rescaled(self, exp: i8) -> Self {
         Self::ONE.rescale_pow2(exp.saturating_neg()) / self
@@ -217,8 +217,8 @@ pub trait Scalar:
     /// `[0, 1]`: the elasto-plastic transition zone's rate factor, from 2.47
     /// at 0 to 1 at 1. Default: the series of `sin(phi) / phi` in
     /// `(phi/2)^2`, squared; fixed point evaluates a table of cubic segments
-    /// built at compile time instead (about 30 instructions on a Cortex-M0
-    /// instead of about 80).
+    /// built at compile time instead (the zone rate on a Cortex-M0: about
+    /// 125 -> 84 instructions).
     #[inline]
     fn zone_curve(self) -> Self {
         crate::models::elasto_plastic::zone_curve_series(self)

@@ -709,8 +709,8 @@ impl<S: Scalar> ElastoPlasticAt<S> {
         // 1/g unscaled, g >= Fc > 0, by the quotient: LuGre's reciprocal
         // (`inverse_unscaled`, the same bits) would take the Q16.16 step on
         // a Cortex-M0 445.5 -> 425.4 on average and its `k = 0` worst step
-        // 1,702.5 -> 1,682.5, 3.95x the average against the 4x enforced,
-        // where a compiler's layout moves it by more than the margin
+        // 1,702.5 -> 1,682.5, 3.95x the average against the 4x enforced:
+        // closer than a compiler's layout can be trusted to stay
         let inv_w_max = lugre.scale_s() / w_max;
         let mut w = state.w;
         let xi = lugre.sigma0_h() * v.abs();
