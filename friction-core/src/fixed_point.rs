@@ -538,6 +538,38 @@ const fn exp_neg_const(x: f64) -> f64 {
     sum
 }
 
+/// Hermite's cubic `a + b t + c t^2 + d t^3` on `t` in `[0, 1]` through the
+/// values `v0`, `v1` with the slopes (per unit of `t`) `s0`, `s1` at its
+/// ends, its coefficients rounded to Q0.20 (for the tables built at compile
+/// time).
+const fn hermite_q20(v0: f64, s0: f64, v1: f64, s1: f64) -> [i32; 4] {
+    const fn q20(x: f64) -> i32 {
+        let scaled = x * (1 << 20) as f64;
+        if scaled < 0.0 {
+            -((-scaled + 0.5) as i32)
+        } else {
+            (scaled + 0.5) as i32
+        }
+    }
+    [
+        q20(v0),
+        q20(s0),
+        q20(3.0 * (v1 - v0) - 2.0 * s0 - s1),
+        q20(2.0 * (v0 - v1) + s0 + s1),
+    ]
+}
+
+/// A [`hermite_q20`] cubic at `t / 2^bits` by Horner in `i32`, in Q16.16
+/// (rounded): the caller keeps `sum t` below 2^31.
+#[inline]
+fn hermite_bits([a, b, c, d]: [i32; 4], t: i32, bits: u32) -> i32 {
+    let mut sum = d;
+    for coefficient in [c, b, a] {
+        sum = coefficient + ((sum * t) >> bits);
+    }
+    (sum + 8) >> 4
+}
+
 /// The segments of [`exp_neg_square_bits`]: `r` in `[0, 3.5)` in steps of
 /// 1/8 (beyond, `e^-r^2 < 2^-17` rounds to 0).
 const GAUSS_SEGMENT_COUNT: usize = 28;
@@ -550,14 +582,6 @@ const GAUSS_SEGMENT_COUNT: usize = 28;
 // evaluated at compile time: an index out of range fails the build
 #[allow(clippy::indexing_slicing)]
 const GAUSS_SEGMENTS: [[i32; 4]; GAUSS_SEGMENT_COUNT] = {
-    const fn q20(x: f64) -> i32 {
-        let scaled = x * (1 << 20) as f64;
-        if scaled < 0.0 {
-            -((-scaled + 0.5) as i32)
-        } else {
-            (scaled + 0.5) as i32
-        }
-    }
     let mut table = [[0; 4]; GAUSS_SEGMENT_COUNT];
     let mut i = 0;
     while i < GAUSS_SEGMENT_COUNT {
@@ -565,12 +589,7 @@ const GAUSS_SEGMENTS: [[i32; 4]; GAUSS_SEGMENT_COUNT] = {
         let (e0, e1) = (exp_neg_const(r0 * r0), exp_neg_const(r1 * r1));
         // slopes per segment: d/dt = (1/8) d/dr
         let (s0, s1) = (-2.0 * r0 * e0 / 8.0, -2.0 * r1 * e1 / 8.0);
-        table[i] = [
-            q20(e0),
-            q20(s0),
-            q20(3.0 * (e1 - e0) - 2.0 * s0 - s1),
-            q20(2.0 * (e0 - e1) + s0 + s1),
-        ];
+        table[i] = hermite_q20(e0, s0, e1, s1);
         i += 1;
     }
     table
@@ -608,14 +627,6 @@ const ZONE_SEGMENT_COUNT: usize = 16;
 // evaluated at compile time: an index out of range fails the build
 #[allow(clippy::indexing_slicing)]
 const ZONE_SEGMENTS: [[i32; 4]; ZONE_SEGMENT_COUNT] = {
-    const fn q20(x: f64) -> i32 {
-        let scaled = x * (1 << 20) as f64;
-        if scaled < 0.0 {
-            -((-scaled + 0.5) as i32)
-        } else {
-            (scaled + 0.5) as i32
-        }
-    }
     const HALF_PI: f64 = core::f64::consts::FRAC_PI_2;
     // T and dT/du at u
     const fn curve(u: f64) -> (f64, f64) {
@@ -631,12 +642,7 @@ const ZONE_SEGMENTS: [[i32; 4]; ZONE_SEGMENT_COUNT] = {
         let (t1, d1) = curve((i + 1) as f64 * width);
         // slopes per segment: d/dt = width d/du
         let (s0, s1) = (d0 * width, d1 * width);
-        table[i] = [
-            q20(t0),
-            q20(s0),
-            q20(3.0 * (t1 - t0) - 2.0 * s0 - s1),
-            q20(2.0 * (t0 - t1) + s0 + s1),
-        ];
+        table[i] = hermite_q20(t0, s0, t1, s1);
         i += 1;
     }
     table
@@ -650,15 +656,10 @@ const ZONE_SEGMENTS: [[i32; 4]; ZONE_SEGMENT_COUNT] = {
 #[inline]
 fn zone_curve_bits(u: i32) -> i32 {
     let u = u.max(0) as u32;
-    let Some(&[a, b, c, d]) = ZONE_SEGMENTS.get((u >> 12) as usize) else {
+    let Some(&segment) = ZONE_SEGMENTS.get((u >> 12) as usize) else {
         return 1 << 16;
     };
-    let t = (u & 0xfff) as i32;
-    let mut sum = d;
-    for coefficient in [c, b, a] {
-        sum = coefficient + ((sum * t) >> 12);
-    }
-    (sum + 8) >> 4
+    hermite_bits(segment, (u & 0xfff) as i32, 12)
 }
 
 /// `e^-r^2` in Q16.16 for `r` in Q16.16 (even): the segment of `|r|`
@@ -670,16 +671,11 @@ fn zone_curve_bits(u: i32) -> i32 {
 #[inline]
 fn exp_neg_square_bits(r: i32) -> i32 {
     let r = r.unsigned_abs();
-    let Some(&[a, b, c, d]) = GAUSS_SEGMENTS.get((r >> 13) as usize) else {
+    let Some(&segment) = GAUSS_SEGMENTS.get((r >> 13) as usize) else {
         return 0;
     };
-    let t = (r & 0x1fff) as i32;
-    let mut sum = d;
-    for coefficient in [c, b, a] {
-        sum = coefficient + ((sum * t) >> 13);
-    }
     // within [0, 2^16] for every input (tested): no clamp
-    (sum + 8) >> 4
+    hermite_bits(segment, (r & 0x1fff) as i32, 13)
 }
 
 /// `e^-x` for `x >= 0` in integer arithmetic: `x = k ln2 + r` with
