@@ -83,6 +83,13 @@ pub trait Compensation<S: Scalar> {
     /// [`Compensation::estimate`], on ticks where a sample exists). The
     /// sample is finite.
     fn learn(&self, _state: &mut Self::State, _sample: FrictionSample<S>) {}
+
+    /// Told the command an accepted tick issued (command units, within the
+    /// limit), after [`Compensation::estimate`]: a compensation whose
+    /// friction grows with the torque the transmission carries reads its
+    /// load input from it.
+    #[inline]
+    fn commanded(&self, _state: &mut Self::State, _command: S) {}
 }
 
 /// The friction the compensator measured over the last two periods, for
@@ -541,6 +548,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
         state.last_x = x;
         state.since_last = 1;
         let command = (base + state.integral).sat(self.limit);
+        self.compensation.commanded(&mut state.friction, command);
         if C::LEARNS {
             state.command_before = state.command;
             state.command = command;

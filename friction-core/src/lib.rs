@@ -19,13 +19,16 @@ pub mod compensator;
 pub mod fixed_point;
 pub mod fixed_step;
 mod gain;
+pub mod load_friction;
 pub mod model;
 pub mod models;
 pub mod observer;
+pub mod parameter_adaptive;
 pub mod random;
 pub mod rls;
 pub mod scalar;
 pub mod stribeck;
+pub mod supervisor;
 #[cfg(test)]
 mod test_rng;
 
@@ -37,6 +40,7 @@ pub use compensator::{
 #[cfg(feature = "fixed")]
 pub use fixed_point::Fixed32;
 pub use fixed_step::{FixedStepModel, FixedStepObservable};
+pub use load_friction::{LoadForm, LoadFriction, LoadFrictionParams};
 pub use model::{FrictionModel, ParamError, PARAM_RANGE, VELOCITY_LIMIT};
 pub use models::bristle::{Bristle, BristleParams, BristleState};
 pub use models::dahl::{Dahl, DahlAt, DahlParams, DahlState};
@@ -47,12 +51,14 @@ pub use models::lugre::{LuGre, LuGreAt, LuGreAtState, LuGreParams, LuGreState};
 pub use models::reset_integrator::{ResetIntegrator, ResetIntegratorParams, ResetIntegratorState};
 pub use models::xiong::{Xiong, XiongAt, XiongAtState, XiongElement, XiongParams, XiongState};
 pub use observer::{Observable, Observer};
+pub use parameter_adaptive::{ParameterAdaptive, ParameterAdaptiveParams, ParameterAdaptiveState};
 pub use rls::{RlsFeedForward, RlsParams, RlsState};
 pub use scalar::{Conversion, Scalar};
 pub use stribeck::{
     CoulombParams, CoulombViscous, CoulombViscousParams, Karnopp, StribeckCurve, StribeckMap,
     StribeckMapParams, StribeckParams,
 };
+pub use supervisor::{Mode, Supervised, SupervisedState, SupervisorParams, SupervisorStatus};
 
 /// A compensated servo tick on a fixed-step model's observer, the firmware
 /// case: `Compensator<S, AtPeriod<Observer<M, S>>>` in one name.

@@ -6,8 +6,8 @@
 //! [`observer_controller`].
 
 use friction_core::{
-    AdaptiveParams, Compensation, Compensator, CompensatorParams, CompensatorState, Observable,
-    Observer, ParamError, Setpoint, Tick,
+    AdaptiveParams, Compensation, Compensator, CompensatorParams, CompensatorState,
+    CoulombViscousParams, Observable, Observer, ParamError, Setpoint, SupervisorParams, Tick,
 };
 
 /// One servo axis: the core's compensator tick with its state.
@@ -110,11 +110,24 @@ pub struct ObserverRequest {
     pub damping: bool,
     /// The θ adaptation, if any.
     pub adaptive: Option<AdaptiveParams>,
+    /// The supervisor of the θ adaptation, if any (see [`Fallback`]).
+    pub supervisor: Option<Fallback>,
+}
+
+/// A supervisor ([`friction_core::Supervised`]) and the static map it falls
+/// back to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fallback {
+    /// Window, memory, hysteresis and warm-up.
+    pub params: SupervisorParams,
+    /// The Coulomb + viscous feed-forward it falls back to.
+    pub map: CoulombViscousParams,
 }
 
 /// The controller of `request` around the model `build(scale, stiffness)`
 /// builds (see [`ObserverRequest`]): the
-/// plain observer, or the θ-adaptive one (`adapted`: `theta`).
+/// plain observer, or the θ-adaptive one (`adapted`: `theta`), supervised
+/// where the request says (`adapted`: `theta`, `mode`).
 pub fn observer_controller<M>(
     setup: &Loop,
     request: &ObserverRequest,
@@ -126,13 +139,23 @@ where
 {
     let model = build(request.scale, request.stiffness)?;
     let observer = Observer::new(model, request.gain)?.with_damping(request.damping);
-    match request.adaptive {
-        None => controller(setup, observer),
-        Some(p) => controller_reading(
+    let h = setup.params.h;
+    match (request.adaptive, request.supervisor) {
+        (None, _) => controller(setup, observer),
+        (Some(p), None) => controller_reading(setup, p.build(observer, h)?, &["theta"], |c, s| {
+            vec![c.theta(s)]
+        }),
+        (Some(p), Some(f)) => controller_reading(
             setup,
-            p.build(observer, setup.params.h)?,
-            &["theta"],
-            |c, s| vec![c.theta(s)],
+            f.params
+                .build(p.build(observer, h)?, f.map.build::<f64>()?, h)?,
+            &["theta", "mode"],
+            |c, s| {
+                vec![
+                    c.primary().theta(&s.primary),
+                    f64::from(c.status(s).mode.code()),
+                ]
+            },
         ),
     }
 }

@@ -601,7 +601,7 @@ fn servo_lines(stdout: &str) -> Vec<(String, f64, f64)> {
 }
 
 #[test]
-fn servo_default_run_prints_eleven_lines_and_writes_trace_and_plots() {
+fn servo_default_run_prints_sixteen_lines_and_writes_trace_and_plots() {
     let dir = tempfile::tempdir().unwrap();
     let out = friction(&["servo", "--output", dir.path().to_str().unwrap()]);
     assert!(
@@ -618,6 +618,8 @@ fn servo_default_run_prints_eleven_lines_and_writes_trace_and_plots() {
             "nofriction",
             "none",
             "static",
+            "static+50",
+            "static-50",
             "observer",
             "observer+50",
             "observer-50",
@@ -625,6 +627,9 @@ fn servo_default_run_prints_eleven_lines_and_writes_trace_and_plots() {
             "adaptive",
             "adaptive+50",
             "adaptive-50",
+            "adaptive-theta",
+            "adaptive-theta+50",
+            "adaptive-theta-50",
             "rls"
         ],
         "{stdout}"
@@ -638,7 +643,13 @@ fn servo_default_run_prints_eleven_lines_and_writes_trace_and_plots() {
     let trace = std::fs::read_to_string(dir.path().join("trace.csv")).unwrap();
     assert!(trace.starts_with("t,x_ref,drift,e_nofriction,e_none,"));
     let header = trace.lines().next().unwrap();
-    for column in ["fhat_observer", "theta_adaptive+50", "fc_rls"] {
+    for column in [
+        "fhat_observer",
+        "theta_adaptive-theta+50",
+        "fc_pos_adaptive+50",
+        "mode_adaptive",
+        "fc_rls",
+    ] {
         assert!(header.split(',').any(|c| c == column), "{header}");
     }
     assert_eq!(trace.lines().count(), 20_001); // 20 s at 1 kHz and the header
@@ -700,6 +711,8 @@ fn servo_gms_and_xiong_plants_get_observer_rows_that_beat_none() {
                 "nofriction",
                 "none",
                 "static",
+                "static+50",
+                "static-50",
                 "observer",
                 "observer+50",
                 "observer-50",
@@ -707,6 +720,9 @@ fn servo_gms_and_xiong_plants_get_observer_rows_that_beat_none() {
                 "adaptive",
                 "adaptive+50",
                 "adaptive-50",
+                "adaptive-theta",
+                "adaptive-theta+50",
+                "adaptive-theta-50",
                 "rls"
             ],
             "{name}: {stdout}"
@@ -1023,25 +1039,45 @@ fn servo_adaptive_rows_beat_static_where_the_error_only_law_failed() {
     // With dθ/dt = -γ e F^ alone, θ^ ran to θmax on these files
     // (astrom2008-drift adaptive+50: 89 mrad against none 21; dahl1968
     // adaptive-50: 45 against 8.2); the composite error de/dt + (kp/kd) e
-    // keeps both mis-scaled starts below the static feed-forward.
+    // keeps both mis-scaled starts below the static feed-forward, and so
+    // does the per-parameter law (both unsupervised here: the laws
+    // themselves). Supervised, every adaptive row stays within the static
+    // feed-forward of its own (wrong) scale.
     for name in ["astrom2008-drift.toml", "dahl1968.toml"] {
-        let dir = tempfile::tempdir().unwrap();
-        let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../params")
-            .join(name);
-        let out = friction(&[
-            "servo",
-            "--params",
-            p.to_str().unwrap(),
-            "--output",
-            dir.path().to_str().unwrap(),
-        ]);
-        assert!(out.status.success(), "{name}: {}", stderr(&out));
-        let stdout = String::from_utf8_lossy(&out.stdout);
-        let lines = servo_lines(&stdout);
-        let rms = |n: &str| lines.iter().find(|l| l.0 == n).unwrap().1;
-        for row in ["adaptive+50", "adaptive-50"] {
-            assert!(rms(row) < rms("static"), "{name} {row}: {stdout}");
+        for supervised in [false, true] {
+            let dir = tempfile::tempdir().unwrap();
+            let p = servo_params_from(
+                dir.path(),
+                name,
+                if supervised {
+                    "duration = 20"
+                } else {
+                    "supervisor = false"
+                },
+            );
+            let out = friction(&[
+                "servo",
+                "--params",
+                &p,
+                "--output",
+                dir.path().to_str().unwrap(),
+            ]);
+            assert!(out.status.success(), "{name}: {}", stderr(&out));
+            let stdout = String::from_utf8_lossy(&out.stdout);
+            let lines = servo_lines(&stdout);
+            let rms = |n: &str| lines.iter().find(|l| l.0 == n).unwrap().1;
+            for (row, own) in [
+                ("adaptive+50", "static+50"),
+                ("adaptive-50", "static-50"),
+                ("adaptive-theta+50", "static+50"),
+                ("adaptive-theta-50", "static-50"),
+            ] {
+                if supervised {
+                    assert!(rms(row) <= rms(own), "{name} {row}: {stdout}");
+                } else {
+                    assert!(rms(row) < rms("static"), "{name} {row}: {stdout}");
+                }
+            }
         }
     }
 }

@@ -275,6 +275,7 @@ impl Model {
             gain,
             damping,
             adaptive,
+            supervisor: None,
         };
         match self.file.model.observer_controller(setup, &request) {
             Some(Ok(c)) => Ok(std::sync::Mutex::new(c)),

@@ -142,6 +142,9 @@ impl HostModel for LuGreParams {
     fn stribeck_velocity(&self) -> Option<f64> {
         Some(self.curve.vs)
     }
+    fn stribeck_exponent(&self) -> Option<f64> {
+        Some(self.curve.exponent)
+    }
     fn sigma2(&self) -> f64 {
         self.sigma2
     }

@@ -234,6 +234,11 @@ pub trait HostModel {
     fn stribeck_velocity(&self) -> Option<f64> {
         None
     }
+    /// The exponent `delta` of the model's Stribeck curve, where it has one
+    /// that the host can read (LuGre); `None` otherwise.
+    fn stribeck_exponent(&self) -> Option<f64> {
+        None
+    }
     /// The time constant with which the friction force follows the curve
     /// while sliding at speed `v` (frictional lag). Default: the bristle
     /// relaxation of LuGre, `g(v) / (sigma0 |v|)`, taken as

@@ -3,7 +3,7 @@
 //! load-dependent friction, delay) and the adaptation settings, every key
 //! with its default and its range checked up front.
 
-use friction_core::{CompensatorParams, ParamError};
+use friction_core::{CompensatorParams, LoadForm, LoadFrictionParams, ParamError};
 use serde::Deserialize;
 
 /// The `[servo]` table of a parameter file: every key optional, unknown
@@ -67,6 +67,33 @@ pub struct ServoTable {
     /// Minimum speed (rad/s) of a least-squares update (default: the
     /// reference's peak speed / 50).
     pub rls_min_speed: Option<f64>,
+    /// Whether the adaptive rows are supervised (default true).
+    pub supervisor: Option<bool>,
+    /// The supervisor's evidence window (s).
+    pub supervisor_window: Option<f64>,
+    /// Box factor of the per-parameter estimates.
+    pub adaptation_box: Option<f64>,
+    /// Adaptation rate `a` (1/s) of the per-parameter law.
+    pub parameter_rate: Option<f64>,
+    /// Dead zone (rad) of the per-parameter adaptation (default: one
+    /// encoder count; 0 with an ideal encoder).
+    pub dead_zone: Option<f64>,
+    /// Upper bound of the per-parameter load coefficient (0: none).
+    pub load_max: Option<f64>,
+    /// Direction asymmetry `a` (`|a| < 1`): the plant's friction times
+    /// `1 + a` while moving forward, `1 - a` backward.
+    pub asymmetry: Option<f64>,
+    /// `[T, x0]`: an external torque `-T sin(x + x0)` on the plant (a
+    /// pendulum, zero pointing down).
+    pub gravity: Option<[f64; 2]>,
+    /// `[[amplitude, cycles_per_rad], ...]`: the plant's friction times
+    /// `1 + sum a sin(n x)` (gear mesh).
+    pub ripple: Option<Vec<[f64; 2]>>,
+    /// A BAM parameter file (JSON, m1 to m6) for the plant's friction,
+    /// relative to the parameter file.
+    pub plant_bam: Option<String>,
+    /// Presliding deflection (rad) of the BAM plant at its break-away torque.
+    pub presliding: Option<f64>,
 }
 
 /// The servo set-up with every default filled in.
@@ -120,6 +147,28 @@ pub struct ServoConfig {
     pub rls_forgetting: f64,
     /// `rls_min_speed` (rad/s).
     pub rls_min_speed: f64,
+    /// `supervisor`.
+    pub supervisor: bool,
+    /// `supervisor_window` (s).
+    pub supervisor_window: f64,
+    /// `adaptation_box`.
+    pub adaptation_box: f64,
+    /// `parameter_rate` (1/s).
+    pub parameter_rate: f64,
+    /// `dead_zone` (rad).
+    pub dead_zone: f64,
+    /// `load_max`.
+    pub load_max: f64,
+    /// `asymmetry`.
+    pub asymmetry: f64,
+    /// `gravity` `[T, x0]` (`T = 0`: none).
+    pub gravity: [f64; 2],
+    /// `ripple`.
+    pub ripple: Vec<[f64; 2]>,
+    /// The BAM plant's friction, if `plant_bam` is given.
+    pub plant_bam: Option<LoadFrictionParams>,
+    /// `presliding` (rad).
+    pub presliding: f64,
 }
 
 impl Default for ServoConfig {
@@ -151,6 +200,17 @@ impl Default for ServoConfig {
             theta_max: 5.0,
             rls_forgetting: DEFAULT_RLS_FORGETTING,
             rls_min_speed: 0.0,
+            supervisor: true,
+            supervisor_window: 0.1,
+            adaptation_box: 5.0,
+            parameter_rate: DEFAULT_PARAMETER_RATE,
+            dead_zone: 0.0,
+            load_max: 0.0,
+            asymmetry: 0.0,
+            gravity: [0.0, 0.0],
+            ripple: Vec::new(),
+            plant_bam: None,
+            presliding: DEFAULT_PRESLIDING,
         }
     }
 }
@@ -161,6 +221,12 @@ const MAX_VALUE: f64 = 1e12;
 
 /// Default `adaptation_rate` (1/s).
 pub const DEFAULT_ADAPTATION_RATE: f64 = 4.0;
+/// Default `parameter_rate` (1/s): the per-parameter law's estimates
+/// each carry one level, so they take a faster rate than θ (whose product
+/// with the whole model reaches every term at once).
+pub const DEFAULT_PARAMETER_RATE: f64 = 16.0;
+/// Default `presliding` (rad): the BAM plant's deflection at break-away.
+pub const DEFAULT_PRESLIDING: f64 = 1e-4;
 /// Default `rls_forgetting`.
 pub const DEFAULT_RLS_FORGETTING: f64 = 0.9995;
 
@@ -232,6 +298,17 @@ pub enum ServoError {
         /// What is wrong.
         rule: &'static str,
     },
+    /// `plant_bam` names a file that cannot be read or is not a BAM
+    /// parameter file.
+    #[error("{file}: [servo] `plant_bam` = {path}: {message}")]
+    PlantFile {
+        /// The parameter file.
+        file: String,
+        /// The BAM file as written.
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
     /// The controller rejected its parameters (named by the core).
     #[error("{file}: [servo] controller: {error}")]
     Controller {
@@ -273,7 +350,32 @@ impl ServoTable {
             theta_max: self.theta_max.unwrap_or(d.theta_max),
             rls_forgetting: self.rls_forgetting.unwrap_or(d.rls_forgetting),
             rls_min_speed: 0.0,
+            supervisor: self.supervisor.unwrap_or(d.supervisor),
+            supervisor_window: self.supervisor_window.unwrap_or(d.supervisor_window),
+            adaptation_box: self.adaptation_box.unwrap_or(d.adaptation_box),
+            parameter_rate: self.parameter_rate.unwrap_or(d.parameter_rate),
+            dead_zone: 0.0,
+            load_max: self.load_max.unwrap_or(d.load_max),
+            asymmetry: self.asymmetry.unwrap_or(d.asymmetry),
+            gravity: self.gravity.unwrap_or(d.gravity),
+            ripple: self.ripple.clone().unwrap_or_default(),
+            plant_bam: None,
+            presliding: self.presliding.unwrap_or(d.presliding),
         };
+        if let Some(name) = &self.plant_bam {
+            let bam = read_bam(file, name)?;
+            if self.torque_constant.is_none() {
+                if let Some(kt) = bam.kt {
+                    c.torque_constant = kt;
+                }
+            }
+            if self.inertia.is_none() {
+                if let Some(armature) = bam.armature {
+                    c.inertia = armature;
+                }
+            }
+            c.plant_bam = Some(bam.params);
+        }
         let invalid = |key, rule, value| ServoError::Invalid {
             file: file.to_string(),
             key,
@@ -301,6 +403,11 @@ impl ServoTable {
             ("adaptation_derivative", c.adaptation_derivative, false),
             ("theta_min", c.theta_min, false),
             ("theta_max", c.theta_max, true),
+            ("supervisor_window", c.supervisor_window, true),
+            ("adaptation_box", c.adaptation_box, true),
+            ("parameter_rate", c.parameter_rate, false),
+            ("load_max", c.load_max, false),
+            ("presliding", c.presliding, true),
         ] {
             let (ok, rule) = if positive {
                 (value > 0.0, "a number > 0 and at most 1e12")
@@ -353,6 +460,69 @@ impl ServoTable {
             Some(v) if v.is_finite() && v > 0.0 => v,
             Some(v) => return Err(invalid("rls_min_speed", "a finite number > 0", v)),
             None => c.peak_speed() / 50.0,
+        };
+        if !(c.asymmetry.abs() < 1.0) {
+            return Err(invalid(
+                "asymmetry",
+                "a number between -1 and 1 (exclusive)",
+                c.asymmetry,
+            ));
+        }
+        let [torque, angle] = c.gravity;
+        if !(torque.is_finite() && torque >= 0.0 && torque <= MAX_VALUE) {
+            return Err(invalid(
+                "gravity",
+                "[T, x0] with T >= 0 and at most 1e12",
+                torque,
+            ));
+        }
+        if !(angle.is_finite() && angle.abs() <= MAX_VALUE) {
+            return Err(invalid("gravity", "[T, x0] with a finite x0", angle));
+        }
+        if c.ripple.len() > MAX_DRIFT_POINTS {
+            return Err(invalid(
+                "ripple",
+                "at most 10000 terms",
+                c.ripple.len() as f64,
+            ));
+        }
+        let mut depth = 0.0;
+        for [a, n] in &c.ripple {
+            if !(a.is_finite() && n.is_finite() && n.abs() <= MAX_VALUE) {
+                return Err(invalid(
+                    "ripple",
+                    "[[amplitude, cycles_per_rad], ...] of finite numbers",
+                    if a.is_finite() { *n } else { *a },
+                ));
+            }
+            depth += a.abs();
+        }
+        if depth >= 1.0 {
+            return Err(invalid(
+                "ripple",
+                "terms whose amplitudes sum below 1 (the friction stays positive)",
+                depth,
+            ));
+        }
+        if c.adaptation_box < 1.0 {
+            return Err(invalid(
+                "adaptation_box",
+                "a number >= 1 and at most 1e12",
+                c.adaptation_box,
+            ));
+        }
+        if c.supervisor_window * c.rate < 1.0 {
+            return Err(invalid(
+                "supervisor_window",
+                "at least one controller period",
+                c.supervisor_window,
+            ));
+        }
+        c.dead_zone = match self.dead_zone {
+            Some(d) if (0.0..=MAX_VALUE).contains(&d) => d,
+            Some(d) => return Err(invalid("dead_zone", "a number >= 0 and at most 1e12", d)),
+            None if c.encoder_counts > 0.0 => 2.0 * std::f64::consts::PI / c.encoder_counts,
+            None => 0.0,
         };
         if c.friction_drift.len() > MAX_DRIFT_POINTS {
             return Err(ServoError::Drift {
@@ -422,6 +592,100 @@ impl ServoTable {
     }
 }
 
+/// A BAM parameter file: its friction budget, and its `kt` and `armature`
+/// where it has them.
+pub struct BamFile {
+    /// The budget.
+    pub params: LoadFrictionParams,
+    /// `kt` (N m/A).
+    pub kt: Option<f64>,
+    /// `armature` (kg m^2).
+    pub armature: Option<f64>,
+}
+
+/// Reads the BAM file `name`, relative to the parameter file `file`.
+pub fn read_bam(file: &str, name: &str) -> Result<BamFile, ServoError> {
+    let fail = |message: String| ServoError::PlantFile {
+        file: file.to_string(),
+        path: name.to_string(),
+        message,
+    };
+    let dir = std::path::Path::new(file)
+        .parent()
+        .unwrap_or(std::path::Path::new("."));
+    let path = dir.join(name);
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| fail(format!("cannot read {}: {e}", path.display())))?;
+    let value: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
+        fail(format!(
+            "not JSON at line {}, column {}: {e}",
+            e.line(),
+            e.column()
+        ))
+    })?;
+    let object = value
+        .as_object()
+        .ok_or_else(|| fail("not a JSON object".into()))?;
+    let form_name = object
+        .get("model")
+        .and_then(|m| m.as_str())
+        .ok_or_else(|| fail("no `model` (m1 to m6)".into()))?;
+    let form = LoadForm::named(form_name)
+        .ok_or_else(|| fail(format!("`model` = {form_name:?} is not one of m1 to m6")))?;
+    let number = |key: &str| -> Result<Option<f64>, ServoError> {
+        match object.get(key) {
+            None => Ok(None),
+            Some(v) => v
+                .as_f64()
+                .map(Some)
+                .ok_or_else(|| fail(format!("`{key}` is not a number"))),
+        }
+    };
+    let mut p = LoadFrictionParams::zero(form);
+    for (key, slot) in [
+        ("friction_base", &mut p.friction_base),
+        ("friction_stribeck", &mut p.friction_stribeck),
+        ("friction_viscous", &mut p.friction_viscous),
+        ("dtheta_stribeck", &mut p.dtheta_stribeck),
+        ("alpha", &mut p.alpha),
+        ("load_friction_base", &mut p.load_friction_base),
+        ("load_friction_stribeck", &mut p.load_friction_stribeck),
+        ("load_friction_motor", &mut p.load_friction_motor),
+        ("load_friction_external", &mut p.load_friction_external),
+        (
+            "load_friction_motor_stribeck",
+            &mut p.load_friction_motor_stribeck,
+        ),
+        (
+            "load_friction_external_stribeck",
+            &mut p.load_friction_external_stribeck,
+        ),
+        ("load_friction_motor_quad", &mut p.load_friction_motor_quad),
+        (
+            "load_friction_external_quad",
+            &mut p.load_friction_external_quad,
+        ),
+    ] {
+        if let Some(x) = number(key)? {
+            *slot = x;
+        }
+    }
+    p.validate().map_err(|e| fail(e.to_string()))?;
+    let positive = |key: &str| -> Result<Option<f64>, ServoError> {
+        match number(key)? {
+            Some(x) if !(x > 0.0 && x <= MAX_VALUE) => {
+                Err(fail(format!("`{key}` must be > 0 and at most 1e12")))
+            }
+            x => Ok(x),
+        }
+    };
+    Ok(BamFile {
+        params: p,
+        kt: positive("kt")?,
+        armature: positive("armature")?,
+    })
+}
+
 impl ServoConfig {
     /// The core compensator's parameters.
     pub fn controller(&self) -> CompensatorParams {
@@ -467,12 +731,107 @@ impl ServoConfig {
             && self.friction_drift.is_empty()
             && self.load_friction == 0.0
             && self.delay_ticks == 0
+            && self.asymmetry == 0.0
+            && self.gravity[0] == 0.0
+            && self.ripple.is_empty()
+            && self.plant_bam.is_none()
+    }
+
+    /// The plant's friction factor at position `x` moving at `v`:
+    /// direction asymmetry times ripple.
+    pub fn friction_factor(&self, x: f64, v: f64) -> f64 {
+        let direction = if v > 0.0 {
+            1.0 + self.asymmetry
+        } else if v < 0.0 {
+            1.0 - self.asymmetry
+        } else {
+            1.0
+        };
+        let ripple: f64 = self.ripple.iter().map(|[a, n]| a * (n * x).sin()).sum();
+        direction * (1.0 + ripple)
+    }
+
+    /// The external torque on the plant at position `x` (`gravity`).
+    pub fn external_torque(&self, x: f64) -> f64 {
+        let [torque, angle] = self.gravity;
+        if torque == 0.0 {
+            0.0
+        } else {
+            -torque * (x + angle).sin()
+        }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn bam_files_are_read_with_their_kt_and_armature_and_bad_ones_named() {
+        let dir = std::env::temp_dir().join(format!("friction-bam-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("p.toml").display().to_string();
+        let write = |name: &str, text: &str| std::fs::write(dir.join(name), text).unwrap();
+        write(
+            "m4.json",
+            r#"{"kt": 2.2, "armature": 0.025, "friction_base": 0.01, "friction_stribeck": 0.1,
+                "load_friction_base": 0.009, "load_friction_stribeck": 0.22,
+                "dtheta_stribeck": 1.6, "alpha": 1.3, "friction_viscous": 0.05, "model": "m4"}"#,
+        );
+        let table = |name: &str| ServoTable {
+            plant_bam: Some(name.into()),
+            ..Default::default()
+        };
+        let c = table("m4.json").resolve(&file).unwrap();
+        let p = c.plant_bam.unwrap();
+        assert_eq!(p.form, LoadForm::M4);
+        assert_eq!(p.load_friction_stribeck, 0.22);
+        assert_eq!((c.torque_constant, c.inertia), (2.2, 0.025));
+        assert!(!c.is_ideal());
+        // the table's own values win
+        let c = ServoTable {
+            inertia: Some(0.5),
+            ..table("m4.json")
+        }
+        .resolve(&file)
+        .unwrap();
+        assert_eq!((c.torque_constant, c.inertia), (2.2, 0.5));
+        for (name, text, says) in [
+            ("a.json", "{\"model\": \"m9\"}", "not one of m1 to m6"),
+            ("b.json", "{\"model\": \"m2\",\n \"alpha\": -1}", "alpha"),
+            (
+                "c.json",
+                "{\"model\": \"m2\", \"kt\": \"x\"}",
+                "`kt` is not a number",
+            ),
+            ("d.json", "{\"model\": \"m2\",\n oops}", "line 2, column 2"),
+            ("e.json", "[1, 2]", "not a JSON object"),
+        ] {
+            write(name, text);
+            let e = table(name).resolve(&file).unwrap_err().to_string();
+            assert!(
+                e.contains(says) && e.contains("plant_bam") && e.contains(&file),
+                "{e}"
+            );
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn plant_factors_follow_direction_position_and_gravity() {
+        let c = ServoConfig {
+            asymmetry: 0.2,
+            ripple: vec![[0.1, 4.0]],
+            gravity: [3.0, 0.5],
+            ..ServoConfig::default()
+        };
+        let ripple = 1.0 + 0.1 * (4.0f64 * 0.3).sin();
+        assert!((c.friction_factor(0.3, 1.0) - 1.2 * ripple).abs() < 1e-15);
+        assert!((c.friction_factor(0.3, -1.0) - 0.8 * ripple).abs() < 1e-15);
+        assert!((c.external_torque(0.3) + 3.0 * 0.8f64.sin()).abs() < 1e-15);
+        assert_eq!(ServoConfig::default().external_torque(1.0), 0.0);
+        assert_eq!(ServoConfig::default().friction_factor(1.0, 1.0), 1.0);
+    }
 
     #[test]
     fn drift_is_piecewise_linear_and_held() {
@@ -541,6 +900,55 @@ mod tests {
                 ..Default::default()
             },
             "rls_forgetting",
+        );
+        bad(
+            ServoTable {
+                asymmetry: Some(1.0),
+                ..Default::default()
+            },
+            "`asymmetry`",
+        );
+        bad(
+            ServoTable {
+                gravity: Some([-1.0, 0.0]),
+                ..Default::default()
+            },
+            "`gravity`",
+        );
+        bad(
+            ServoTable {
+                ripple: Some(vec![[0.6, 3.0], [-0.5, 7.0]]),
+                ..Default::default()
+            },
+            "`ripple`",
+        );
+        bad(
+            ServoTable {
+                presliding: Some(0.0),
+                ..Default::default()
+            },
+            "`presliding`",
+        );
+        bad(
+            ServoTable {
+                adaptation_box: Some(0.5),
+                ..Default::default()
+            },
+            "`adaptation_box`",
+        );
+        bad(
+            ServoTable {
+                dead_zone: Some(-1.0),
+                ..Default::default()
+            },
+            "`dead_zone`",
+        );
+        bad(
+            ServoTable {
+                plant_bam: Some("no-such.json".into()),
+                ..Default::default()
+            },
+            "`plant_bam` = no-such.json: cannot read",
         );
         let ok = ServoTable {
             encoder_counts: Some(262_144.0),

@@ -110,6 +110,7 @@ impl Job {
             "adaptive" => Row::Adaptive {
                 scale: self.force,
                 stiffness: self.stiffness,
+                law: super::Law::Parameters,
             },
             _ => Row::Rls,
         }

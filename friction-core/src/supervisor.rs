@@ -1,0 +1,473 @@
+//! A supervisor that makes an adaptive compensation safe to ship enabled:
+//! it applies whichever of three candidates predicts the measured friction
+//! best, with hysteresis.
+//!
+//! The candidates are the primary compensation (an adaptive observer), a
+//! static feed-forward map `F(v)` on the measured velocity (the fallback),
+//! and no compensation at all. All three run every tick; only the active
+//! one reaches the command. The evidence is the friction the compensator
+//! measures ([`FrictionSample`]: commands less inertia times the second
+//! difference of the position). Summed over a window of `N` ticks, the
+//! second differences telescope, so the window's mean measured friction
+//! carries the encoder's rounding only from its two ends:
+//!
+//! ```text
+//! E_c     = mean over the window of (force - (F_c[k-1] + F_c[k-2]) / 2)   each candidate c
+//! P_c    += (E_c^2 - P_c) / memory                                          per window
+//! switch from the active a to the best b when P_b < ratio P_a (after warm-up, and at most once per window)
+//! ```
+//!
+//! `F_c[k-1]`, `F_c[k-2]` are the candidate's estimates at the ticks whose
+//! commands the sample averages. An external torque (gravity, a load) is
+//! in the measured friction for every candidate alike. A candidate that
+//! predicts worse than no compensation loses to it: the compensator falls
+//! back to the static map or to nothing, and returns to the primary when its
+//! prediction is better again. The primary keeps running in the background
+//! on the measured velocity, with its adaptation held (it sees no tracking
+//! error while it is not applied).
+//!
+//! The state and the reason are readable ([`Supervised::status`]).
+
+use crate::compensator::{Compensation, FrictionSample};
+use crate::model::{non_negative, positive, FrictionModel, ParamError};
+use crate::Scalar;
+
+/// Which candidate the supervisor applies.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Mode {
+    /// The primary (adaptive) compensation.
+    #[default]
+    Primary,
+    /// The static feed-forward fallback.
+    Fallback,
+    /// No compensation.
+    Off,
+}
+
+impl Mode {
+    const ALL: [Mode; 3] = [Mode::Primary, Mode::Fallback, Mode::Off];
+
+    fn index(self) -> usize {
+        match self {
+            Mode::Primary => 0,
+            Mode::Fallback => 1,
+            Mode::Off => 2,
+        }
+    }
+
+    /// A number for traces: 0 primary, 1 fallback, 2 off.
+    pub fn code(self) -> u8 {
+        self.index() as u8
+    }
+}
+
+/// Design-time parameters of the supervisor, in `f64`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct SupervisorParams {
+    /// Evidence window (s, `> 0`): one prediction error per window.
+    pub window: f64,
+    /// Memory of the mean-square prediction errors, in windows (`>= 1`).
+    pub memory: f64,
+    /// Hysteresis: switch when the best candidate's error is below `ratio`
+    /// times the active one's (`0 < ratio <= 1`).
+    pub ratio: f64,
+    /// Windows before the first switch (`>= 0`).
+    pub warm_up: f64,
+    /// Windows in a fallback mode after which the primary is tried again
+    /// (`>= 0`; 0: never). A primary whose adaptation holds while it is not
+    /// applied can only learn while it is: a retry lets one that was judged
+    /// too early catch up.
+    pub retry: f64,
+    /// Prediction errors below this (force units, RMS over a window) count
+    /// as equal (`>= 0`): a few per cent of the friction level, so that
+    /// two good candidates do not trade places on noise.
+    pub tolerance: f64,
+}
+
+impl SupervisorParams {
+    /// Windows of 0.1 s, a memory of 10 windows, ratio 0.7, warm-up 10
+    /// windows, a retry after 50 windows, no tolerance (set one: e.g. a few
+    /// per cent of the Coulomb level).
+    pub const DEFAULT: Self = Self {
+        window: 0.1,
+        memory: 10.0,
+        ratio: 0.7,
+        warm_up: 10.0,
+        retry: 100.0,
+        tolerance: 0.0,
+    };
+
+    /// Checks every setting; the error names it.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        positive("window", self.window)?;
+        positive("memory", self.memory)?;
+        if self.memory < 1.0 {
+            return Err(ParamError::BelowOne("memory"));
+        }
+        positive("ratio", self.ratio)?;
+        if self.ratio > 1.0 {
+            return Err(ParamError::NotBelow {
+                name: "ratio",
+                limit: "1",
+            });
+        }
+        non_negative("warm_up", self.warm_up)?;
+        non_negative("retry", self.retry)?;
+        non_negative("tolerance", self.tolerance)?;
+        Ok(())
+    }
+
+    /// Validates and builds the supervisor of `primary` with the static map
+    /// `fallback`, for a compensator at period `h` (s).
+    ///
+    /// ```
+    /// use friction_core::{CoulombViscousParams, LuGreParams, Observer, SupervisorParams};
+    /// let observer = Observer::new(LuGreParams::OLSSON_1998.build::<f32>()?, 20.0)?;
+    /// let fallback = CoulombViscousParams { fc: 0.28, sigma2: 0.0176 }.build::<f32>()?;
+    /// let supervised = SupervisorParams::DEFAULT.build(observer, fallback, 1e-3)?;
+    /// # let _ = supervised;
+    /// # Ok::<(), friction_core::ParamError>(())
+    /// ```
+    pub fn build<S: Scalar, P, F>(
+        &self,
+        primary: P,
+        fallback: F,
+        h: f64,
+    ) -> Result<Supervised<P, F, S>, ParamError> {
+        self.validate()?;
+        positive("h", h)?;
+        let ticks = libm::round(self.window / h).max(1.0);
+        if ticks > 1e6 {
+            return Err(ParamError::OutOfRange("window"));
+        }
+        Ok(Supervised {
+            primary,
+            fallback,
+            window: ticks as u32,
+            inv_window: S::from_f64(1.0 / ticks),
+            blend: S::from_f64(1.0 / self.memory),
+            ratio: S::from_f64(self.ratio),
+            floor: S::from_f64(self.tolerance * self.tolerance),
+            warm_up: libm::ceil(self.warm_up).min(1e9) as u32,
+            dwell: libm::ceil(self.memory).min(1e9) as u32,
+            retry: libm::ceil(self.retry).min(1e9) as u32,
+            params: *self,
+        })
+    }
+}
+
+impl Default for SupervisorParams {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// What the supervisor knows: the mode, how often it switched, and each
+/// candidate's filtered mean-square prediction error `[primary, fallback,
+/// off]` (force units squared).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct SupervisorStatus<S> {
+    /// The applied candidate.
+    pub mode: Mode,
+    /// Switches so far.
+    pub switches: u32,
+    /// Completed evidence windows.
+    pub windows: u32,
+    /// Windows since the last switch.
+    pub since_switch: u32,
+    /// Mean-square prediction errors `[primary, fallback, off]`.
+    pub errors: [S; 3],
+}
+
+/// The supervisor's state: the primary's, the status, the window sums and
+/// the last two estimates of each candidate.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct SupervisedState<T, S> {
+    /// The primary compensation's state.
+    pub primary: T,
+    status: SupervisorStatus<S>,
+    /// The last two estimates `[primary, fallback]`, newest first.
+    last: [[S; 2]; 2],
+    /// Sums over the window: measured force, primary, fallback predictions.
+    sums: [S; 3],
+    count: u32,
+}
+
+/// The built supervisor around a primary compensation `P` and a static
+/// fallback map `F`: a [`Compensation`] itself.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Supervised<P, F, S> {
+    primary: P,
+    fallback: F,
+    window: u32,
+    inv_window: S,
+    blend: S,
+    ratio: S,
+    floor: S,
+    warm_up: u32,
+    dwell: u32,
+    retry: u32,
+    params: SupervisorParams,
+}
+
+impl<P, F, S: Scalar> Supervised<P, F, S> {
+    /// The primary compensation.
+    pub fn primary(&self) -> &P {
+        &self.primary
+    }
+
+    /// The parameters it was built from.
+    pub fn params(&self) -> &SupervisorParams {
+        &self.params
+    }
+
+    /// The status of `state`.
+    pub fn status<T>(&self, state: &SupervisedState<T, S>) -> SupervisorStatus<S> {
+        state.status
+    }
+
+    /// Ends a window: updates the errors and, past the warm-up, the mode.
+    fn close_window<T>(&self, state: &mut SupervisedState<T, S>) {
+        let [force, primary, fallback] = state.sums;
+        let st = &mut state.status;
+        for (i, predicted) in [primary, fallback, S::ZERO].into_iter().enumerate() {
+            let error = ((force - predicted) * self.inv_window).sat(S::from_f64(1e15));
+            let squared = error * error;
+            if let Some(p) = st.errors.get_mut(i) {
+                *p = if st.windows == 0 {
+                    squared
+                } else {
+                    *p + self.blend * (squared - *p)
+                };
+            }
+        }
+        st.windows = st.windows.saturating_add(1);
+        st.since_switch = st.since_switch.saturating_add(1);
+        state.sums = [S::ZERO; 3];
+        state.count = 0;
+        // a switch holds for `dwell` windows (the errors then reflect it)
+        if st.windows <= self.warm_up || st.since_switch < self.dwell {
+            return;
+        }
+        let floor = self.floor;
+        let error = |m: Mode| {
+            st.errors
+                .get(m.index())
+                .copied()
+                .unwrap_or(S::ZERO)
+                .max(floor)
+        };
+        let mut next = st.mode;
+        for m in Mode::ALL {
+            if error(m) < error(next) {
+                next = m;
+            }
+        }
+        if error(next) >= self.ratio * error(st.mode) {
+            next = st.mode;
+        }
+        if next == st.mode
+            && st.mode != Mode::Primary
+            && self.retry > 0
+            && st.since_switch >= self.retry
+        {
+            next = Mode::Primary;
+        }
+        if next != st.mode {
+            st.mode = next;
+            st.switches = st.switches.saturating_add(1);
+            st.since_switch = 0;
+        }
+    }
+}
+
+impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensation<S>
+    for Supervised<P, F, S>
+{
+    type State = SupervisedState<P::State, S>;
+    const LEARNS: bool = true;
+    const USES_H: bool = P::USES_H;
+
+    /// Steps every candidate and returns the active one's estimate. The
+    /// primary sees the tracking error only while it is applied: inactive,
+    /// it is given `e = 0`, so its model runs on the measured velocity and
+    /// its adaptation (driven by `e`) holds. Adapting on an error that
+    /// another compensation caused would teach it the wrong values.
+    #[inline]
+    fn estimate(&self, state: &mut Self::State, v: S, e: S, h: S) -> S {
+        let e = if state.status.mode == Mode::Primary {
+            e
+        } else {
+            S::ZERO
+        };
+        let primary = self.primary.estimate(&mut state.primary, v, e, h);
+        let primary = if primary.is_finite() {
+            primary
+        } else {
+            S::ZERO
+        };
+        let fallback = self.fallback.step(&mut (), v, h);
+        let [newest, _] = state.last;
+        state.last = [[primary, fallback], newest];
+        match state.status.mode {
+            Mode::Primary => primary,
+            Mode::Fallback => fallback,
+            Mode::Off => S::ZERO,
+        }
+    }
+
+    fn period(&self) -> Option<f64> {
+        self.primary.period()
+    }
+
+    #[inline]
+    fn learn(&self, state: &mut Self::State, sample: FrictionSample<S>) {
+        if P::LEARNS {
+            self.primary.learn(&mut state.primary, sample);
+        }
+        let half = S::from_f64(0.5);
+        let [[p1, f1], [p2, f2]] = state.last;
+        let [force, primary, fallback] = &mut state.sums;
+        *force = *force + sample.force;
+        *primary = *primary + half * (p1 + p2);
+        *fallback = *fallback + half * (f1 + f2);
+        state.count += 1;
+        if state.count >= self.window {
+            self.close_window(state);
+        }
+    }
+
+    #[inline]
+    fn commanded(&self, state: &mut Self::State, command: S) {
+        self.primary.commanded(&mut state.primary, command);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{
+        CompensatorParams, CompensatorState, CoulombViscous, CoulombViscousParams, FeedForward,
+        Setpoint,
+    };
+
+    fn servo() -> CompensatorParams {
+        CompensatorParams {
+            h: 1e-3,
+            kp: 60.0,
+            ki: 200.0,
+            kd: 1.2,
+            inertia: 0.0023,
+            torque_constant: 1.02,
+            limit: 10.0,
+        }
+    }
+
+    fn map(fc: f64) -> CoulombViscous<f64> {
+        CoulombViscousParams { fc, sigma2: 0.0176 }.build().unwrap()
+    }
+
+    /// A plant `J dv/dt = kc u - scale(t) F_cv(v)` (Coulomb + viscous,
+    /// smoothed over 1e-3 rad/s) under `ctl`; returns the mode after each
+    /// second.
+    fn run<C: Compensation<f64>>(
+        ctl: &crate::Compensator<f64, C>,
+        scale: impl Fn(f64) -> f64,
+        seconds: usize,
+        status: impl Fn(&C, &C::State) -> Mode,
+    ) -> std::vec::Vec<Mode> {
+        let mut s = CompensatorState::default();
+        let (mut x, mut v) = (0.0f64, 0.0f64);
+        let w = 2.0 * core::f64::consts::PI * 0.5;
+        let mut modes = std::vec::Vec::new();
+        for k in 0..seconds * 1000 {
+            let t = k as f64 * 1e-3;
+            let r = Setpoint {
+                x: 0.5 * libm::sin(w * t),
+                v: 0.5 * w * libm::cos(w * t),
+                a: -0.5 * w * w * libm::sin(w * t),
+            };
+            let u = ctl.tick(&mut s, x, r).command;
+            for _ in 0..100 {
+                let f = scale(t) * (0.28 * libm::tanh(v / 1e-3) + 0.0176 * v);
+                v += 1e-5 * (1.02 * u - f) / 0.0023;
+                x += 1e-5 * v;
+            }
+            if k % 1000 == 999 {
+                modes.push(status(ctl.compensation(), s.friction()));
+            }
+        }
+        modes
+    }
+
+    #[test]
+    fn falls_back_from_a_harmful_primary_and_releases_when_it_is_right_again() {
+        // the primary is a feed-forward of three times the plant's friction
+        // until the plant's friction triples at 20 s; the fallback is
+        // right before and a third after
+        let primary = FeedForward(map(0.84));
+        let sup = SupervisorParams::DEFAULT
+            .build(primary, map(0.28), 1e-3)
+            .unwrap();
+        let ctl = servo().build(sup).unwrap();
+        let modes = run(
+            &ctl,
+            |t| if t < 20.0 { 1.0 } else { 3.0 },
+            40,
+            |c, s| c.status(s).mode,
+        );
+        assert_eq!(modes[0], Mode::Primary, "{modes:?}"); // warm-up
+        assert!(
+            modes[5..20].iter().all(|m| *m == Mode::Fallback),
+            "{modes:?}"
+        );
+        assert!(modes[30..].iter().all(|m| *m == Mode::Primary), "{modes:?}");
+    }
+
+    #[test]
+    fn a_primary_that_predicts_well_stays() {
+        // the primary is the plant's own map, the fallback half of it
+        let sup = SupervisorParams::DEFAULT
+            .build(FeedForward(map(0.28)), map(0.14), 1e-3)
+            .unwrap();
+        let ctl = servo().build(sup).unwrap();
+        let modes = run(&ctl, |_| 1.0, 20, |c, s| c.status(s).mode);
+        assert!(modes.iter().all(|m| *m == Mode::Primary), "{modes:?}");
+    }
+
+    #[test]
+    fn settings_are_checked() {
+        let bad = |p: SupervisorParams, e: ParamError| {
+            let r = p.build::<f64, _, _>(crate::NoCompensation, map(0.28), 1e-3);
+            assert_eq!(r.err(), Some(e));
+        };
+        let d = SupervisorParams::DEFAULT;
+        bad(
+            SupervisorParams { window: 0.0, ..d },
+            ParamError::NotPositive("window"),
+        );
+        bad(
+            SupervisorParams { memory: 0.5, ..d },
+            ParamError::BelowOne("memory"),
+        );
+        bad(
+            SupervisorParams { ratio: 1.5, ..d },
+            ParamError::NotBelow {
+                name: "ratio",
+                limit: "1",
+            },
+        );
+        bad(
+            SupervisorParams {
+                warm_up: f64::NAN,
+                ..d
+            },
+            ParamError::NotFinite("warm_up"),
+        );
+    }
+}
