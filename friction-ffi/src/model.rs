@@ -41,8 +41,10 @@ pub struct friction_model_f64 {
 opaque!(friction_model_f32, Model<f32>, 0xB1B1_B1B1);
 opaque!(friction_model_f64, Model<f64>, 0xB2B2_B2B2);
 
-/// Any core model with its state.
+/// Any core model with its state. `repr(u32)`: C's bytes are checked
+/// before they are viewed as one (`slot::Checked`).
 #[derive(Clone, Copy, Debug)]
+#[repr(u32)]
 pub(crate) enum Model<S: Scalar> {
     /// A static map (no state).
     Static(StaticMap<S>),
@@ -52,6 +54,18 @@ pub(crate) enum Model<S: Scalar> {
     Fixed(Fixed<S>, FixedState<S>),
 }
 
+impl<S: Scalar> slot::Checked for Model<S> {
+    const VARIANTS: u32 = 3;
+
+    fn is_valid(&self) -> bool {
+        match self {
+            Self::Static(m) => m.is_valid(),
+            Self::Variable(m, s) => m.is_valid() && s.fits(m),
+            Self::Fixed(m, s) => m.is_valid() && s.fits(m),
+        }
+    }
+}
+
 /// Whether a step's period `h` is the fixed-step model's own (to 1e-6).
 pub(crate) fn same_period(h: f64, period: f64) -> bool {
     (h - period).abs() <= 1e-6 * period
@@ -59,11 +73,11 @@ pub(crate) fn same_period(h: f64, period: f64) -> bool {
 
 impl<S: Scalar> Model<S> {
     fn variable(model: Variable<S>) -> Self {
-        Self::Variable(model, VariableState::Rest)
+        Self::Variable(model, VariableState::default())
     }
 
     fn fixed(model: Fixed<S>) -> Self {
-        Self::Fixed(model, FixedState::Rest)
+        Self::Fixed(model, FixedState::default())
     }
 
     /// Steps by `h` with `v` held; `Err` leaves the state as it was and
@@ -91,8 +105,8 @@ impl<S: Scalar> Model<S> {
     fn reset(&mut self) {
         match self {
             Self::Static(_) => {}
-            Self::Variable(_, s) => *s = VariableState::Rest,
-            Self::Fixed(_, s) => *s = FixedState::Rest,
+            Self::Variable(_, s) => *s = VariableState::default(),
+            Self::Fixed(_, s) => *s = FixedState::default(),
         }
     }
 }
@@ -141,30 +155,30 @@ fn at<S: Scalar>(
 
 fn coulomb_viscous<S: Scalar>(p: &friction_coulomb_viscous_params) -> Result<Model<S>, Refusal> {
     let model = CoulombViscousParams::from(p).build().map_err(param)?;
-    Ok(Model::Static(StaticMap::CoulombViscous(model)))
+    Ok(Model::Static(StaticMap::coulomb_viscous(model)))
 }
 
 fn stribeck_map<S: Scalar>(p: &friction_stribeck_map_params) -> Result<Model<S>, Refusal> {
     let model = StribeckMapParams::from(p).build().map_err(param)?;
-    Ok(Model::Static(StaticMap::StribeckMap(model)))
+    Ok(Model::Static(StaticMap::stribeck_map(model)))
 }
 
 fn bristle<S: Scalar>(p: &friction_bristle_params) -> Result<Model<S>, Refusal> {
     let model = BristleParams::from(p).build().map_err(param)?;
-    Ok(Model::variable(Variable::Bristle(model)))
+    Ok(Model::variable(Variable::bristle(model)))
 }
 
 fn reset_integrator<S: Scalar>(p: &friction_reset_integrator_params) -> Result<Model<S>, Refusal> {
     let model = ResetIntegratorParams::from(p).build().map_err(param)?;
-    Ok(Model::variable(Variable::ResetIntegrator(model)))
+    Ok(Model::variable(Variable::reset_integrator(model)))
 }
 
 fn dahl<S: Scalar>(p: &friction_dahl_params, h: f64) -> Result<Model<S>, Refusal> {
     let p = DahlParams::from(p);
     at(
         h,
-        || p.build().map(Variable::Dahl),
-        |h| p.build_at(h).map(Fixed::Dahl),
+        || p.build().map(Variable::dahl),
+        |h| p.build_at(h).map(Fixed::dahl),
     )
 }
 
@@ -172,8 +186,8 @@ fn lugre<S: Scalar>(p: &friction_lugre_params, h: f64) -> Result<Model<S>, Refus
     let p = LuGreParams::from(p);
     at(
         h,
-        || p.build().map(Variable::LuGre),
-        |h| p.build_at(h).map(Fixed::LuGre),
+        || p.build().map(Variable::lugre),
+        |h| p.build_at(h).map(Fixed::lugre),
     )
 }
 
@@ -184,22 +198,22 @@ fn elasto_plastic<S: Scalar>(
     let p = ElastoPlasticParams::from(p);
     at(
         h,
-        || p.build().map(Variable::ElastoPlastic),
-        |h| p.build_at(h).map(Fixed::ElastoPlastic),
+        || p.build().map(Variable::elasto_plastic),
+        |h| p.build_at(h).map(Fixed::elasto_plastic),
     )
 }
 
 fn leuven<S: Scalar>(p: &friction_leuven_params) -> Result<Model<S>, Refusal> {
     let model = LeuvenParams::from(p).build().map_err(param)?;
-    Ok(Model::variable(Variable::Leuven(model)))
+    Ok(Model::variable(Variable::leuven(model)))
 }
 
 fn gms<S: Scalar>(p: &friction_gms_params, h: f64) -> Result<Model<S>, Refusal> {
     let p = GmsParams::from(p);
     at(
         h,
-        || p.build().map(Variable::Gms),
-        |h| p.build_at(h).map(Fixed::Gms),
+        || p.build().map(Variable::gms),
+        |h| p.build_at(h).map(Fixed::gms),
     )
 }
 
@@ -207,8 +221,8 @@ fn xiong<S: Scalar>(p: &friction_xiong_params, h: f64) -> Result<Model<S>, Refus
     let p = XiongParams::from(p);
     at(
         h,
-        || p.build().map(Variable::Xiong),
-        |h| p.build_at(h).map(Fixed::Xiong),
+        || p.build().map(Variable::xiong),
+        |h| p.build_at(h).map(Fixed::xiong),
     )
 }
 

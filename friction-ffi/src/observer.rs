@@ -10,7 +10,7 @@ use friction_core::{FixedStepModel, Observer, Scalar};
 
 /// Words (8 bytes each) of a `float` observer object, room for the largest
 /// value it holds (a compile-time check keeps it so).
-pub const FRICTION_OBSERVER_F32_WORDS: usize = 40;
+pub const FRICTION_OBSERVER_F32_WORDS: usize = 44;
 /// Words (8 bytes each) of a `double` observer object.
 pub const FRICTION_OBSERVER_F64_WORDS: usize = 80;
 
@@ -31,11 +31,24 @@ pub struct friction_observer_f64 {
 opaque!(friction_observer_f32, Estimator<f32>, 0xB3B3_B3B3);
 opaque!(friction_observer_f64, Estimator<f64>, 0xB4B4_B4B4);
 
-/// An observer with the state of its model.
+/// An observer with the state of its model. `repr(u32)`: C's bytes are
+/// checked before they are viewed as one (`slot::Checked`).
 #[derive(Clone, Copy, Debug)]
+#[repr(u32)]
 pub(crate) enum Estimator<S: Scalar> {
     Variable(Observer<Variable<S>, S>, VariableState<S>),
     Fixed(Observer<Fixed<S>, S>, FixedState<S>),
+}
+
+impl<S: Scalar> slot::Checked for Estimator<S> {
+    const VARIANTS: u32 = 2;
+
+    fn is_valid(&self) -> bool {
+        match self {
+            Self::Variable(o, s) => o.model().is_valid() && s.fits(o.model()),
+            Self::Fixed(o, s) => o.model().is_valid() && s.fits(o.model()),
+        }
+    }
 }
 
 /// The observer of `model` (its parameters; the observer starts at rest).
@@ -50,13 +63,13 @@ fn build<S: Scalar>(model: &Model<S>, gain: f64, damping: bool) -> Result<Estima
             Observer::new(*m, gain)
                 .map_err(param)?
                 .with_damping(damping),
-            VariableState::Rest,
+            VariableState::default(),
         )),
         Model::Fixed(m, _) => Ok(Estimator::Fixed(
             Observer::new(*m, gain)
                 .map_err(param)?
                 .with_damping(damping),
-            FixedState::Rest,
+            FixedState::default(),
         )),
     }
 }
@@ -122,8 +135,8 @@ where
         return friction_status::FRICTION_NULL_POINTER;
     };
     match slot::get(observer) {
-        Some(Estimator::Variable(_, s)) => *s = VariableState::Rest,
-        Some(Estimator::Fixed(_, s)) => *s = FixedState::Rest,
+        Some(Estimator::Variable(_, s)) => *s = VariableState::default(),
+        Some(Estimator::Fixed(_, s)) => *s = FixedState::default(),
         None => return friction_status::FRICTION_NOT_INITIALISED,
     }
     friction_status::FRICTION_OK

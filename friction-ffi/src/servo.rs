@@ -83,7 +83,8 @@ type AdaptiveAt<S> = AtPeriod<AdaptiveObserver<Fixed<S>, S>>;
 
 /// A compensator with its state, one variant per kind of compensation.
 // `repr(u32)`: a plain tag word, so that a tick's dispatch is one load and
-// a jump table (the compiler's niche encoding took five instructions more)
+// a jump table (the compiler's niche encoding took five instructions more),
+// and C's bytes are checked before they are viewed as one (`slot::Checked`)
 #[derive(Clone, Copy, Debug)]
 #[repr(u32)]
 pub(crate) enum Servo<S: Scalar> {
@@ -108,6 +109,33 @@ pub(crate) enum Servo<S: Scalar> {
         Compensator<S, AdaptiveAt<S>>,
         CompensatorState<S, AdaptiveState<FixedState<S>, S>>,
     ),
+}
+
+impl<S: Scalar> slot::Checked for Servo<S> {
+    const VARIANTS: u32 = 6;
+
+    fn is_valid(&self) -> bool {
+        match self {
+            Self::None(..) => true,
+            Self::FeedForward(c, _) => c.compensation().0.is_valid(),
+            Self::Observer(c, s) => {
+                let m = c.compensation().model();
+                m.is_valid() && s.friction().fits(m)
+            }
+            Self::ObserverAt(c, s) => {
+                let m = c.compensation().0.model();
+                m.is_valid() && s.friction().fits(m)
+            }
+            Self::Adaptive(c, s) => {
+                let m = c.compensation().observer().model();
+                m.is_valid() && s.friction().model.fits(m)
+            }
+            Self::AdaptiveAt(c, s) => {
+                let m = c.compensation().0.observer().model();
+                m.is_valid() && s.friction().model.fits(m)
+            }
+        }
+    }
 }
 
 fn build<S: Scalar>(

@@ -1,17 +1,33 @@
-//! Caller-allocated storage: the only `unsafe` code of the crate.
+//! Caller-allocated storage: where C's bytes become Rust values.
 //!
 //! C allocates each object (`friction_model_f64`, ...) as a plain array of
 //! 64-bit words whose size the header states. A constructor writes a tag
 //! (the object type's 32-bit `MAGIC`) followed by a Rust value into it; every
-//! later call checks the tag before it views the words as that value. The
-//! size and alignment of each value are checked at compile time; every
-//! stored value is `Copy` (no destructor, no pointer into itself), so C
-//! may copy an initialised object with `memcpy` or assignment.
+//! later call checks the words before it views them as that value, because
+//! C may hand over anything: an object no constructor wrote (stack garbage,
+//! a `memset`), one of another type, or a corrupted one. The size and
+//! alignment of each value are checked at compile time; every stored value
+//! is `Copy` (no destructor, no pointer into itself), so C may copy an
+//! initialised object with `memcpy` or assignment.
+//!
+//! The checks, in order, each on bytes that every bit pattern is a value of:
+//! the tag (a `u32`), the value's discriminant (a `#[repr(u32)]` enum, so
+//! its first 32 bits, read as a `u32` before any enum is formed), then
+//! [`Checked::is_valid`] on the value, whose fields are all of types
+//! every bit pattern is a value of (floats, integers, the `u32` kinds and
+//! unions of `crate::any`) apart from the core's own fields (below).
+//!
+//! What this cannot check: the private fields of the core's built models
+//! and states (`friction_core` keeps a few `bool`s and enums, for example
+//! the Stribeck curve's shape, inside them). Bytes that carry the right tag,
+//! discriminant and kinds but were changed inside a core value by C are
+//! still read as that value; no uninitialised or `memset` object, and no
+//! random pattern short of a 2^-32 chance on the tag alone, gets that far.
 
 /// A C-visible object of `WORDS` 64-bit words holding one `Value`.
 pub(crate) trait Opaque: Sized {
     /// What the object holds.
-    type Value: Copy;
+    type Value: Checked;
     /// The tag written by the constructor: one per object type, so a
     /// never-initialised object (or one of another type) is refused. It
     /// repeats one byte, `0xB1` to `0xB6`: Thumb-2 encodes such a word as an
@@ -22,6 +38,17 @@ pub(crate) trait Opaque: Sized {
     /// `eor`s and an `orr` more a call on the Cortex-M4F (the servo tick
     /// through the C ABI, 1.10x the Rust tick's instructions, counts them).
     const MAGIC: u32;
+}
+
+/// A value stored in an object: a `#[repr(u32)]` enum (so that its
+/// discriminant is its first 32 bits, RFC 2195) whose fields are all of
+/// types every bit pattern is a value of, given the kinds `is_valid` checks.
+pub(crate) trait Checked: Copy {
+    /// The enum's variant count: its discriminants are `0..VARIANTS`
+    /// (implicit, in declaration order).
+    const VARIANTS: u32;
+    /// Whether every kind inside is one a constructor writes.
+    fn is_valid(&self) -> bool;
 }
 
 /// The layout a constructor writes: the tag, then the value.
@@ -61,27 +88,53 @@ pub(crate) fn put<O: Opaque>(out: &mut O, value: O::Value) {
     };
 }
 
-/// The value in `object`, or `None` when its tag is not `O::MAGIC`.
-pub(crate) fn get<O: Opaque>(object: &mut O) -> Option<&mut O::Value> {
+/// The discriminant of the value in `object` (the 32 bits after the tag),
+/// read as a `u32`: no enum is formed from it before it is checked.
+fn discriminant<O: Opaque>(object: &O) -> u32 {
     const { assert!(fits::<O>(), "the C object is too small for its value") };
-    if tag(object) != O::MAGIC {
+    let offset = core::mem::offset_of!(Slot<O::Value>, value);
+    // SAFETY: `fits` keeps `Slot<O::Value>` inside the object, so the value
+    // and its first 32 bits (a `#[repr(u32)]` enum's discriminant, aligned
+    // as the value) are too; they are C's bytes or a discriminant this
+    // module wrote, never padding, and every bit pattern is a `u32`.
+    unsafe {
+        (object as *const O)
+            .cast::<u8>()
+            .add(offset)
+            .cast::<u32>()
+            .read()
+    }
+}
+
+/// Whether the tag is `O::MAGIC` and the discriminant one of the value's.
+fn accepted<O: Opaque>(object: &O) -> bool {
+    tag(object) == O::MAGIC && discriminant(object) < <O::Value as Checked>::VARIANTS
+}
+
+/// The value in `object`, or `None` when the object is not one a
+/// constructor wrote (tag, discriminant or a kind inside it wrong).
+pub(crate) fn get<O: Opaque>(object: &mut O) -> Option<&mut O::Value> {
+    if !accepted(object) {
         return None;
     }
     let slot = (object as *mut O).cast::<Slot<O::Value>>();
-    // SAFETY: the tag shows a constructor wrote a `Slot<O::Value>` here
-    // (or C copied one that it wrote); size and alignment are checked.
-    Some(unsafe { &mut (*slot).value })
+    // SAFETY: size and alignment are checked (`fits`); the discriminant is
+    // one of the enum's, and each of its fields is of a type every bit
+    // pattern is a value of (`Checked`), so the bytes are a value of
+    // `O::Value` (see the module's note on the core's private fields).
+    let value = unsafe { &mut (*slot).value };
+    value.is_valid().then_some(value)
 }
 
-/// The value in `object` read-only, or `None` when its tag is not `O::MAGIC`.
+/// The value in `object` read-only, as [`get`].
 pub(crate) fn get_ref<O: Opaque>(object: &O) -> Option<&O::Value> {
-    const { assert!(fits::<O>(), "the C object is too small for its value") };
-    if tag(object) != O::MAGIC {
+    if !accepted(object) {
         return None;
     }
     let slot = (object as *const O).cast::<Slot<O::Value>>();
     // SAFETY: as in `get`.
-    Some(unsafe { &(*slot).value })
+    let value = unsafe { &(*slot).value };
+    value.is_valid().then_some(value)
 }
 
 /// Implements [`Opaque`] for a C object type (declared by hand, so that
