@@ -83,6 +83,7 @@ macro_rules! family {
 
             /// Whether the kind is one a constructor writes (so the union
             /// field it names was written, by a constructor or C's copy of it).
+            #[inline]
             pub(crate) fn is_valid(&self) -> bool {
                 matches!(self.kind, $($kinds::$field)|*)
             }
@@ -100,14 +101,6 @@ macro_rules! family {
                     _ => $state::default(),
                 };
                 state
-            }
-        }
-
-        #[allow(dead_code)]
-        impl<S: Scalar> $state<S> {
-            /// Whether this state can step with `model`: at rest, or of its kind.
-            pub(crate) fn fits(&self, model: &$model<S>) -> bool {
-                self.kind == REST || self.kind == model.kind
             }
         }
 
@@ -143,16 +136,14 @@ macro_rules! each {
         let state = if state.kind == model.kind { state } else { model.own(state) };
         match model.kind {
             $(
-                // SAFETY: a kind other than `REST` is only ever written
-                // together with the union field it names (the constructors
-                // and `own`; C's bytes are checked by `is_valid`/`fits`
-                // before a call gets here), and `own` made the state's kind
-                // the model's.
-                $kinds::$field => unsafe {
-                    let $m = &model.u.$field;
-                    let $s = &mut state.u.$field;
+                // SAFETY: the model's kind is this arm's, and a kind is only
+                // ever written together with the union field it names (by
+                // the constructors and `own`; C may copy them); the state's
+                // kind is the model's (`own` made it so when it was not).
+                $kinds::$field => {
+                    let ($m, $s) = unsafe { (&model.u.$field, &mut state.u.$field) };
                     $body
-                },
+                }
             )*
             _ => S::ZERO,
         }
@@ -165,10 +156,10 @@ macro_rules! each_model {
         let model = $self;
         match model.kind {
             // SAFETY: as in `each`: the kind names the union field written.
-            $($kinds::$field => unsafe {
-                let $m = &model.u.$field;
+            $($kinds::$field => {
+                let $m = unsafe { &model.u.$field };
                 $body
-            },)*
+            })*
             _ => $default,
         }
     }};
@@ -212,7 +203,13 @@ family!(
 
 macro_rules! each_static {
     ($self:expr, |$m:ident| $body:expr) => {
-        each_model!(static_kind, $self, |$m| $body, S::ZERO, [coulomb_viscous, stribeck_map])
+        each_model!(
+            static_kind,
+            $self,
+            |$m| $body,
+            S::ZERO,
+            [coulomb_viscous, stribeck_map]
+        )
     };
 }
 
@@ -223,7 +220,16 @@ macro_rules! each_variable {
             $self,
             $st,
             |$m, $s| $body,
-            [bristle, reset_integrator, dahl, lugre, elasto_plastic, leuven, gms, xiong]
+            [
+                bristle,
+                reset_integrator,
+                dahl,
+                lugre,
+                elasto_plastic,
+                leuven,
+                gms,
+                xiong
+            ]
         )
     };
     ($self:expr, |$m:ident| $body:expr) => {
@@ -232,17 +238,38 @@ macro_rules! each_variable {
             $self,
             |$m| $body,
             S::ZERO,
-            [bristle, reset_integrator, dahl, lugre, elasto_plastic, leuven, gms, xiong]
+            [
+                bristle,
+                reset_integrator,
+                dahl,
+                lugre,
+                elasto_plastic,
+                leuven,
+                gms,
+                xiong
+            ]
         )
     };
 }
 
 macro_rules! each_fixed {
     ($self:expr, $st:expr, |$m:ident, $s:ident| $body:expr) => {
-        each!(fixed_kind, $self, $st, |$m, $s| $body, [dahl, lugre, elasto_plastic, gms, xiong])
+        each!(
+            fixed_kind,
+            $self,
+            $st,
+            |$m, $s| $body,
+            [dahl, lugre, elasto_plastic, gms, xiong]
+        )
     };
     ($self:expr, |$m:ident| $body:expr, $default:expr) => {
-        each_model!(fixed_kind, $self, |$m| $body, $default, [dahl, lugre, elasto_plastic, gms, xiong])
+        each_model!(
+            fixed_kind,
+            $self,
+            |$m| $body,
+            $default,
+            [dahl, lugre, elasto_plastic, gms, xiong]
+        )
     };
 }
 

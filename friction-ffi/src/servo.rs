@@ -114,26 +114,15 @@ pub(crate) enum Servo<S: Scalar> {
 impl<S: Scalar> slot::Checked for Servo<S> {
     const VARIANTS: u32 = 6;
 
+    #[inline]
     fn is_valid(&self) -> bool {
         match self {
             Self::None(..) => true,
             Self::FeedForward(c, _) => c.compensation().0.is_valid(),
-            Self::Observer(c, s) => {
-                let m = c.compensation().model();
-                m.is_valid() && s.friction().fits(m)
-            }
-            Self::ObserverAt(c, s) => {
-                let m = c.compensation().0.model();
-                m.is_valid() && s.friction().fits(m)
-            }
-            Self::Adaptive(c, s) => {
-                let m = c.compensation().observer().model();
-                m.is_valid() && s.friction().model.fits(m)
-            }
-            Self::AdaptiveAt(c, s) => {
-                let m = c.compensation().0.observer().model();
-                m.is_valid() && s.friction().model.fits(m)
-            }
+            Self::Observer(c, _) => c.compensation().model().is_valid(),
+            Self::ObserverAt(c, _) => c.compensation().0.model().is_valid(),
+            Self::Adaptive(c, _) => c.compensation().observer().model().is_valid(),
+            Self::AdaptiveAt(c, _) => c.compensation().0.observer().model().is_valid(),
         }
     }
 }

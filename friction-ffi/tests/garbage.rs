@@ -133,7 +133,13 @@ macro_rules! model_calls {
                     let mut o = $obs {
                         opaque: [0; $obs_words],
                     };
-                    $observer_init(Some(&mut o), Some(&$ty { opaque: words(b) }), 100.0, true, None)
+                    $observer_init(
+                        Some(&mut o),
+                        Some(&$ty { opaque: words(b) }),
+                        100.0,
+                        true,
+                        None,
+                    )
                 },
                 writes_only: false,
             },
@@ -146,7 +152,14 @@ macro_rules! model_calls {
                         opaque: [0; $servo_words],
                     };
                     let m = $ty { opaque: words(b) };
-                    $servo_init(Some(&mut s), Some(&servo_params()), Some(&m), 200.0, None, None)
+                    $servo_init(
+                        Some(&mut s),
+                        Some(&servo_params()),
+                        Some(&m),
+                        200.0,
+                        None,
+                        None,
+                    )
                 },
                 writes_only: false,
             },
@@ -203,7 +216,14 @@ macro_rules! model_calls {
                 run: |b| {
                     let mut s = $servo { opaque: words(b) };
                     let m = $valid_model();
-                    $servo_init(Some(&mut s), Some(&servo_params()), Some(&m), 200.0, None, None)
+                    $servo_init(
+                        Some(&mut s),
+                        Some(&servo_params()),
+                        Some(&m),
+                        200.0,
+                        None,
+                        None,
+                    )
                 },
                 writes_only: true,
             },
@@ -430,7 +450,11 @@ fn tagged() -> u64 {
 /// else the pattern it crashed or hung on (traced: the parent reruns).
 fn run_child(index: usize, start: u64, end: u64, trace: bool, found: &mut Found) -> Option<u64> {
     let mut child = std::process::Command::new(std::env::current_exe().unwrap())
-        .args(["--exact", "garbage_objects_get_a_status_never_a_crash", "--nocapture"])
+        .args([
+            "--exact",
+            "garbage_objects_get_a_status_never_a_crash",
+            "--nocapture",
+        ])
         .env("FRICTION_GARBAGE", format!("{index}:{start}:{end}:{trace}"))
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::null())
@@ -570,7 +594,11 @@ fn garbage_in_process() {
         for i in some {
             pattern(i, call.tag, &mut bytes);
             let status = (call.run)(&bytes);
-            assert!(refused(&call, status), "{} pattern {i}: {status:?}", call.name);
+            assert!(
+                refused(&call, status),
+                "{} pattern {i}: {status:?}",
+                call.name
+            );
         }
     }
 }
