@@ -22,7 +22,9 @@ use friction_core::{
 };
 
 /// The kind of a state before its first step (no union field written).
-const REST: u32 = 0;
+/// Models count their kinds from 0 (a `match` on them needs no offset
+/// before its jump table), so a state at rest takes the last `u32`.
+const REST: u32 = u32::MAX;
 
 /// Declares a family: the model (kind and union), its state (kind and
 /// union, `REST` until the first step), the kinds, a constructor per kind
@@ -169,8 +171,8 @@ family!(
     /// A static map: no state.
     StaticMap, StaticMapUnion, StaticMapState, StaticMapStateUnion, FrictionModel, static_kind,
     [
-        1 coulomb_viscous: CoulombViscous<S>,
-        2 stribeck_map: StribeckMap<S>,
+        0 coulomb_viscous: CoulombViscous<S>,
+        1 stribeck_map: StribeckMap<S>,
     ]
 );
 
@@ -178,14 +180,14 @@ family!(
     /// A variable-step state model (stepped with its `h` each call).
     Variable, VariableUnion, VariableState, VariableStateUnion, FrictionModel, variable_kind,
     [
-        1 bristle: Bristle<S, FRICTION_BRISTLES>,
-        2 reset_integrator: ResetIntegrator<S>,
-        3 dahl: Dahl<S>,
-        4 lugre: LuGre<S>,
-        5 elasto_plastic: ElastoPlastic<S>,
-        6 leuven: Leuven<S, FRICTION_LEUVEN_MEMORY>,
-        7 gms: Gms<S, FRICTION_ELEMENTS>,
-        8 xiong: Xiong<S, FRICTION_ELEMENTS>,
+        0 bristle: Bristle<S, FRICTION_BRISTLES>,
+        1 reset_integrator: ResetIntegrator<S>,
+        2 dahl: Dahl<S>,
+        3 lugre: LuGre<S>,
+        4 elasto_plastic: ElastoPlastic<S>,
+        5 leuven: Leuven<S, FRICTION_LEUVEN_MEMORY>,
+        6 gms: Gms<S, FRICTION_ELEMENTS>,
+        7 xiong: Xiong<S, FRICTION_ELEMENTS>,
     ]
 );
 
@@ -193,11 +195,11 @@ family!(
     /// A fixed-step state model (built for one period).
     Fixed, FixedUnion, FixedState, FixedStateUnion, FixedStepModel, fixed_kind,
     [
-        1 dahl: DahlAt<S>,
-        2 lugre: LuGreAt<S>,
-        3 elasto_plastic: ElastoPlasticAt<S>,
-        4 gms: GmsAt<S, FRICTION_ELEMENTS>,
-        5 xiong: XiongAt<S, FRICTION_ELEMENTS>,
+        0 dahl: DahlAt<S>,
+        1 lugre: LuGreAt<S>,
+        2 elasto_plastic: ElastoPlasticAt<S>,
+        3 gms: GmsAt<S, FRICTION_ELEMENTS>,
+        4 xiong: XiongAt<S, FRICTION_ELEMENTS>,
     ]
 );
 

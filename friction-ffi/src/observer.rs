@@ -88,7 +88,7 @@ where
     M: slot::Opaque<Value = Model<S>>,
     S: Scalar,
 {
-    init(out, model, "model", error, |m| match slot::get_ref(m) {
+    init(out, model, "model", error, |m| match slot::get_valid(m) {
         Some(m) => build(m, gain, damping),
         None => Err(Refusal::new(
             friction_status::FRICTION_NOT_INITIALISED,

@@ -175,7 +175,7 @@ where
             Refusal::new(friction_status::FRICTION_NULL_POINTER, which),
         );
     };
-    let model = match model.map(slot::get_ref) {
+    let model = match model.map(slot::get_valid) {
         None => None,
         Some(Some(m)) => Some(m),
         Some(None) => {

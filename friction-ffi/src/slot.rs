@@ -41,37 +41,53 @@ pub(crate) trait Opaque: Sized {
 }
 
 /// A value stored in an object: a `#[repr(u32)]` enum (so that its
-/// discriminant is its first 32 bits, RFC 2195) whose fields are all of
-/// types every bit pattern is a value of, given the kinds `is_valid` checks.
+/// discriminant, the variant, is its first 32 bits: RFC 2195) whose fields
+/// are all of types every bit pattern is a value of (floats, integers, the
+/// `u32` kinds and unions of `crate::any`), apart from the core's private
+/// fields (see the module's note).
 pub(crate) trait Checked: Copy {
     /// The enum's variant count: its discriminants are `0..VARIANTS`
     /// (implicit, in declaration order).
     const VARIANTS: u32;
-    /// Whether every kind inside is one a constructor writes.
+    /// Whether every model kind inside is one a constructor writes (the
+    /// dispatch is sound without it: an unknown kind steps as no model).
     fn is_valid(&self) -> bool;
 }
 
-/// The layout a constructor writes: the tag, then the value.
+/// The layout a constructor writes: a free word (zero), the tag, then the
+/// value. The tag sits next to the value's variant, so that one 64-bit
+/// load (`ldrd` on a Cortex-M) reads both for the check.
 #[repr(C)]
 struct Slot<V> {
+    free: u32,
     magic: u32,
     value: V,
 }
 
-/// Compile-time check that `Slot<O::Value>` fits in `O`.
+/// Compile-time check that `Slot<O::Value>` fits in `O`, with the tag and
+/// the variant next to each other.
 const fn fits<O: Opaque>() -> bool {
     core::mem::size_of::<Slot<O::Value>>() <= core::mem::size_of::<O>()
         && core::mem::align_of::<Slot<O::Value>>() <= core::mem::align_of::<O>()
+        && core::mem::offset_of!(Slot<O::Value>, magic) == 4
+        && core::mem::offset_of!(Slot<O::Value>, value) == 8
 }
 
-/// The object's tag (its first 32 bits: `Slot` is `repr(C)` with the tag
-/// first). Read through a pointer: the rest of the words may hold a value's
-/// padding, which is not data.
-fn tag<O: Opaque>(object: &O) -> u32 {
-    const { assert!(core::mem::size_of::<O>() >= 8 && core::mem::align_of::<O>() >= 8) };
-    // SAFETY: the object is at least one aligned u64 long, and its first
-    // 32 bits are either C's bytes or a tag this module wrote.
-    unsafe { (object as *const O).cast::<u32>().read() }
+/// The object's tag and its value's variant (bytes 4 to 11), read as two
+/// `u32`s: no enum is formed from them before they are checked.
+fn header<O: Opaque>(object: &O) -> [u32; 2] {
+    const { assert!(fits::<O>(), "the C object is too small for its value") };
+    // SAFETY: `fits` keeps bytes 4 to 11 inside the object (4-aligned, as
+    // the object is 8-aligned); they hold C's bytes, or the tag and the
+    // discriminant of a `#[repr(u32)]` enum this module wrote (never
+    // padding), and every bit pattern is a `u32`.
+    unsafe {
+        (object as *const O)
+            .cast::<u8>()
+            .add(4)
+            .cast::<[u32; 2]>()
+            .read()
+    }
 }
 
 /// Writes `value` into `out` with its tag.
@@ -82,37 +98,23 @@ pub(crate) fn put<O: Opaque>(out: &mut O, value: O::Value) {
     // reference, so the words are ours to overwrite; `Slot` is `Copy` data.
     unsafe {
         slot.write(Slot {
+            free: 0,
             magic: O::MAGIC,
             value,
         })
     };
 }
 
-/// The discriminant of the value in `object` (the 32 bits after the tag),
-/// read as a `u32`: no enum is formed from it before it is checked.
-fn discriminant<O: Opaque>(object: &O) -> u32 {
-    const { assert!(fits::<O>(), "the C object is too small for its value") };
-    let offset = core::mem::offset_of!(Slot<O::Value>, value);
-    // SAFETY: `fits` keeps `Slot<O::Value>` inside the object, so the value
-    // and its first 32 bits (a `#[repr(u32)]` enum's discriminant, aligned
-    // as the value) are too; they are C's bytes or a discriminant this
-    // module wrote, never padding, and every bit pattern is a `u32`.
-    unsafe {
-        (object as *const O)
-            .cast::<u8>()
-            .add(offset)
-            .cast::<u32>()
-            .read()
-    }
-}
-
-/// Whether the tag is `O::MAGIC` and the discriminant one of the value's.
+/// Whether the tag is `O::MAGIC` and the variant one of the value's.
+#[inline]
 fn accepted<O: Opaque>(object: &O) -> bool {
-    tag(object) == O::MAGIC && discriminant(object) < <O::Value as Checked>::VARIANTS
+    let [magic, variant] = header(object);
+    magic == O::MAGIC && variant < <O::Value as Checked>::VARIANTS
 }
 
 /// The value in `object`, or `None` when the object is not one a
-/// constructor wrote (tag, discriminant or a kind inside it wrong).
+/// constructor wrote (its tag or its variant wrong).
+#[inline]
 pub(crate) fn get<O: Opaque>(object: &mut O) -> Option<&mut O::Value> {
     if !accepted(object) {
         return None;
@@ -122,12 +124,13 @@ pub(crate) fn get<O: Opaque>(object: &mut O) -> Option<&mut O::Value> {
     // one of the enum's, and each of its fields is of a type every bit
     // pattern is a value of (`Checked`), so the bytes are a value of
     // `O::Value` (see the module's note on the core's private fields).
-    let value = unsafe { &mut (*slot).value };
-    value.is_valid().then_some(value)
+    Some(unsafe { &mut (*slot).value })
 }
 
-/// The value in `object` read-only, as [`get`].
-pub(crate) fn get_ref<O: Opaque>(object: &O) -> Option<&O::Value> {
+/// The value in `object` read-only, as [`get`], and only when every model
+/// kind inside is one a constructor writes (for the constructors that
+/// copy a model: a new object is never built from an unknown kind).
+pub(crate) fn get_valid<O: Opaque>(object: &O) -> Option<&O::Value> {
     if !accepted(object) {
         return None;
     }
