@@ -5,8 +5,8 @@
 //! The first byte picks the object type (model, observer or servo, in
 //! `float` or `double`); the rest are the object's bytes (cut, or padded
 //! with zeros, to its size), sent through every call that reads that type.
-//! Besides "no crash, no hang", it asserts that an object whose first 32
-//! bits are not its type's tag gets no `FRICTION_OK` from any call.
+//! Besides "no crash, no hang", it asserts that an object whose tag (bytes
+//! 4 to 7) is not its type's gets no `FRICTION_OK` from any call.
 
 use friction_ffi::friction_status::FRICTION_OK;
 use friction_ffi::*;
@@ -21,21 +21,6 @@ fn words<const N: usize>(bytes: &[u8]) -> [u64; N] {
         }
         u64::from_ne_bytes(word)
     })
-}
-
-fn lugre() -> friction_lugre_params {
-    friction_lugre_params {
-        curve: friction_stribeck {
-            fc: 1.0,
-            fs: 1.5,
-            vs: 1e-3,
-            exponent: 2.0,
-        },
-        sigma0: 1e5,
-        sigma1: 316.0,
-        sigma2: 0.4,
-        vd: 0.0,
-    }
 }
 
 const SERVO: friction_servo_params = friction_servo_params {
@@ -221,7 +206,8 @@ pub fn run(data: &[u8]) {
             ),
         ),
     };
-    let head: [u8; 4] = std::array::from_fn(|k| bytes.get(k).copied().unwrap_or(0));
+    // the tag's place: bytes 4 to 7 (friction-ffi's slot.rs)
+    let head: [u8; 4] = std::array::from_fn(|k| bytes.get(4 + k).copied().unwrap_or(0));
     if u32::from_ne_bytes(head) != tag {
         assert!(
             statuses.iter().all(|&s| s != FRICTION_OK),

@@ -10,19 +10,23 @@
 //! is `Copy` (no destructor, no pointer into itself), so C may copy an
 //! initialised object with `memcpy` or assignment.
 //!
-//! The checks, in order, each on bytes that every bit pattern is a value of:
-//! the tag (a `u32`), the value's discriminant (a `#[repr(u32)]` enum, so
-//! its first 32 bits, read as a `u32` before any enum is formed), then
-//! [`Checked::is_valid`] on the value, whose fields are all of types
-//! every bit pattern is a value of (floats, integers, the `u32` kinds and
-//! unions of `crate::any`) apart from the core's own fields (below).
+//! The check, before any byte is viewed as a Rust value: the tag and the
+//! value's variant (a `#[repr(u32)]` enum's discriminant, stored next to
+//! the tag), read as two `u32`s, must be `MAGIC` and one of the enum's
+//! variants. Every field of every variant is then of a type every bit
+//! pattern is a value of (floats, integers, the `u32` kinds and unions of
+//! `crate::any`, whose dispatch never reads a union field for a kind no
+//! constructor writes), apart from the core's private fields:
 //!
 //! What this cannot check: the private fields of the core's built models
-//! and states (`friction_core` keeps a few `bool`s and enums, for example
-//! the Stribeck curve's shape, inside them). Bytes that carry the right tag,
-//! discriminant and kinds but were changed inside a core value by C are
-//! still read as that value; no uninitialised or `memset` object, and no
-//! random pattern short of a 2^-32 chance on the tag alone, gets that far.
+//! and states. `friction_core` keeps a few `bool`s and enums inside them
+//! (the Stribeck curve's shape, the observer's damping flag, the GMS slip
+//! modes, ...) and counts (the bristle model's re-bond budget). Bytes that
+//! carry the right tag and variant but were changed inside a core value by
+//! C are read as that value; an uninitialised or `memset` object, or a
+//! random pattern but with a chance of 6 in 2^64, does not get that far. Checking
+//! them needs the core to store them in a form every bit pattern is a
+//! value of (or to check them itself).
 
 /// A C-visible object of `WORDS` 64-bit words holding one `Value`.
 pub(crate) trait Opaque: Sized {
