@@ -31,7 +31,7 @@
 /// A C-visible object of `WORDS` 64-bit words holding one `Value`.
 pub(crate) trait Opaque: Sized {
     /// What the object holds.
-    type Value: Checked;
+    type Value: Copy;
     /// The tag written by the constructor: one per object type, so a
     /// never-initialised object (or one of another type) is refused. It
     /// repeats one byte, `0xB1` to `0xB6`: Thumb-2 encodes such a word as an
@@ -111,7 +111,10 @@ pub(crate) fn put<O: Opaque>(out: &mut O, value: O::Value) {
 
 /// Whether the tag is `O::MAGIC` and the variant one of the value's.
 #[inline]
-fn accepted<O: Opaque>(object: &O) -> bool {
+fn accepted<O: Opaque>(object: &O) -> bool
+where
+    O::Value: Checked,
+{
     let [magic, variant] = header(object);
     magic == O::MAGIC && variant < <O::Value as Checked>::VARIANTS
 }
@@ -119,7 +122,10 @@ fn accepted<O: Opaque>(object: &O) -> bool {
 /// The value in `object`, or `None` when the object is not one a
 /// constructor wrote (its tag or its variant wrong).
 #[inline]
-pub(crate) fn get<O: Opaque>(object: &mut O) -> Option<&mut O::Value> {
+pub(crate) fn get<O: Opaque>(object: &mut O) -> Option<&mut O::Value>
+where
+    O::Value: Checked,
+{
     if !accepted(object) {
         return None;
     }
@@ -134,7 +140,10 @@ pub(crate) fn get<O: Opaque>(object: &mut O) -> Option<&mut O::Value> {
 /// The value in `object` read-only, as [`get`], and only when every model
 /// kind inside is one a constructor writes (for the constructors that
 /// copy a model: a new object is never built from an unknown kind).
-pub(crate) fn get_valid<O: Opaque>(object: &O) -> Option<&O::Value> {
+pub(crate) fn get_valid<O: Opaque>(object: &O) -> Option<&O::Value>
+where
+    O::Value: Checked,
+{
     if !accepted(object) {
         return None;
     }
@@ -142,6 +151,59 @@ pub(crate) fn get_valid<O: Opaque>(object: &O) -> Option<&O::Value> {
     // SAFETY: as in `get`.
     let value = unsafe { &(*slot).value };
     value.is_valid().then_some(value)
+}
+
+/// A value that is a `union` of `Copy` types, so that every bit pattern is
+/// a value of it; which field holds data is a kind kept elsewhere.
+///
+/// # Safety
+///
+/// Only for `union`s (or types every bit pattern is a value of).
+pub(crate) unsafe trait Union: Copy {}
+
+/// Writes `value` into `out` with the tag word `O::MAGIC + kind`: the
+/// kind (from 1) of the union field written rides in the tag (added, not
+/// xor-ed: the check is then one `add` of an immediate Thumb-2 encodes,
+/// `-(MAGIC + 1)` repeating one byte, before the jump table's bound).
+pub(crate) fn put_kind<O: Opaque>(out: &mut O, kind: u32, value: O::Value)
+where
+    O::Value: Union,
+{
+    const { assert!(fits::<O>(), "the C object is too small for its value") };
+    let slot = (out as *mut O).cast::<Slot<O::Value>>();
+    // SAFETY: as in `put`.
+    unsafe {
+        slot.write(Slot {
+            free: 0,
+            magic: O::MAGIC.wrapping_add(kind),
+            value,
+        })
+    };
+}
+
+/// The kind in `object`'s tag word (`tag - O::MAGIC`: a constructor's kind,
+/// 0 for the type's bare tag, anything for garbage; the caller's `match`
+/// refuses what no constructor writes) and the value, which is a union:
+/// any bytes are one, so it is viewed before the kind is checked.
+#[inline]
+pub(crate) fn get_kind<O: Opaque>(object: &mut O) -> (u32, &mut O::Value)
+where
+    O::Value: Union,
+{
+    const { assert!(fits::<O>(), "the C object is too small for its value") };
+    // SAFETY: as in `header`, bytes 4 to 7 alone (8 to 11 are the union's,
+    // possibly padding).
+    let magic = unsafe {
+        (object as *const O)
+            .cast::<u8>()
+            .add(4)
+            .cast::<u32>()
+            .read()
+    };
+    let slot = (object as *mut O).cast::<Slot<O::Value>>();
+    // SAFETY: size and alignment are checked (`fits`); every bit pattern
+    // is a value of a `Union`.
+    (magic.wrapping_sub(O::MAGIC), unsafe { &mut (*slot).value })
 }
 
 /// Implements [`Opaque`] for a C object type (declared by hand, so that

@@ -569,9 +569,11 @@ fn garbage_objects_get_a_status_never_a_crash() {
     assert_eq!((crashes, hangs, bad), (0, 0, 0));
 }
 
-/// Under Miri: the fills and a few random and tagged patterns of every
-/// call, in process (Miri reports undefined behaviour as an error, which a
-/// crash-only sweep can miss when the bad read happens not to crash).
+/// Under Miri: the fills that matter (zero, all ones, each tag's byte) and
+/// four random and four tagged patterns of every call, in process (Miri
+/// reports undefined behaviour as an error, which a crash-only sweep can
+/// miss when the bad read happens not to crash; all 256 fills took Miri
+/// over 5 minutes).
 #[test]
 #[cfg_attr(
     not(miri),
@@ -580,7 +582,8 @@ fn garbage_objects_get_a_status_never_a_crash() {
 fn garbage_in_process() {
     for call in calls() {
         let mut bytes = vec![0u8; call.bytes];
-        let some = (0..FILLS)
+        let some = [0x00, 0xB1, 0xB2, 0xB3, 0xB4, 0xB5, 0xB6, 0xFF]
+            .into_iter()
             .chain(FILLS..FILLS + 4)
             .chain(FILLS + RANDOM..FILLS + RANDOM + 4);
         for i in some {
