@@ -8,8 +8,8 @@ use crate::params::{friction_adaptive_params, friction_servo_params};
 use crate::slot::{self, opaque};
 use crate::status::{friction_error, friction_status, report, Refusal};
 use friction_core::{
-    AdaptiveObserver, AdaptiveParams, AdaptiveState, AtPeriod, Compensator, CompensatorParams,
-    CompensatorState, FeedForward, NoCompensation, Observer, Scalar, Setpoint,
+    AdaptiveObserver, AdaptiveParams, AdaptiveState, AtPeriod, Compensation, Compensator,
+    CompensatorParams, CompensatorState, FeedForward, NoCompensation, Observer, Scalar, Setpoint,
 };
 
 /// Words (8 bytes each) of a `float` servo object, room for the largest
@@ -128,28 +128,19 @@ mod kind {
 #[derive(Clone, Copy)]
 #[repr(C)]
 pub(crate) union Stored<S: Scalar> {
-    none: (Compensator<S, NoCompensation>, CompensatorState<S, ()>),
-    feed_forward: (
-        Compensator<S, FeedForward<StaticMap<S>>>,
-        CompensatorState<S, ()>,
-    ),
-    observer: (
-        Compensator<S, Observer<Variable<S>, S>>,
-        CompensatorState<S, VariableState<S>>,
-    ),
-    observer_at: (
-        Compensator<S, AtPeriod<Observer<Fixed<S>, S>>>,
-        CompensatorState<S, FixedState<S>>,
-    ),
-    adaptive: (
-        Compensator<S, AdaptiveObserver<Variable<S>, S>>,
-        CompensatorState<S, AdaptiveState<VariableState<S>, S>>,
-    ),
-    adaptive_at: (
-        Compensator<S, AdaptiveAt<S>>,
-        CompensatorState<S, AdaptiveState<FixedState<S>, S>>,
-    ),
+    none: Axis<S, NoCompensation>,
+    feed_forward: Axis<S, FeedForward<StaticMap<S>>>,
+    observer: Axis<S, Observer<Variable<S>, S>>,
+    observer_at: Axis<S, AtPeriod<Observer<Fixed<S>, S>>>,
+    adaptive: Axis<S, AdaptiveObserver<Variable<S>, S>>,
+    adaptive_at: Axis<S, AdaptiveAt<S>>,
 }
+
+/// A compensator and its state.
+type Axis<S, C> = (
+    Compensator<S, C>,
+    CompensatorState<S, <C as Compensation<S>>::State>,
+);
 
 // SAFETY: a union of `Copy` types: every bit pattern is a value of it (its
 // fields are read only for the kind that names them, `each_servo`).
