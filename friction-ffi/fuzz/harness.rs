@@ -210,12 +210,14 @@ pub fn run(data: &[u8]) {
     // the tag's place: bytes 4 to 7 (friction-ffi's slot.rs)
     let head: [u8; 4] = std::array::from_fn(|k| bytes.get(4 + k).copied().unwrap_or(0));
     let head = u32::from_ne_bytes(head);
-    // a servo's tag word is its tag plus its kind of compensation (1 to 6)
-    let tagged = match which % 6 {
-        4 | 5 => (1..=6).contains(&head.wrapping_sub(tag)),
-        _ => head == tag,
+    // a constructor writes the tag plus a kind (1 to 3 for a model, 1 or 2
+    // for an observer, 1 to 6 for a servo)
+    let kinds = match which % 6 {
+        0 | 1 => 3,
+        2 | 3 => 2,
+        _ => 6,
     };
-    if !tagged {
+    if !(1..=kinds).contains(&head.wrapping_sub(tag)) {
         assert!(
             statuses.iter().all(|&s| s != FRICTION_OK),
             "an object without its tag got FRICTION_OK: {statuses:?}"

@@ -29,7 +29,7 @@
  * Words (8 bytes each) of a `float` observer object, room for the largest
  * value it holds (a compile-time check keeps it so).
  */
-#define FRICTION_OBSERVER_F32_WORDS 44
+#define FRICTION_OBSERVER_F32_WORDS 40
 
 /**
  * Words (8 bytes each) of a `double` observer object.

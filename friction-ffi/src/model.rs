@@ -38,13 +38,13 @@ pub struct friction_model_f64 {
     pub opaque: [u64; FRICTION_MODEL_F64_WORDS],
 }
 
-opaque!(friction_model_f32, Model<f32>, 0xB1B1_B1B1);
-opaque!(friction_model_f64, Model<f64>, 0xB2B2_B2B2);
+opaque!(friction_model_f32, Stored<f32>, 0xB1B1_B1B1);
+opaque!(friction_model_f64, Stored<f64>, 0xB2B2_B2B2);
 
-/// Any core model with its state. `repr(u32)`: C's bytes are checked
-/// before they are viewed as one (`slot::Checked`).
+/// Any core model with its state, as the constructors build it and the
+/// observer and servo constructors read it; stored as a kind and a union
+/// ([`Stored`]).
 #[derive(Clone, Copy, Debug)]
-#[repr(u32)]
 pub(crate) enum Model<S: Scalar> {
     /// A static map (no state).
     Static(StaticMap<S>),
@@ -54,16 +54,64 @@ pub(crate) enum Model<S: Scalar> {
     Fixed(Fixed<S>, FixedState<S>),
 }
 
-impl<S: Scalar> slot::Checked for Model<S> {
-    const VARIANTS: u32 = 3;
+/// The kinds of model, added to the object's tag (`slot::put_kind`); from 1,
+/// so that an object holding its type's bare tag has kind 0, which no
+/// constructor writes.
+mod kind {
+    pub(super) const STATIC: u32 = 1;
+    pub(super) const VARIABLE: u32 = 2;
+    pub(super) const FIXED: u32 = 3;
+}
 
-    #[inline]
-    fn is_valid(&self) -> bool {
+/// A model as an object stores it: the union field its kind names.
+#[derive(Clone, Copy)]
+#[repr(C)]
+pub(crate) union Stored<S: Scalar> {
+    static_map: StaticMap<S>,
+    variable: (Variable<S>, VariableState<S>),
+    fixed: (Fixed<S>, FixedState<S>),
+}
+
+// SAFETY: a union of `Copy` types: every bit pattern is a value of it (its
+// fields are read only for the kind that names them).
+unsafe impl<S: Scalar> slot::Union for Stored<S> {}
+
+impl<S: Scalar> slot::Built for Model<S> {
+    type Stored = Stored<S>;
+
+    fn stored(self) -> (u32, Stored<S>) {
         match self {
-            Self::Static(m) => m.is_valid(),
-            Self::Variable(m, _) => m.is_valid(),
-            Self::Fixed(m, _) => m.is_valid(),
+            Self::Static(m) => (kind::STATIC, Stored { static_map: m }),
+            Self::Variable(m, s) => (kind::VARIABLE, Stored { variable: (m, s) }),
+            Self::Fixed(m, s) => (kind::FIXED, Stored { fixed: (m, s) }),
         }
+    }
+}
+
+impl<S: Scalar> Model<S> {
+    /// The model in an object of kind `kind` (a copy), if the kind and
+    /// the model kind inside are ones a constructor writes.
+    pub(crate) fn load(kind: u32, stored: &Stored<S>) -> Option<Self> {
+        // SAFETY (each arm): a kind is only written with the field it names
+        // (`slot::put_kind` from `stored`; C may copy both), and C's bytes
+        // in that field are read as it (see slot.rs on what cannot be
+        // checked inside the core's values).
+        let (model, valid) = match kind {
+            kind::STATIC => {
+                let m = unsafe { stored.static_map };
+                (Self::Static(m), m.is_valid())
+            }
+            kind::VARIABLE => {
+                let (m, s) = unsafe { stored.variable };
+                (Self::Variable(m, s), m.is_valid())
+            }
+            kind::FIXED => {
+                let (m, s) = unsafe { stored.fixed };
+                (Self::Fixed(m, s), m.is_valid())
+            }
+            _ => return None,
+        };
+        valid.then_some(model)
     }
 }
 
@@ -80,46 +128,66 @@ impl<S: Scalar> Model<S> {
     fn fixed(model: Fixed<S>) -> Self {
         Self::Fixed(model, FixedState::default())
     }
+}
 
-    /// Steps by `h` with `v` held; `Err` leaves the state as it was and
-    /// carries the force it holds.
-    fn step(&mut self, v: S, h: S) -> (S, friction_status) {
-        let accepted = v.is_finite() && h.is_finite() && h >= S::ZERO;
-        let status = if accepted {
-            friction_status::FRICTION_OK
-        } else {
-            friction_status::FRICTION_INPUT_REJECTED
-        };
-        match self {
-            Self::Static(m) => (m.step(&mut (), v, h), status),
-            Self::Variable(m, s) => (m.step(s, v, h), status),
-            Self::Fixed(m, s) => {
-                if accepted && !same_period(h.to_f64(), m.period()) {
-                    (m.hold_force(s), friction_status::FRICTION_PERIOD_MISMATCH)
-                } else {
-                    (m.step(s, v), status)
-                }
+/// Steps the model of kind `kind` by `h` with `v` held: the force and the
+/// status (the state as it was, and the force it holds, when refused);
+/// `None` for a kind no constructor writes.
+fn step_stored<S: Scalar>(
+    kind: u32,
+    model: &mut Stored<S>,
+    v: S,
+    h: S,
+) -> Option<(S, friction_status)> {
+    let accepted = v.is_finite() && h.is_finite() && h >= S::ZERO;
+    let status = if accepted {
+        friction_status::FRICTION_OK
+    } else {
+        friction_status::FRICTION_INPUT_REJECTED
+    };
+    // SAFETY (each arm): as in `Model::load`.
+    Some(match kind {
+        kind::STATIC => {
+            let m = unsafe { &model.static_map };
+            (m.step(&mut (), v, h), status)
+        }
+        kind::VARIABLE => {
+            let (m, s) = unsafe { &mut model.variable };
+            (m.step(s, v, h), status)
+        }
+        kind::FIXED => {
+            let (m, s) = unsafe { &mut model.fixed };
+            if accepted && !same_period(h.to_f64(), m.period()) {
+                (m.hold_force(s), friction_status::FRICTION_PERIOD_MISMATCH)
+            } else {
+                (m.step(s, v), status)
             }
         }
-    }
+        _ => return None,
+    })
+}
 
-    fn reset(&mut self) {
-        match self {
-            Self::Static(_) => {}
-            Self::Variable(_, s) => *s = VariableState::default(),
-            Self::Fixed(_, s) => *s = FixedState::default(),
-        }
+/// Puts the model of kind `kind` at rest; `false` for a kind no
+/// constructor writes.
+fn reset_stored<S: Scalar>(kind: u32, model: &mut Stored<S>) -> bool {
+    // writing a union field's part reads nothing (safe code)
+    match kind {
+        kind::STATIC => {}
+        kind::VARIABLE => model.variable.1 = VariableState::default(),
+        kind::FIXED => model.fixed.1 = FixedState::default(),
+        _ => return false,
     }
+    true
 }
 
 /// Builds `O::Value` from `params` into `out`; writes nothing on failure.
 /// A NULL `params` is named `params_name`.
-pub(crate) fn init<O: slot::Opaque, P>(
+pub(crate) fn init<O: slot::Opaque, P, B: slot::Built<Stored = O::Value>>(
     out: Option<&mut O>,
     params: Option<&P>,
     params_name: &'static str,
     error: Option<&mut friction_error>,
-    build: impl FnOnce(&P) -> Result<O::Value, Refusal>,
+    build: impl FnOnce(&P) -> Result<B, Refusal>,
 ) -> friction_status {
     let (Some(out), Some(params)) = (out, params) else {
         let which = if params.is_none() { params_name } else { "out" };
@@ -130,7 +198,8 @@ pub(crate) fn init<O: slot::Opaque, P>(
     };
     match build(params) {
         Ok(value) => {
-            slot::put(out, value);
+            let (kind, stored) = value.stored();
+            slot::put_kind(out, kind, stored);
             report(error, Refusal::OK)
         }
         Err(e) => report(error, e),
@@ -229,33 +298,34 @@ fn xiong<S: Scalar>(p: &friction_xiong_params, h: f64) -> Result<Model<S>, Refus
 
 fn step<O, S>(model: Option<&mut O>, v: S, h: S, force: Option<&mut S>) -> friction_status
 where
-    O: slot::Opaque<Value = Model<S>>,
+    O: slot::Opaque<Value = Stored<S>>,
     S: Scalar,
 {
     let (Some(model), Some(force)) = (model, force) else {
         return friction_status::FRICTION_NULL_POINTER;
     };
-    let Some(model) = slot::get(model) else {
+    let (kind, model) = slot::get_kind(model);
+    let Some((f, status)) = step_stored(kind, model, v, h) else {
         return friction_status::FRICTION_NOT_INITIALISED;
     };
-    let (f, status) = model.step(v, h);
     *force = f;
     status
 }
 
 fn reset<O, S>(model: Option<&mut O>) -> friction_status
 where
-    O: slot::Opaque<Value = Model<S>>,
+    O: slot::Opaque<Value = Stored<S>>,
     S: Scalar,
 {
     let Some(model) = model else {
         return friction_status::FRICTION_NULL_POINTER;
     };
-    let Some(model) = slot::get(model) else {
-        return friction_status::FRICTION_NOT_INITIALISED;
-    };
-    model.reset();
-    friction_status::FRICTION_OK
+    let (kind, model) = slot::get_kind(model);
+    if reset_stored(kind, model) {
+        friction_status::FRICTION_OK
+    } else {
+        friction_status::FRICTION_NOT_INITIALISED
+    }
 }
 
 // The C entry points: one per model and scalar type, each a line over the

@@ -5,7 +5,7 @@
 use crate::any::{Fixed, FixedState, StaticMap, Variable, VariableState};
 use crate::model::{friction_model_f32, friction_model_f64, Model};
 use crate::params::{friction_adaptive_params, friction_servo_params};
-use crate::slot::{self, opaque};
+use crate::slot::{self, opaque, Built};
 use crate::status::{friction_error, friction_status, report, Refusal};
 use friction_core::{
     AdaptiveObserver, AdaptiveParams, AdaptiveState, AtPeriod, Compensation, Compensator,
@@ -146,8 +146,9 @@ type Axis<S, C> = (
 // fields are read only for the kind that names them, `each_servo`).
 unsafe impl<S: Scalar> slot::Union for Stored<S> {}
 
-impl<S: Scalar> Servo<S> {
-    /// The kind and the stored form.
+impl<S: Scalar> slot::Built for Servo<S> {
+    type Stored = Stored<S>;
+
     fn stored(self) -> (u32, Stored<S>) {
         match self {
             Self::None(c, s) => (kind::NONE, Stored { none: (c, s) }),
@@ -253,7 +254,7 @@ fn new<O, M, S>(
 ) -> friction_status
 where
     O: slot::Opaque<Value = Stored<S>>,
-    M: slot::Opaque<Value = Model<S>>,
+    M: slot::Opaque<Value = crate::model::Stored<S>>,
     S: Scalar,
 {
     let (Some(out), Some(params)) = (out, params) else {
@@ -263,7 +264,10 @@ where
             Refusal::new(friction_status::FRICTION_NULL_POINTER, which),
         );
     };
-    let model = match model.map(slot::get_valid) {
+    let model = match model.map(|m| {
+        let (kind, stored) = slot::get_kind_ref(m);
+        Model::load(kind, stored)
+    }) {
         None => None,
         Some(Some(m)) => Some(m),
         Some(None) => {
@@ -280,7 +284,7 @@ where
         );
     }
     let adaptive = adaptive.map(AdaptiveParams::from);
-    match build(&params.into(), model, gain, adaptive.as_ref()) {
+    match build(&params.into(), model.as_ref(), gain, adaptive.as_ref()) {
         Ok(servo) => {
             let (kind, stored) = servo.stored();
             slot::put_kind(out, kind, stored);
