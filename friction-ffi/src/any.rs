@@ -5,10 +5,9 @@
 //! C hands these back as bytes, so each family is stored in a form every
 //! bit pattern is a value of: a `u32` kind and a `union` of the models
 //! (a Rust `enum` here would make every kind word but a few undefined
-//! behaviour to read). [`Variable::is_valid`] and friends say whether a
-//! kind is one a constructor writes; the calls check them (through
-//! `slot::get`) before they step, and a dispatch that still meets an
-//! unknown kind does nothing (force 0), never reads the union.
+//! behaviour to read). A dispatch that meets a kind no constructor writes
+//! does nothing (force 0) and never reads the union; [`Variable::is_valid`]
+//! and friends let the observer and servo constructors refuse such a model.
 //!
 //! A state starts as `REST` (its `Default`, which the core's generic code
 //! asks for); the first step turns it into the model's own state at rest,
@@ -140,8 +139,10 @@ macro_rules! each {
             $(
                 // SAFETY: the model's kind is this arm's, and a kind is only
                 // ever written together with the union field it names (by
-                // the constructors and `own`; C may copy them); the state's
-                // kind is the model's (`own` made it so when it was not).
+                // the constructors and `own`; C may copy them), C's bytes
+                // in that field being read as it (see slot.rs on what cannot
+                // be checked inside the core's values); the state's kind is
+                // the model's (`own` made it so when it was not).
                 $kinds::$field => {
                     let ($m, $s) = unsafe { (&model.u.$field, &mut state.u.$field) };
                     $body
