@@ -108,7 +108,7 @@ pub(crate) enum Servo<S: Scalar> {
     ),
 }
 
-/// The kinds of compensation, the tag word's low bits (`slot::put_kind`):
+/// The kinds of compensation, added to the object's tag (`slot::put_kind`):
 /// from 1, so that an object holding its type's bare tag (a `memset` with
 /// the tag's byte) has kind 0, which no constructor writes.
 mod kind {
