@@ -6,7 +6,7 @@
 //! `float` or `double`); the rest are the object's bytes (cut, or padded
 //! with zeros, to its size), sent through every call that reads that type.
 //! Besides "no crash, no hang", it asserts that an object whose tag word
-//! (bytes 4 to 7) is not one its type's constructors write gets no
+//! (its first 4 bytes) is not one its type's constructors write gets no
 //! `FRICTION_OK` from any call.
 
 use friction_ffi::friction_status::FRICTION_OK;
@@ -207,8 +207,8 @@ pub fn run(data: &[u8]) {
             ),
         ),
     };
-    // the tag's place: bytes 4 to 7 (friction-ffi's slot.rs)
-    let head: [u8; 4] = std::array::from_fn(|k| bytes.get(4 + k).copied().unwrap_or(0));
+    // the tag word: the first 32 bits (friction-ffi's slot.rs)
+    let head: [u8; 4] = std::array::from_fn(|k| bytes.get(k).copied().unwrap_or(0));
     let head = u32::from_ne_bytes(head);
     // a constructor writes the tag plus a kind (1 to 3 for a model, 1 or 2
     // for an observer, 1 to 6 for a servo)

@@ -63,21 +63,18 @@ pub(crate) trait Built {
     fn stored(self) -> (u32, Self::Stored);
 }
 
-/// The layout a constructor writes: a free word (zero), the tag word, then
-/// the value (at byte 8 in every object: the values are 8-aligned).
+/// The layout a constructor writes: the tag word (the object's first 32
+/// bits), then the value.
 #[repr(C)]
 struct Slot<V> {
-    free: u32,
     magic: u32,
     value: V,
 }
 
-/// Compile-time check that `Slot<O::Value>` fits in `O`, with the tag word
-/// at bytes 4 to 7.
+/// Compile-time check that `Slot<O::Value>` fits in `O`.
 const fn fits<O: Opaque>() -> bool {
     core::mem::size_of::<Slot<O::Value>>() <= core::mem::size_of::<O>()
         && core::mem::align_of::<Slot<O::Value>>() <= core::mem::align_of::<O>()
-        && core::mem::offset_of!(Slot<O::Value>, magic) == 4
 }
 
 /// Writes `value` into `out` with the tag word `O::MAGIC + kind`.
@@ -88,7 +85,6 @@ pub(crate) fn put_kind<O: Opaque>(out: &mut O, kind: u32, value: O::Value) {
     // reference, so the words are ours to overwrite; `Slot` is `Copy` data.
     unsafe {
         slot.write(Slot {
-            free: 0,
             magic: O::MAGIC.wrapping_add(kind),
             value,
         })
@@ -100,16 +96,11 @@ pub(crate) fn put_kind<O: Opaque>(out: &mut O, kind: u32, value: O::Value) {
 #[inline]
 fn kind<O: Opaque>(object: &O) -> u32 {
     const { assert!(fits::<O>(), "the C object is too small for its value") };
-    // SAFETY: `fits` keeps bytes 4 to 7 inside the object, 4-aligned (the
-    // object is 8-aligned); they hold C's bytes or a tag word this module
-    // wrote (never padding), and every bit pattern is a `u32`.
-    let magic = unsafe {
-        (object as *const O)
-            .cast::<u8>()
-            .add(4)
-            .cast::<u32>()
-            .read()
-    };
+    // SAFETY: the object's first 32 bits are inside it and aligned (`fits`;
+    // objects are arrays of `u64`); they hold C's bytes or a tag word this
+    // module wrote (never padding, which may follow them), and every bit
+    // pattern is a `u32`.
+    let magic = unsafe { (object as *const O).cast::<u32>().read() };
     magic.wrapping_sub(O::MAGIC)
 }
 

@@ -1,7 +1,7 @@
 //! Garbage objects, as a drive's C code that forgot a constructor hands
 //! them over: every object type filled with every byte value, with 100,000
 //! random byte patterns, and with 10,000 random patterns carrying the type's
-//! own tag with a kind no constructor writes (bytes 4 to 7, where a
+//! own tag with a kind no constructor writes (the first 4 bytes, where a
 //! constructor writes the tag plus its kind), through every call of
 //! the ABI that reads an object. A call on garbage must return a status
 //! that is not `FRICTION_OK`, and must not crash, abort or hang.
@@ -390,15 +390,15 @@ fn pattern(i: u64, tag: u32, bytes: &mut [u8]) {
         chunk.copy_from_slice(&state.to_ne_bytes()[..chunk.len()]);
     }
     if i >= FILLS + RANDOM {
-        // the tag word's place (friction-ffi's slot.rs: a free word, then
-        // the tag plus the kind of value, from 1): the bare tag (kind 0)
-        // or a kind past every type's (7 or more)
+        // the tag word (friction-ffi's slot.rs: the first 32 bits, the tag
+        // plus the kind of value, from 1): the bare tag (kind 0) or a kind
+        // past every type's (7 or more)
         let kind = if i % 2 == 0 {
             0
         } else {
             7 + (state >> 32) as u32 % 1000
         };
-        bytes[4..8].copy_from_slice(&tag.wrapping_add(kind).to_ne_bytes());
+        bytes[..4].copy_from_slice(&tag.wrapping_add(kind).to_ne_bytes());
     }
 }
 
