@@ -22,12 +22,13 @@
 //! What this cannot check: the private fields of the core's built models
 //! and states. `friction_core` keeps a few `bool`s and enums inside them
 //! (the Stribeck curve's shape, the observer's damping flag, the GMS slip
-//! modes, ...) and counts (the bristle model's re-bond budget). Bytes that
-//! carry a right tag word but were changed inside a core value by C are
-//! read as that value; an uninitialised or `memset` object, or a random
-//! pattern but with a chance of a few in 2^32, does not get that far.
-//! Checking them needs the core to store them in a form every bit pattern
-//! is a value of (or to check them itself).
+//! modes, ...) and integers (the bristle model's re-bond budget, the
+//! adaptive observer's scale exponent). Bytes that carry a right tag word
+//! but were changed inside a core value by C are read as that value; an
+//! uninitialised or `memset` object, or a random pattern but with a chance
+//! of a few in 2^32, does not get that far. Checking them needs the core to
+//! store them in a form every bit pattern is a value of (or to check them
+//! itself).
 
 /// A C-visible object of `WORDS` 64-bit words holding one `Value`.
 pub(crate) trait Opaque: Sized {
