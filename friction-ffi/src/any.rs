@@ -1,10 +1,17 @@
 //! The core's models behind one type per family, so that the core's
 //! generic observer and compensator run on whichever model C built: each
-//! enum implements the core traits by dispatching on its variant.
+//! family implements the core traits by dispatching on its kind.
 //!
-//! A state enum starts as `Rest` (its `Default`, which the core's generic
-//! code asks for); the first step turns it into the model's own state at
-//! rest, so that a state can never step with another model's variant.
+//! C hands these back as bytes, so each family is stored in a form every
+//! bit pattern is a value of: a `u32` kind and a `union` of the models
+//! (a Rust `enum` here would make every kind word but a few undefined
+//! behaviour to read). A dispatch that meets a kind no constructor writes
+//! does nothing (force 0) and never reads the union; [`Variable::is_valid`]
+//! and friends let the observer and servo constructors refuse such a model.
+//!
+//! A state starts as `REST` (its `Default`, which the core's generic code
+//! asks for); the first step turns it into the model's own state at rest,
+//! so that a state can never step with another model's union field.
 
 use crate::params::{FRICTION_BRISTLES, FRICTION_ELEMENTS, FRICTION_LEUVEN_MEMORY};
 use friction_core::{
@@ -13,127 +20,236 @@ use friction_core::{
     ResetIntegrator, Scalar, StribeckMap, Xiong, XiongAt,
 };
 
-/// A static map: no state.
-#[derive(Clone, Copy, Debug)]
-pub(crate) enum StaticMap<S> {
-    CoulombViscous(CoulombViscous<S>),
-    StribeckMap(StribeckMap<S>),
-}
+/// The kind of a state before its first step (no union field written).
+/// Models count their kinds from 0 (a `match` on them needs no offset
+/// before its jump table), so a state at rest takes the last `u32`.
+const REST: u32 = u32::MAX;
 
-impl<S: Scalar> FrictionModel<S> for StaticMap<S> {
-    type State = ();
-
-    fn step(&self, state: &mut (), v: S, h: S) -> S {
-        match self {
-            Self::CoulombViscous(m) => m.step(state, v, h),
-            Self::StribeckMap(m) => m.step(state, v, h),
-        }
-    }
-
-    fn hold_force(&self, state: &()) -> S {
-        match self {
-            Self::CoulombViscous(m) => m.hold_force(state),
-            Self::StribeckMap(m) => m.hold_force(state),
-        }
-    }
-}
-
-/// Declares a model enum, its state enum and their dispatch.
+/// Declares a family: the model (kind and union), its state (kind and
+/// union, `REST` until the first step), the kinds, a constructor per kind
+/// and the checks.
 macro_rules! family {
     (
-        $(#[$doc:meta])* $model:ident, $state:ident, $tr:ident,
-        [$($variant:ident: $ty:ty),* $(,)?]
+        $(#[$doc:meta])* $model:ident, $union:ident, $state:ident, $state_union:ident, $tr:ident,
+        $kinds:ident, [$($n:literal $field:ident: $ty:ty),* $(,)?]
     ) => {
+        /// The kind of each union field (named as the field: the dispatch
+        /// matches a kind by the field's name, so the two cannot disagree).
+        #[allow(non_upper_case_globals)]
+        mod $kinds {
+            $(pub(super) const $field: u32 = $n;)*
+        }
+
         $(#[$doc])*
-        #[derive(Clone, Copy, Debug)]
-        pub(crate) enum $model<S: Scalar> {
-            $($variant($ty),)*
+        #[derive(Clone, Copy)]
+        #[repr(C)]
+        pub(crate) struct $model<S: Scalar> {
+            kind: u32,
+            u: $union<S>,
         }
 
-        /// The state of the matching model variant; `Rest` until the first step.
-        #[derive(Clone, Copy, Debug, Default)]
-        pub(crate) enum $state<S: Scalar> {
-            #[default]
-            Rest,
-            $($variant(<$ty as $tr<S>>::State),)*
+        /// The models of the family; the field read is the one `kind` names.
+        #[derive(Clone, Copy)]
+        #[repr(C)]
+        #[allow(non_snake_case)]
+        union $union<S: Scalar> {
+            $($field: $ty,)*
         }
 
+        /// The state of the model of the same kind; `REST` until the first step.
+        #[derive(Clone, Copy)]
+        #[allow(dead_code)] // a static map's state is `()`
+        #[repr(C)]
+        pub(crate) struct $state<S: Scalar> {
+            kind: u32,
+            u: $state_union<S>,
+        }
+
+        /// The states of the family; `rest` (nothing) for `REST`.
+        #[derive(Clone, Copy)]
+        #[repr(C)]
+        union $state_union<S: Scalar> {
+            rest: (),
+            $($field: <$ty as $tr<S>>::State,)*
+        }
+
+        #[allow(dead_code)]
         impl<S: Scalar> $model<S> {
+            $(
+                /// The model of this kind.
+                pub(crate) fn $field(model: $ty) -> Self {
+                    Self { kind: $kinds::$field, u: $union { $field: model } }
+                }
+            )*
+
+            /// Whether the kind is one a constructor writes (so the union
+            /// field it names was written, by a constructor or C's copy of it).
+            #[inline]
+            pub(crate) fn is_valid(&self) -> bool {
+                matches!(self.kind, $($kinds::$field)|*)
+            }
+
             /// Makes `state` this model's state at rest (a state of another
-            /// variant, or `Rest`, before the first step).
+            /// kind, or `REST`, before the first step).
             #[cold]
             #[inline(never)]
             fn own<'a>(&self, state: &'a mut $state<S>) -> &'a mut $state<S> {
-                *state = match self {
-                    $(Self::$variant(_) => $state::$variant(Default::default()),)*
+                *state = match self.kind {
+                    $($kinds::$field => $state {
+                        kind: $kinds::$field,
+                        u: $state_union { $field: Default::default() },
+                    },)*
+                    _ => $state::default(),
                 };
                 state
+            }
+        }
+
+        impl<S: Scalar> Default for $state<S> {
+            fn default() -> Self {
+                Self { kind: REST, u: $state_union { rest: () } }
+            }
+        }
+
+        // the union's bytes are not printed: only the kind says which they are
+        impl<S: Scalar> core::fmt::Debug for $model<S> {
+            fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+                f.debug_struct(stringify!($model)).field("kind", &self.kind).finish_non_exhaustive()
+            }
+        }
+
+        impl<S: Scalar> core::fmt::Debug for $state<S> {
+            fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+                f.debug_struct(stringify!($state)).field("kind", &self.kind).finish_non_exhaustive()
             }
         }
     };
 }
 
-family!(
-    /// A variable-step state model (stepped with its `h` each call).
-    Variable, VariableState, FrictionModel,
-    [
-        Bristle: Bristle<S, FRICTION_BRISTLES>,
-        ResetIntegrator: ResetIntegrator<S>,
-        Dahl: Dahl<S>,
-        LuGre: LuGre<S>,
-        ElastoPlastic: ElastoPlastic<S>,
-        Leuven: Leuven<S, FRICTION_LEUVEN_MEMORY>,
-        Gms: Gms<S, FRICTION_ELEMENTS>,
-        Xiong: Xiong<S, FRICTION_ELEMENTS>,
-    ]
-);
-
-family!(
-    /// A fixed-step state model (built for one period).
-    Fixed, FixedState, FixedStepModel,
-    [
-        Dahl: DahlAt<S>,
-        LuGre: LuGreAt<S>,
-        ElastoPlastic: ElastoPlasticAt<S>,
-        Gms: GmsAt<S, FRICTION_ELEMENTS>,
-        Xiong: XiongAt<S, FRICTION_ELEMENTS>,
-    ]
-);
-
-/// `$body` with `$m` and `$s` bound to the model and its state, for every
-/// variant of a family. A state of another variant (or `Rest`) is first
+/// `$body` with `$m` and `$s` bound to the model and its state, for the
+/// model's kind; an unknown kind gives `S::ZERO` (never reached: the calls
+/// check the kind first). A state of another kind (or `REST`) is first
 /// made the model's own at rest (`own`, off the hot path).
 macro_rules! each {
-    ($model:ident, $state:ident, $self:expr, $st:expr, |$m:ident, $s:ident| $body:expr,
-     [$($variant:ident),*]) => {{
+    ($kinds:ident, $self:expr, $st:expr, |$m:ident, $s:ident| $body:expr, [$($field:ident),*]) => {{
+        let model = $self;
         let state = $st;
-        let matched = matches!((&*$self, &*state), $(($model::$variant(_), $state::$variant(_)))|*);
-        let state = if matched { state } else { $self.own(state) };
-        match ($self, state) {
-            $(($model::$variant($m), $state::$variant($s)) => $body,)*
-            // unreachable: `own` made the state match the model
+        let state = if state.kind == model.kind { state } else { model.own(state) };
+        match model.kind {
+            $(
+                // SAFETY: the model's kind is this arm's, and a kind is only
+                // ever written together with the union field it names (by
+                // the constructors and `own`; C may copy them), C's bytes
+                // in that field being read as it (see slot.rs on what cannot
+                // be checked inside the core's values); the state's kind is
+                // the model's (`own` made it so when it was not).
+                $kinds::$field => {
+                    let ($m, $s) = unsafe { (&model.u.$field, &mut state.u.$field) };
+                    $body
+                }
+            )*
             _ => S::ZERO,
         }
     }};
 }
 
+/// `$body` with `$m` bound to the model, for the model's kind (no state).
+macro_rules! each_model {
+    ($kinds:ident, $self:expr, |$m:ident| $body:expr, $default:expr, [$($field:ident),*]) => {{
+        let model = $self;
+        match model.kind {
+            // SAFETY: as in `each`: the kind names the union field written.
+            $($kinds::$field => {
+                let $m = unsafe { &model.u.$field };
+                $body
+            })*
+            _ => $default,
+        }
+    }};
+}
+
+family!(
+    /// A static map: no state.
+    StaticMap, StaticMapUnion, StaticMapState, StaticMapStateUnion, FrictionModel, static_kind,
+    [
+        0 coulomb_viscous: CoulombViscous<S>,
+        1 stribeck_map: StribeckMap<S>,
+    ]
+);
+
+family!(
+    /// A variable-step state model (stepped with its `h` each call).
+    Variable, VariableUnion, VariableState, VariableStateUnion, FrictionModel, variable_kind,
+    [
+        0 bristle: Bristle<S, FRICTION_BRISTLES>,
+        1 reset_integrator: ResetIntegrator<S>,
+        2 dahl: Dahl<S>,
+        3 lugre: LuGre<S>,
+        4 elasto_plastic: ElastoPlastic<S>,
+        5 leuven: Leuven<S, FRICTION_LEUVEN_MEMORY>,
+        6 gms: Gms<S, FRICTION_ELEMENTS>,
+        7 xiong: Xiong<S, FRICTION_ELEMENTS>,
+    ]
+);
+
+family!(
+    /// A fixed-step state model (built for one period).
+    Fixed, FixedUnion, FixedState, FixedStateUnion, FixedStepModel, fixed_kind,
+    [
+        0 dahl: DahlAt<S>,
+        1 lugre: LuGreAt<S>,
+        2 elasto_plastic: ElastoPlasticAt<S>,
+        3 gms: GmsAt<S, FRICTION_ELEMENTS>,
+        4 xiong: XiongAt<S, FRICTION_ELEMENTS>,
+    ]
+);
+
+macro_rules! each_static {
+    ($self:expr, |$m:ident| $body:expr) => {
+        each_model!(
+            static_kind,
+            $self,
+            |$m| $body,
+            S::ZERO,
+            [coulomb_viscous, stribeck_map]
+        )
+    };
+}
+
 macro_rules! each_variable {
     ($self:expr, $st:expr, |$m:ident, $s:ident| $body:expr) => {
         each!(
-            Variable,
-            VariableState,
+            variable_kind,
             $self,
             $st,
             |$m, $s| $body,
             [
-                Bristle,
-                ResetIntegrator,
-                Dahl,
-                LuGre,
-                ElastoPlastic,
-                Leuven,
-                Gms,
-                Xiong
+                bristle,
+                reset_integrator,
+                dahl,
+                lugre,
+                elasto_plastic,
+                leuven,
+                gms,
+                xiong
+            ]
+        )
+    };
+    ($self:expr, |$m:ident| $body:expr) => {
+        each_model!(
+            variable_kind,
+            $self,
+            |$m| $body,
+            S::ZERO,
+            [
+                bristle,
+                reset_integrator,
+                dahl,
+                lugre,
+                elasto_plastic,
+                leuven,
+                gms,
+                xiong
             ]
         )
     };
@@ -142,14 +258,34 @@ macro_rules! each_variable {
 macro_rules! each_fixed {
     ($self:expr, $st:expr, |$m:ident, $s:ident| $body:expr) => {
         each!(
-            Fixed,
-            FixedState,
+            fixed_kind,
             $self,
             $st,
             |$m, $s| $body,
-            [Dahl, LuGre, ElastoPlastic, Gms, Xiong]
+            [dahl, lugre, elasto_plastic, gms, xiong]
         )
     };
+    ($self:expr, |$m:ident| $body:expr, $default:expr) => {
+        each_model!(
+            fixed_kind,
+            $self,
+            |$m| $body,
+            $default,
+            [dahl, lugre, elasto_plastic, gms, xiong]
+        )
+    };
+}
+
+impl<S: Scalar> FrictionModel<S> for StaticMap<S> {
+    type State = ();
+
+    fn step(&self, state: &mut (), v: S, h: S) -> S {
+        each_static!(self, |m| m.step(state, v, h))
+    }
+
+    fn hold_force(&self, state: &()) -> S {
+        each_static!(self, |m| m.hold_force(state))
+    }
 }
 
 impl<S: Scalar> FrictionModel<S> for Variable<S> {
@@ -179,16 +315,7 @@ impl<S: Scalar> Observable<S> for Variable<S> {
     }
 
     fn force_bound(&self, v: S) -> S {
-        match self {
-            Self::Bristle(m) => m.force_bound(v),
-            Self::ResetIntegrator(m) => m.force_bound(v),
-            Self::Dahl(m) => m.force_bound(v),
-            Self::LuGre(m) => m.force_bound(v),
-            Self::ElastoPlastic(m) => m.force_bound(v),
-            Self::Leuven(m) => m.force_bound(v),
-            Self::Gms(m) => m.force_bound(v),
-            Self::Xiong(m) => m.force_bound(v),
-        }
+        each_variable!(self, |m| m.force_bound(v))
     }
 }
 
@@ -196,13 +323,8 @@ impl<S: Scalar> FixedStepModel<S> for Fixed<S> {
     type State = FixedState<S>;
 
     fn period(&self) -> f64 {
-        match self {
-            Self::Dahl(m) => m.period(),
-            Self::LuGre(m) => m.period(),
-            Self::ElastoPlastic(m) => m.period(),
-            Self::Gms(m) => m.period(),
-            Self::Xiong(m) => m.period(),
-        }
+        // an unknown kind (never reached: the calls check it) has no period
+        each_fixed!(self, |m| m.period(), 0.0)
     }
 
     #[inline]
@@ -224,12 +346,6 @@ impl<S: Scalar> FixedStepObservable<S> for Fixed<S> {
     }
 
     fn force_bound(&self, v: S) -> S {
-        match self {
-            Self::Dahl(m) => m.force_bound(v),
-            Self::LuGre(m) => m.force_bound(v),
-            Self::ElastoPlastic(m) => m.force_bound(v),
-            Self::Gms(m) => m.force_bound(v),
-            Self::Xiong(m) => m.force_bound(v),
-        }
+        each_fixed!(self, |m| m.force_bound(v), S::ZERO)
     }
 }

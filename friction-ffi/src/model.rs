@@ -38,10 +38,12 @@ pub struct friction_model_f64 {
     pub opaque: [u64; FRICTION_MODEL_F64_WORDS],
 }
 
-opaque!(friction_model_f32, Model<f32>, 0xB1B1_B1B1);
-opaque!(friction_model_f64, Model<f64>, 0xB2B2_B2B2);
+opaque!(friction_model_f32, Stored<f32>, 0xB1B1_B1B1);
+opaque!(friction_model_f64, Stored<f64>, 0xB2B2_B2B2);
 
-/// Any core model with its state.
+/// Any core model with its state, as the constructors build it and the
+/// observer and servo constructors read it; stored as a kind and a union
+/// ([`Stored`]).
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Model<S: Scalar> {
     /// A static map (no state).
@@ -52,6 +54,67 @@ pub(crate) enum Model<S: Scalar> {
     Fixed(Fixed<S>, FixedState<S>),
 }
 
+/// The kinds of model, added to the object's tag (`slot::put_kind`); from 1,
+/// so that an object holding its type's bare tag has kind 0, which no
+/// constructor writes.
+mod kind {
+    pub(super) const STATIC: u32 = 1;
+    pub(super) const VARIABLE: u32 = 2;
+    pub(super) const FIXED: u32 = 3;
+}
+
+/// A model as an object stores it: the union field its kind names.
+#[derive(Clone, Copy)]
+#[repr(C)]
+pub(crate) union Stored<S: Scalar> {
+    static_map: StaticMap<S>,
+    variable: (Variable<S>, VariableState<S>),
+    fixed: (Fixed<S>, FixedState<S>),
+}
+
+// SAFETY: a union of `Copy` types: every bit pattern is a value of it (its
+// fields are read only for the kind that names them).
+unsafe impl<S: Scalar> slot::Union for Stored<S> {}
+
+impl<S: Scalar> slot::Built for Model<S> {
+    type Stored = Stored<S>;
+
+    fn stored(self) -> (u32, Stored<S>) {
+        match self {
+            Self::Static(m) => (kind::STATIC, Stored { static_map: m }),
+            Self::Variable(m, s) => (kind::VARIABLE, Stored { variable: (m, s) }),
+            Self::Fixed(m, s) => (kind::FIXED, Stored { fixed: (m, s) }),
+        }
+    }
+}
+
+impl<S: Scalar> Model<S> {
+    /// The model in an object of kind `kind` (a copy), if the kind and
+    /// the model kind inside are ones a constructor writes.
+    pub(crate) fn load(kind: u32, stored: &Stored<S>) -> Option<Self> {
+        // SAFETY (each arm): a kind is only written with the field it names
+        // (`slot::put_kind` from `stored`; C may copy both), and C's bytes
+        // in that field are read as it (see slot.rs on what cannot be
+        // checked inside the core's values).
+        let (model, valid) = match kind {
+            kind::STATIC => {
+                let m = unsafe { stored.static_map };
+                (Self::Static(m), m.is_valid())
+            }
+            kind::VARIABLE => {
+                let (m, s) = unsafe { stored.variable };
+                (Self::Variable(m, s), m.is_valid())
+            }
+            kind::FIXED => {
+                let (m, s) = unsafe { stored.fixed };
+                (Self::Fixed(m, s), m.is_valid())
+            }
+            _ => return None,
+        };
+        valid.then_some(model)
+    }
+}
+
 /// Whether a step's period `h` is the fixed-step model's own (to 1e-6).
 pub(crate) fn same_period(h: f64, period: f64) -> bool {
     (h - period).abs() <= 1e-6 * period
@@ -59,52 +122,72 @@ pub(crate) fn same_period(h: f64, period: f64) -> bool {
 
 impl<S: Scalar> Model<S> {
     fn variable(model: Variable<S>) -> Self {
-        Self::Variable(model, VariableState::Rest)
+        Self::Variable(model, VariableState::default())
     }
 
     fn fixed(model: Fixed<S>) -> Self {
-        Self::Fixed(model, FixedState::Rest)
+        Self::Fixed(model, FixedState::default())
     }
+}
 
-    /// Steps by `h` with `v` held; `Err` leaves the state as it was and
-    /// carries the force it holds.
-    fn step(&mut self, v: S, h: S) -> (S, friction_status) {
-        let accepted = v.is_finite() && h.is_finite() && h >= S::ZERO;
-        let status = if accepted {
-            friction_status::FRICTION_OK
-        } else {
-            friction_status::FRICTION_INPUT_REJECTED
-        };
-        match self {
-            Self::Static(m) => (m.step(&mut (), v, h), status),
-            Self::Variable(m, s) => (m.step(s, v, h), status),
-            Self::Fixed(m, s) => {
-                if accepted && !same_period(h.to_f64(), m.period()) {
-                    (m.hold_force(s), friction_status::FRICTION_PERIOD_MISMATCH)
-                } else {
-                    (m.step(s, v), status)
-                }
+/// Steps the model of kind `kind` by `h` with `v` held: the force and the
+/// status (the state as it was, and the force it holds, when refused);
+/// `None` for a kind no constructor writes.
+fn step_stored<S: Scalar>(
+    kind: u32,
+    model: &mut Stored<S>,
+    v: S,
+    h: S,
+) -> Option<(S, friction_status)> {
+    let accepted = v.is_finite() && h.is_finite() && h >= S::ZERO;
+    let status = if accepted {
+        friction_status::FRICTION_OK
+    } else {
+        friction_status::FRICTION_INPUT_REJECTED
+    };
+    // SAFETY (each arm): as in `Model::load`.
+    Some(match kind {
+        kind::STATIC => {
+            let m = unsafe { &model.static_map };
+            (m.step(&mut (), v, h), status)
+        }
+        kind::VARIABLE => {
+            let (m, s) = unsafe { &mut model.variable };
+            (m.step(s, v, h), status)
+        }
+        kind::FIXED => {
+            let (m, s) = unsafe { &mut model.fixed };
+            if accepted && !same_period(h.to_f64(), m.period()) {
+                (m.hold_force(s), friction_status::FRICTION_PERIOD_MISMATCH)
+            } else {
+                (m.step(s, v), status)
             }
         }
-    }
+        _ => return None,
+    })
+}
 
-    fn reset(&mut self) {
-        match self {
-            Self::Static(_) => {}
-            Self::Variable(_, s) => *s = VariableState::Rest,
-            Self::Fixed(_, s) => *s = FixedState::Rest,
-        }
+/// Puts the model of kind `kind` at rest; `false` for a kind no
+/// constructor writes.
+fn reset_stored<S: Scalar>(kind: u32, model: &mut Stored<S>) -> bool {
+    // writing a union field's part reads nothing (safe code)
+    match kind {
+        kind::STATIC => {}
+        kind::VARIABLE => model.variable.1 = VariableState::default(),
+        kind::FIXED => model.fixed.1 = FixedState::default(),
+        _ => return false,
     }
+    true
 }
 
 /// Builds `O::Value` from `params` into `out`; writes nothing on failure.
 /// A NULL `params` is named `params_name`.
-pub(crate) fn init<O: slot::Opaque, P>(
+pub(crate) fn init<O: slot::Opaque, P, B: slot::Built<Stored = O::Value>>(
     out: Option<&mut O>,
     params: Option<&P>,
     params_name: &'static str,
     error: Option<&mut friction_error>,
-    build: impl FnOnce(&P) -> Result<O::Value, Refusal>,
+    build: impl FnOnce(&P) -> Result<B, Refusal>,
 ) -> friction_status {
     let (Some(out), Some(params)) = (out, params) else {
         let which = if params.is_none() { params_name } else { "out" };
@@ -115,7 +198,8 @@ pub(crate) fn init<O: slot::Opaque, P>(
     };
     match build(params) {
         Ok(value) => {
-            slot::put(out, value);
+            let (kind, stored) = value.stored();
+            slot::put_kind(out, kind, stored);
             report(error, Refusal::OK)
         }
         Err(e) => report(error, e),
@@ -141,30 +225,30 @@ fn at<S: Scalar>(
 
 fn coulomb_viscous<S: Scalar>(p: &friction_coulomb_viscous_params) -> Result<Model<S>, Refusal> {
     let model = CoulombViscousParams::from(p).build().map_err(param)?;
-    Ok(Model::Static(StaticMap::CoulombViscous(model)))
+    Ok(Model::Static(StaticMap::coulomb_viscous(model)))
 }
 
 fn stribeck_map<S: Scalar>(p: &friction_stribeck_map_params) -> Result<Model<S>, Refusal> {
     let model = StribeckMapParams::from(p).build().map_err(param)?;
-    Ok(Model::Static(StaticMap::StribeckMap(model)))
+    Ok(Model::Static(StaticMap::stribeck_map(model)))
 }
 
 fn bristle<S: Scalar>(p: &friction_bristle_params) -> Result<Model<S>, Refusal> {
     let model = BristleParams::from(p).build().map_err(param)?;
-    Ok(Model::variable(Variable::Bristle(model)))
+    Ok(Model::variable(Variable::bristle(model)))
 }
 
 fn reset_integrator<S: Scalar>(p: &friction_reset_integrator_params) -> Result<Model<S>, Refusal> {
     let model = ResetIntegratorParams::from(p).build().map_err(param)?;
-    Ok(Model::variable(Variable::ResetIntegrator(model)))
+    Ok(Model::variable(Variable::reset_integrator(model)))
 }
 
 fn dahl<S: Scalar>(p: &friction_dahl_params, h: f64) -> Result<Model<S>, Refusal> {
     let p = DahlParams::from(p);
     at(
         h,
-        || p.build().map(Variable::Dahl),
-        |h| p.build_at(h).map(Fixed::Dahl),
+        || p.build().map(Variable::dahl),
+        |h| p.build_at(h).map(Fixed::dahl),
     )
 }
 
@@ -172,8 +256,8 @@ fn lugre<S: Scalar>(p: &friction_lugre_params, h: f64) -> Result<Model<S>, Refus
     let p = LuGreParams::from(p);
     at(
         h,
-        || p.build().map(Variable::LuGre),
-        |h| p.build_at(h).map(Fixed::LuGre),
+        || p.build().map(Variable::lugre),
+        |h| p.build_at(h).map(Fixed::lugre),
     )
 }
 
@@ -184,22 +268,22 @@ fn elasto_plastic<S: Scalar>(
     let p = ElastoPlasticParams::from(p);
     at(
         h,
-        || p.build().map(Variable::ElastoPlastic),
-        |h| p.build_at(h).map(Fixed::ElastoPlastic),
+        || p.build().map(Variable::elasto_plastic),
+        |h| p.build_at(h).map(Fixed::elasto_plastic),
     )
 }
 
 fn leuven<S: Scalar>(p: &friction_leuven_params) -> Result<Model<S>, Refusal> {
     let model = LeuvenParams::from(p).build().map_err(param)?;
-    Ok(Model::variable(Variable::Leuven(model)))
+    Ok(Model::variable(Variable::leuven(model)))
 }
 
 fn gms<S: Scalar>(p: &friction_gms_params, h: f64) -> Result<Model<S>, Refusal> {
     let p = GmsParams::from(p);
     at(
         h,
-        || p.build().map(Variable::Gms),
-        |h| p.build_at(h).map(Fixed::Gms),
+        || p.build().map(Variable::gms),
+        |h| p.build_at(h).map(Fixed::gms),
     )
 }
 
@@ -207,40 +291,41 @@ fn xiong<S: Scalar>(p: &friction_xiong_params, h: f64) -> Result<Model<S>, Refus
     let p = XiongParams::from(p);
     at(
         h,
-        || p.build().map(Variable::Xiong),
-        |h| p.build_at(h).map(Fixed::Xiong),
+        || p.build().map(Variable::xiong),
+        |h| p.build_at(h).map(Fixed::xiong),
     )
 }
 
 fn step<O, S>(model: Option<&mut O>, v: S, h: S, force: Option<&mut S>) -> friction_status
 where
-    O: slot::Opaque<Value = Model<S>>,
+    O: slot::Opaque<Value = Stored<S>>,
     S: Scalar,
 {
     let (Some(model), Some(force)) = (model, force) else {
         return friction_status::FRICTION_NULL_POINTER;
     };
-    let Some(model) = slot::get(model) else {
+    let (kind, model) = slot::get_kind(model);
+    let Some((f, status)) = step_stored(kind, model, v, h) else {
         return friction_status::FRICTION_NOT_INITIALISED;
     };
-    let (f, status) = model.step(v, h);
     *force = f;
     status
 }
 
 fn reset<O, S>(model: Option<&mut O>) -> friction_status
 where
-    O: slot::Opaque<Value = Model<S>>,
+    O: slot::Opaque<Value = Stored<S>>,
     S: Scalar,
 {
     let Some(model) = model else {
         return friction_status::FRICTION_NULL_POINTER;
     };
-    let Some(model) = slot::get(model) else {
-        return friction_status::FRICTION_NOT_INITIALISED;
-    };
-    model.reset();
-    friction_status::FRICTION_OK
+    let (kind, model) = slot::get_kind(model);
+    if reset_stored(kind, model) {
+        friction_status::FRICTION_OK
+    } else {
+        friction_status::FRICTION_NOT_INITIALISED
+    }
 }
 
 // The C entry points: one per model and scalar type, each a line over the

@@ -28,14 +28,45 @@ pub struct friction_observer_f64 {
     pub opaque: [u64; FRICTION_OBSERVER_F64_WORDS],
 }
 
-opaque!(friction_observer_f32, Estimator<f32>, 0xB3B3_B3B3);
-opaque!(friction_observer_f64, Estimator<f64>, 0xB4B4_B4B4);
+opaque!(friction_observer_f32, Stored<f32>, 0xB3B3_B3B3);
+opaque!(friction_observer_f64, Stored<f64>, 0xB4B4_B4B4);
 
-/// An observer with the state of its model.
+/// An observer with the state of its model, as `build` makes it; stored
+/// as a kind and a union ([`Stored`]).
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Estimator<S: Scalar> {
     Variable(Observer<Variable<S>, S>, VariableState<S>),
     Fixed(Observer<Fixed<S>, S>, FixedState<S>),
+}
+
+/// The kinds of observer, added to the object's tag (`slot::put_kind`);
+/// from 1, so that an object holding its type's bare tag has kind 0.
+mod kind {
+    pub(super) const VARIABLE: u32 = 1;
+    pub(super) const FIXED: u32 = 2;
+}
+
+/// An observer as an object stores it: the union field its kind names.
+#[derive(Clone, Copy)]
+#[repr(C)]
+pub(crate) union Stored<S: Scalar> {
+    variable: (Observer<Variable<S>, S>, VariableState<S>),
+    fixed: (Observer<Fixed<S>, S>, FixedState<S>),
+}
+
+// SAFETY: a union of `Copy` types: every bit pattern is a value of it (its
+// fields are read only for the kind that names them).
+unsafe impl<S: Scalar> slot::Union for Stored<S> {}
+
+impl<S: Scalar> slot::Built for Estimator<S> {
+    type Stored = Stored<S>;
+
+    fn stored(self) -> (u32, Stored<S>) {
+        match self {
+            Self::Variable(o, s) => (kind::VARIABLE, Stored { variable: (o, s) }),
+            Self::Fixed(o, s) => (kind::FIXED, Stored { fixed: (o, s) }),
+        }
+    }
 }
 
 /// The observer of `model` (its parameters; the observer starts at rest).
@@ -50,13 +81,13 @@ fn build<S: Scalar>(model: &Model<S>, gain: f64, damping: bool) -> Result<Estima
             Observer::new(*m, gain)
                 .map_err(param)?
                 .with_damping(damping),
-            VariableState::Rest,
+            VariableState::default(),
         )),
         Model::Fixed(m, _) => Ok(Estimator::Fixed(
             Observer::new(*m, gain)
                 .map_err(param)?
                 .with_damping(damping),
-            FixedState::Rest,
+            FixedState::default(),
         )),
     }
 }
@@ -70,61 +101,73 @@ fn new<O, M, S>(
     error: Option<&mut friction_error>,
 ) -> friction_status
 where
-    O: slot::Opaque<Value = Estimator<S>>,
-    M: slot::Opaque<Value = Model<S>>,
+    O: slot::Opaque<Value = Stored<S>>,
+    M: slot::Opaque<Value = crate::model::Stored<S>>,
     S: Scalar,
 {
-    init(out, model, "model", error, |m| match slot::get_ref(m) {
-        Some(m) => build(m, gain, damping),
-        None => Err(Refusal::new(
-            friction_status::FRICTION_NOT_INITIALISED,
-            "model",
-        )),
+    init(out, model, "model", error, |m| {
+        let (kind, stored) = slot::get_kind_ref(m);
+        match Model::load(kind, stored) {
+            Some(m) => build(&m, gain, damping),
+            None => Err(Refusal::new(
+                friction_status::FRICTION_NOT_INITIALISED,
+                "model",
+            )),
+        }
     })
 }
 
 fn step<O, S>(observer: Option<&mut O>, v: S, e: S, h: S, force: Option<&mut S>) -> friction_status
 where
-    O: slot::Opaque<Value = Estimator<S>>,
+    O: slot::Opaque<Value = Stored<S>>,
     S: Scalar,
 {
     let (Some(observer), Some(force)) = (observer, force) else {
         return friction_status::FRICTION_NULL_POINTER;
     };
-    let Some(observer) = slot::get(observer) else {
-        return friction_status::FRICTION_NOT_INITIALISED;
-    };
+    let (kind, observer) = slot::get_kind(observer);
     let accepted = v.is_finite() && e.is_finite() && h.is_finite() && h >= S::ZERO;
     let status = if accepted {
         friction_status::FRICTION_OK
     } else {
         friction_status::FRICTION_INPUT_REJECTED
     };
-    match observer {
-        Estimator::Variable(o, s) => *force = o.step(s, v, e, h),
-        Estimator::Fixed(o, s) => {
+    // SAFETY (each arm): a kind is only written with the field it names
+    // (`slot::put_kind` from `stored`; C may copy both), and C's bytes in
+    // that field are read as it (see slot.rs on what cannot be checked
+    // inside the core's values).
+    match kind {
+        kind::VARIABLE => {
+            let (o, s) = unsafe { &mut observer.variable };
+            *force = o.step(s, v, e, h);
+        }
+        kind::FIXED => {
+            let (o, s) = unsafe { &mut observer.fixed };
             if accepted && !same_period(h.to_f64(), o.model().period()) {
                 *force = o.model().hold_force(s);
                 return friction_status::FRICTION_PERIOD_MISMATCH;
             }
             *force = o.step_at(s, v, e);
         }
+        _ => return friction_status::FRICTION_NOT_INITIALISED,
     }
     status
 }
 
 fn reset<O, S>(observer: Option<&mut O>) -> friction_status
 where
-    O: slot::Opaque<Value = Estimator<S>>,
+    O: slot::Opaque<Value = Stored<S>>,
     S: Scalar,
 {
     let Some(observer) = observer else {
         return friction_status::FRICTION_NULL_POINTER;
     };
-    match slot::get(observer) {
-        Some(Estimator::Variable(_, s)) => *s = VariableState::Rest,
-        Some(Estimator::Fixed(_, s)) => *s = FixedState::Rest,
-        None => return friction_status::FRICTION_NOT_INITIALISED,
+    let (kind, observer) = slot::get_kind(observer);
+    // writing a union field's part reads nothing (safe code)
+    match kind {
+        kind::VARIABLE => observer.variable.1 = VariableState::default(),
+        kind::FIXED => observer.fixed.1 = FixedState::default(),
+        _ => return friction_status::FRICTION_NOT_INITIALISED,
     }
     friction_status::FRICTION_OK
 }

@@ -5,11 +5,11 @@
 use crate::any::{Fixed, FixedState, StaticMap, Variable, VariableState};
 use crate::model::{friction_model_f32, friction_model_f64, Model};
 use crate::params::{friction_adaptive_params, friction_servo_params};
-use crate::slot::{self, opaque};
+use crate::slot::{self, opaque, Built};
 use crate::status::{friction_error, friction_status, report, Refusal};
 use friction_core::{
-    AdaptiveObserver, AdaptiveParams, AdaptiveState, AtPeriod, Compensator, CompensatorParams,
-    CompensatorState, FeedForward, NoCompensation, Observer, Scalar, Setpoint,
+    AdaptiveObserver, AdaptiveParams, AdaptiveState, AtPeriod, Compensation, Compensator,
+    CompensatorParams, CompensatorState, FeedForward, NoCompensation, Observer, Scalar, Setpoint,
 };
 
 /// Words (8 bytes each) of a `float` servo object, room for the largest
@@ -32,8 +32,8 @@ pub struct friction_servo_f64 {
     pub opaque: [u64; FRICTION_SERVO_F64_WORDS],
 }
 
-opaque!(friction_servo_f32, Servo<f32>, 0xB5B5_B5B5);
-opaque!(friction_servo_f64, Servo<f64>, 0xB6B6_B6B6);
+opaque!(friction_servo_f32, Stored<f32>, 0xB5B5_B5B5);
+opaque!(friction_servo_f64, Stored<f64>, 0xB6B6_B6B6);
 
 /// The desired motion at a tick, in `float`.
 #[repr(C)]
@@ -81,11 +81,9 @@ pub struct friction_tick_f64 {
 
 type AdaptiveAt<S> = AtPeriod<AdaptiveObserver<Fixed<S>, S>>;
 
-/// A compensator with its state, one variant per kind of compensation.
-// `repr(u32)`: a plain tag word, so that a tick's dispatch is one load and
-// a jump table (the compiler's niche encoding took five instructions more)
+/// A compensator with its state, one variant per kind of compensation, as
+/// `build` makes it; stored as a kind and a union ([`Stored`]).
 #[derive(Clone, Copy, Debug)]
-#[repr(u32)]
 pub(crate) enum Servo<S: Scalar> {
     None(Compensator<S, NoCompensation>, CompensatorState<S, ()>),
     FeedForward(
@@ -108,6 +106,114 @@ pub(crate) enum Servo<S: Scalar> {
         Compensator<S, AdaptiveAt<S>>,
         CompensatorState<S, AdaptiveState<FixedState<S>, S>>,
     ),
+}
+
+/// The kinds of compensation, added to the object's tag (`slot::put_kind`):
+/// from 1, so that an object holding its type's bare tag (a `memset` with
+/// the tag's byte) has kind 0, which no constructor writes.
+mod kind {
+    pub(super) const NONE: u32 = 1;
+    pub(super) const FEED_FORWARD: u32 = 2;
+    pub(super) const OBSERVER: u32 = 3;
+    pub(super) const OBSERVER_AT: u32 = 4;
+    pub(super) const ADAPTIVE: u32 = 5;
+    pub(super) const ADAPTIVE_AT: u32 = 6;
+}
+
+/// A servo as an object stores it: the union field its kind names. The
+/// kind is in the object's tag word, so that one load and one compare
+/// check the tag and pick the field (a tick through the C ABI is budgeted
+/// at 1.10x the Rust tick on the Cortex-M4F; a tag and an enum's
+/// discriminant checked apart cost it three instructions more).
+#[derive(Clone, Copy)]
+#[repr(C)]
+pub(crate) union Stored<S: Scalar> {
+    none: Axis<S, NoCompensation>,
+    feed_forward: Axis<S, FeedForward<StaticMap<S>>>,
+    observer: Axis<S, Observer<Variable<S>, S>>,
+    observer_at: Axis<S, AtPeriod<Observer<Fixed<S>, S>>>,
+    adaptive: Axis<S, AdaptiveObserver<Variable<S>, S>>,
+    adaptive_at: Axis<S, AdaptiveAt<S>>,
+}
+
+/// A compensator and its state.
+type Axis<S, C> = (
+    Compensator<S, C>,
+    CompensatorState<S, <C as Compensation<S>>::State>,
+);
+
+// SAFETY: a union of `Copy` types: every bit pattern is a value of it (its
+// fields are read only for the kind that names them, `each_servo`).
+unsafe impl<S: Scalar> slot::Union for Stored<S> {}
+
+impl<S: Scalar> slot::Built for Servo<S> {
+    type Stored = Stored<S>;
+
+    fn stored(self) -> (u32, Stored<S>) {
+        match self {
+            Self::None(c, s) => (kind::NONE, Stored { none: (c, s) }),
+            Self::FeedForward(c, s) => (
+                kind::FEED_FORWARD,
+                Stored {
+                    feed_forward: (c, s),
+                },
+            ),
+            Self::Observer(c, s) => (kind::OBSERVER, Stored { observer: (c, s) }),
+            Self::ObserverAt(c, s) => (
+                kind::OBSERVER_AT,
+                Stored {
+                    observer_at: (c, s),
+                },
+            ),
+            Self::Adaptive(c, s) => (kind::ADAPTIVE, Stored { adaptive: (c, s) }),
+            Self::AdaptiveAt(c, s) => (
+                kind::ADAPTIVE_AT,
+                Stored {
+                    adaptive_at: (c, s),
+                },
+            ),
+        }
+    }
+}
+
+/// `$body` with `$c` and `$s` bound to the compensator and state of the
+/// union field `$kind` names; `$other` for a kind no constructor writes
+/// (garbage, never a field read).
+macro_rules! each_servo {
+    ($kind:expr, $servo:expr, |$c:ident, $s:ident| $body:expr, $other:expr) => {{
+        let servo: &mut Stored<S> = $servo;
+        // SAFETY (each arm): a kind is only written with the field it names
+        // (`slot::put_kind` from `Servo::stored`; C may copy both), and C's
+        // bytes in that field are read as it (see slot.rs on what cannot be
+        // checked inside the core's values).
+        match $kind {
+            kind::NONE => {
+                let ($c, $s) = unsafe { &mut servo.none };
+                $body
+            }
+            kind::FEED_FORWARD => {
+                let ($c, $s) = unsafe { &mut servo.feed_forward };
+                $body
+            }
+            kind::OBSERVER => {
+                let ($c, $s) = unsafe { &mut servo.observer };
+                $body
+            }
+            kind::OBSERVER_AT => {
+                let ($c, $s) = unsafe { &mut servo.observer_at };
+                $body
+            }
+            kind::ADAPTIVE => {
+                let ($c, $s) = unsafe { &mut servo.adaptive };
+                $body
+            }
+            kind::ADAPTIVE_AT => {
+                let ($c, $s) = unsafe { &mut servo.adaptive_at };
+                $body
+            }
+            _ => $other,
+        }
+    }};
 }
 
 fn build<S: Scalar>(
@@ -147,8 +253,8 @@ fn new<O, M, S>(
     error: Option<&mut friction_error>,
 ) -> friction_status
 where
-    O: slot::Opaque<Value = Servo<S>>,
-    M: slot::Opaque<Value = Model<S>>,
+    O: slot::Opaque<Value = Stored<S>>,
+    M: slot::Opaque<Value = crate::model::Stored<S>>,
     S: Scalar,
 {
     let (Some(out), Some(params)) = (out, params) else {
@@ -158,7 +264,10 @@ where
             Refusal::new(friction_status::FRICTION_NULL_POINTER, which),
         );
     };
-    let model = match model.map(slot::get_ref) {
+    let model = match model.map(|m| {
+        let (kind, stored) = slot::get_kind_ref(m);
+        Model::load(kind, stored)
+    }) {
         None => None,
         Some(Some(m)) => Some(m),
         Some(None) => {
@@ -175,44 +284,13 @@ where
         );
     }
     let adaptive = adaptive.map(AdaptiveParams::from);
-    match build(&params.into(), model, gain, adaptive.as_ref()) {
+    match build(&params.into(), model.as_ref(), gain, adaptive.as_ref()) {
         Ok(servo) => {
-            slot::put(out, servo);
+            let (kind, stored) = servo.stored();
+            slot::put_kind(out, kind, stored);
             report(error, Refusal::OK)
         }
         Err(e) => report(error, Refusal::param(e)),
-    }
-}
-
-impl<S: Scalar> Servo<S> {
-    #[inline]
-    fn tick(&mut self, x: S, r: Setpoint<S>) -> friction_core::Tick<S> {
-        match self {
-            Self::None(c, s) => c.tick(s, x, r),
-            Self::FeedForward(c, s) => c.tick(s, x, r),
-            Self::Observer(c, s) => c.tick(s, x, r),
-            Self::ObserverAt(c, s) => c.tick(s, x, r),
-            Self::Adaptive(c, s) => c.tick(s, x, r),
-            Self::AdaptiveAt(c, s) => c.tick(s, x, r),
-        }
-    }
-
-    fn reset(&mut self) {
-        match self {
-            Self::None(_, s) | Self::FeedForward(_, s) => *s = CompensatorState::default(),
-            Self::Observer(_, s) => *s = CompensatorState::default(),
-            Self::ObserverAt(_, s) => *s = CompensatorState::default(),
-            Self::Adaptive(_, s) => *s = CompensatorState::default(),
-            Self::AdaptiveAt(_, s) => *s = CompensatorState::default(),
-        }
-    }
-
-    fn theta(&self) -> Option<S> {
-        match self {
-            Self::Adaptive(c, s) => Some(c.compensation().theta(s.friction())),
-            Self::AdaptiveAt(c, s) => Some(c.compensation().0.theta(s.friction())),
-            _ => None,
-        }
     }
 }
 
@@ -222,47 +300,62 @@ fn tick<O, S>(
     r: Setpoint<S>,
 ) -> Result<friction_core::Tick<S>, friction_status>
 where
-    O: slot::Opaque<Value = Servo<S>>,
+    O: slot::Opaque<Value = Stored<S>>,
     S: Scalar,
 {
     let servo = servo.ok_or(friction_status::FRICTION_NULL_POINTER)?;
-    let servo = slot::get(servo).ok_or(friction_status::FRICTION_NOT_INITIALISED)?;
-    Ok(servo.tick(x, r))
+    let (kind, servo) = slot::get_kind(servo);
+    each_servo!(kind, servo, |c, s| Ok(c.tick(s, x, r)), {
+        Err(friction_status::FRICTION_NOT_INITIALISED)
+    })
 }
 
 fn reset<O, S>(servo: Option<&mut O>) -> friction_status
 where
-    O: slot::Opaque<Value = Servo<S>>,
+    O: slot::Opaque<Value = Stored<S>>,
     S: Scalar,
 {
     let Some(servo) = servo else {
         return friction_status::FRICTION_NULL_POINTER;
     };
-    let Some(servo) = slot::get(servo) else {
-        return friction_status::FRICTION_NOT_INITIALISED;
-    };
-    servo.reset();
-    friction_status::FRICTION_OK
+    let (kind, servo) = slot::get_kind(servo);
+    each_servo!(
+        kind,
+        servo,
+        |_c, s| {
+            *s = CompensatorState::default();
+            friction_status::FRICTION_OK
+        },
+        friction_status::FRICTION_NOT_INITIALISED
+    )
 }
 
 fn read_theta<O, S>(servo: Option<&mut O>, out: Option<&mut S>) -> friction_status
 where
-    O: slot::Opaque<Value = Servo<S>>,
+    O: slot::Opaque<Value = Stored<S>>,
     S: Scalar,
 {
     let (Some(servo), Some(out)) = (servo, out) else {
         return friction_status::FRICTION_NULL_POINTER;
     };
-    let Some(servo) = slot::get(servo) else {
-        return friction_status::FRICTION_NOT_INITIALISED;
-    };
-    match servo.theta() {
-        Some(t) => {
-            *out = t;
-            friction_status::FRICTION_OK
+    let (kind, servo) = slot::get_kind(servo);
+    // SAFETY: as in `each_servo`.
+    let theta = match kind {
+        kind::ADAPTIVE => {
+            let (c, s) = unsafe { &servo.adaptive };
+            c.compensation().theta(s.friction())
         }
-        None => friction_status::FRICTION_NOT_SUPPORTED,
-    }
+        kind::ADAPTIVE_AT => {
+            let (c, s) = unsafe { &servo.adaptive_at };
+            c.compensation().0.theta(s.friction())
+        }
+        kind::NONE | kind::FEED_FORWARD | kind::OBSERVER | kind::OBSERVER_AT => {
+            return friction_status::FRICTION_NOT_SUPPORTED
+        }
+        _ => return friction_status::FRICTION_NOT_INITIALISED,
+    };
+    *out = theta;
+    friction_status::FRICTION_OK
 }
 
 /// The status of a tick, writing the tick into `out`.

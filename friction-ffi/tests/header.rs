@@ -7,6 +7,10 @@
 use std::path::Path;
 
 #[test]
+#[cfg_attr(
+    miri,
+    ignore = "reads and writes files; no unsafe code of the crate runs"
+)]
 fn header_is_current() {
     let crate_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
     let config =
