@@ -189,12 +189,28 @@ impl ParameterAdaptiveParams {
         let size = [1.0, 1.0, 1.0, self.speed * VISCOUS_SLOWDOWN, torque];
         let nominal = self.nominal();
         let boxes = self.boxes();
-        let mut built = ParameterAdaptive {
-            gamma_h: [S::ZERO; ESTIMATES],
-            gamma_d: [S::ZERO; ESTIMATES],
-            nominal: [S::ZERO; ESTIMATES],
-            low: [S::ZERO; ESTIMATES],
-            high: [S::ZERO; ESTIMATES],
+        let zero = Estimate {
+            gamma_h: S::ZERO,
+            gamma_d: S::ZERO,
+            nominal: S::ZERO,
+            low: S::ZERO,
+            high: S::ZERO,
+        };
+        let mut per = [zero; ESTIMATES];
+        for (((slot, size), nominal), (low, high)) in
+            per.iter_mut().zip(size).zip(nominal).zip(boxes)
+        {
+            let scale = 1.0 / (size * size);
+            *slot = Estimate {
+                gamma_h: convert_or_zero("rate", gamma * h * scale)?,
+                gamma_d: convert_or_zero("derivative_weight", gamma_d * scale)?,
+                nominal: convert_or_zero("fc", nominal)?,
+                low: convert_or_zero("box_factor", low)?,
+                high: convert_or_zero("box_factor", high)?,
+            };
+        }
+        Ok(ParameterAdaptive {
+            per,
             leakage_h: convert_or_zero("leakage", (self.leakage * h).min(1.0))?,
             sigma0_h: convert("sigma0", self.model.sigma0 * h)?,
             sigma0: convert("sigma0", self.model.sigma0)?,
@@ -212,16 +228,7 @@ impl ParameterAdaptiveParams {
             signal_limit: S::from_f64(SIGNAL_LIMIT),
             params: *self,
             period: h,
-        };
-        for i in 0..ESTIMATES {
-            let scale = 1.0 / (size[i] * size[i]);
-            built.gamma_h[i] = convert_or_zero("rate", gamma * h * scale)?;
-            built.gamma_d[i] = convert_or_zero("derivative_weight", gamma_d * scale)?;
-            built.nominal[i] = convert_or_zero("fc", nominal[i])?;
-            built.low[i] = convert_or_zero("box_factor", boxes[i].0)?;
-            built.high[i] = convert_or_zero("box_factor", boxes[i].1)?;
-        }
-        Ok(built)
+        })
     }
 }
 
@@ -271,17 +278,24 @@ impl<S: Scalar> ParameterAdaptiveState<S> {
     }
 }
 
+/// One estimate's gains (per tick), nominal value and box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+struct Estimate<S> {
+    gamma_h: S,
+    gamma_d: S,
+    nominal: S,
+    low: S,
+    high: S,
+}
+
 /// The built per-parameter adaptive observer: immutable, shared by any
 /// number of [`ParameterAdaptiveState`]s; a [`Compensation`] for the
 /// [`Compensator`](crate::Compensator) at the period it was built for.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ParameterAdaptive<S> {
-    gamma_h: [S; ESTIMATES],
-    gamma_d: [S; ESTIMATES],
-    nominal: [S; ESTIMATES],
-    low: [S; ESTIMATES],
-    high: [S; ESTIMATES],
+    per: [Estimate<S>; ESTIMATES],
     leakage_h: S,
     sigma0_h: S,
     sigma0: S,
@@ -310,7 +324,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// A state at rest with the nominal estimates.
     pub fn initial(&self) -> ParameterAdaptiveState<S> {
         ParameterAdaptiveState {
-            estimates: self.nominal,
+            estimates: self.per.map(|k| k.nominal),
             started: true,
             ..Default::default()
         }
@@ -326,9 +340,9 @@ impl<S: Scalar> ParameterAdaptive<S> {
                 ..self.initial()
             };
         }
-        for (i, v) in values.iter().enumerate() {
+        for ((x, v), k) in state.estimates.iter_mut().zip(values).zip(&self.per) {
             if v.is_finite() {
-                state.estimates[i] = S::from_f64(*v).max(self.low[i]).min(self.high[i]);
+                *x = S::from_f64(v).max(k.low).min(k.high);
             }
         }
     }
@@ -357,8 +371,8 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// within `g^ <= Fc_max + Ds_max + mu_max |τ|_max`, the damping term
     /// clamped to `Fc_max + Ds_max`, and `sigma2_max |v|`.
     pub fn bound(&self, v: S) -> S {
-        let level = self.high[0].max(self.high[1]) + self.high[2];
-        level + level + self.high[4] * self.torque_limit + self.high[3] * v.abs()
+        let level = self.per[0].high.max(self.per[1].high) + self.per[2].high;
+        level + level + self.per[4].high * self.torque_limit + self.per[3].high * v.abs()
     }
 
     /// One step with measured velocity `v` and position error `e` (see the
@@ -378,7 +392,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
         let level = |z: S| if z >= S::ZERO { th[0] } else { th[1] };
         // g^ at the bristle's side, at least the smallest Coulomb level of the boxes
         let g = (level(state.z) + th[2] * s + th[4] * state.torque.abs())
-            .max(self.low[0].min(self.low[1]));
+            .max(self.per[0].low.min(self.per[1].low));
         // LuGre's observer, implicit Euler: z' = (z + h (v - k e)) / (1 + sigma0 h |v| / g)
         let drive = (v - (self.observer_gain * e).sat(S::VELOCITY_LIMIT)).sat(S::VELOCITY_LIMIT);
         let z = (state.z + self.h * drive) / (S::ONE + self.sigma0_h * v.abs() / g);
@@ -405,17 +419,17 @@ impl<S: Scalar> ParameterAdaptive<S> {
             v,
             load * zeta,
         ];
-        for (i, p) in phi.iter().enumerate() {
-            let mut x = state.estimates[i];
+        for ((x, p), k) in state.estimates.iter_mut().zip(phi).zip(&self.per) {
+            let mut next = *x;
             if adapting {
-                let signal = (self.gamma_h[i] * e).sat(self.signal_limit)
-                    + (self.gamma_d[i] * de).sat(self.signal_limit);
-                x = x - (signal.sat(self.signal_limit) * *p).sat(self.signal_limit);
+                let signal = (k.gamma_h * e).sat(self.signal_limit)
+                    + (k.gamma_d * de).sat(self.signal_limit);
+                next = next - (signal.sat(self.signal_limit) * p).sat(self.signal_limit);
             }
             if self.leakage_h != S::ZERO {
-                x = x - self.leakage_h * (x - self.nominal[i]);
+                next = next - self.leakage_h * (next - k.nominal);
             }
-            state.estimates[i] = x.max(self.low[i]).min(self.high[i]);
+            *x = next.max(k.low).min(k.high);
         }
         self.force(state, v, z_dot)
     }
@@ -424,7 +438,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// state and the step's `dz/dt` (0 when holding).
     #[inline]
     fn force(&self, state: &ParameterAdaptiveState<S>, v: S, z_dot: S) -> S {
-        let cap = self.high[0].max(self.high[1]) + self.high[2];
+        let cap = self.per[0].high.max(self.per[1].high) + self.per[2].high;
         let damping = (self.sigma1 * z_dot).sat(cap);
         self.sigma0 * state.z + damping + state.estimates[3] * v
     }

@@ -461,7 +461,7 @@ impl ServoTable {
             Some(v) => return Err(invalid("rls_min_speed", "a finite number > 0", v)),
             None => c.peak_speed() / 50.0,
         };
-        if !(c.asymmetry.abs() < 1.0) {
+        if c.asymmetry.is_nan() || c.asymmetry.abs() >= 1.0 {
             return Err(invalid(
                 "asymmetry",
                 "a number between -1 and 1 (exclusive)",
@@ -469,7 +469,7 @@ impl ServoTable {
             ));
         }
         let [torque, angle] = c.gravity;
-        if !(torque.is_finite() && torque >= 0.0 && torque <= MAX_VALUE) {
+        if !(0.0..=MAX_VALUE).contains(&torque) {
             return Err(invalid(
                 "gravity",
                 "[T, x0] with T >= 0 and at most 1e12",

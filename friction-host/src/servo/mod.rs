@@ -478,13 +478,13 @@ pub fn simulate(
 /// budget (`plant_bam`).
 enum Plant {
     Model(Box<dyn crate::models::Stepper>),
-    Bam(BamPlant),
+    Bam(Box<BamPlant>),
 }
 
 impl Plant {
     fn new(cfg: &ServoConfig, spec: &ModelSpec) -> Result<Self> {
         Ok(match &cfg.plant_bam {
-            Some(p) => Plant::Bam(BamPlant::new(p, cfg)?),
+            Some(p) => Plant::Bam(Box::new(BamPlant::new(p, cfg)?)),
             None => Plant::Model(spec.stepper(crate::models::ScalarKind::F64)?),
         })
     }
