@@ -126,7 +126,7 @@ impl SupervisorParams {
     /// use friction_core::{CoulombViscousParams, LuGreParams, Observer, SupervisorParams};
     /// let observer: Observer<_, f32> = Observer::new(LuGreParams::OLSSON_1998.build::<f32>()?, 20.0)?;
     /// let fallback = CoulombViscousParams { fc: 0.28, sigma2: 0.0176 }.build::<f32>()?;
-    /// let supervised = SupervisorParams::DEFAULT.build(observer, fallback, 1e-3)?;
+    /// let supervised = SupervisorParams::DEFAULT.build::<f32, _, _>(observer, fallback, 1e-3)?;
     /// # let _ = supervised;
     /// # Ok::<(), friction_core::ParamError>(())
     /// ```
