@@ -1147,7 +1147,7 @@ mod tests {
     #[test]
     fn supervised_adaptive_rows_are_never_worse_than_none() {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../params");
-        for name in ["astrom2008-stickslip.toml", "mx106-pendulum.toml"] {
+        for name in ["astrom2008-stickslip.toml", "actuators/mx106-pendulum.toml"] {
             let path = root.join(name);
             let file = ParamFile::load(&path).unwrap();
             let cfg = file.servo.resolve(&path.display().to_string()).unwrap();
