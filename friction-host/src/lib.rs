@@ -1,6 +1,7 @@
 //! The desk side of `friction-core`: reference solver, experiments,
 //! validation report and the `friction` command-line tool.
 
+pub mod checks;
 pub mod control;
 pub mod experiments;
 pub mod identify;

@@ -40,6 +40,7 @@ pub struct ServoTable {
     pub encoder_counts: Option<f64>,
     /// The plant's friction scale over time, `[[t, scale], ...]`: piecewise
     /// linear in `t`, held before the first and after the last point.
+    #[serde(default, deserialize_with = "super::rows::friction_drift")]
     pub friction_drift: Option<Vec<[f64; 2]>>,
     /// Load-dependent friction `mu` (1/(N m)): the plant's friction is
     /// multiplied by `1 + mu |kc u|`.
@@ -435,20 +436,15 @@ impl ServoTable {
             }
             c.delay_ticks = delay as usize;
         }
-        if c.velocity_filter > 0.0 && c.velocity_filter >= 0.5 * c.rate {
-            return Err(invalid(
-                "velocity_filter",
-                "0 (none) or a cut-off below half the controller `rate`",
-                c.velocity_filter,
-            ));
+        // 0 is "no filter" here; any other cut-off by the shared rule
+        if c.velocity_filter != 0.0 {
+            if let Some(rule) = crate::checks::velocity_filter_rule(c.velocity_filter, c.rate) {
+                return Err(invalid("velocity_filter", rule, c.velocity_filter));
+            }
         }
-        if c.theta_min >= c.theta_max || c.theta_min > 1.0 || c.theta_max < 1.0 {
-            return Err(invalid(
-                "theta_min",
-                "below `theta_max`, with 1 (the nominal model) between them",
-                c.theta_min,
-            ));
-        }
+        // θ starts at 1, the nominal model
+        crate::checks::theta_bounds(c.theta_min, c.theta_max, 1.0, false)
+            .map_err(|e| invalid(e.key, e.rule, e.value))?;
         if !(c.rls_forgetting > 0.0 && c.rls_forgetting <= 1.0) {
             return Err(invalid(
                 "rls_forgetting",
@@ -550,6 +546,15 @@ impl ServoTable {
                 });
             }
             last_t = *t;
+        }
+        // a rate at which no allowed `duration` holds 10 periods is the
+        // rate's fault, not the duration's
+        if c.rate * MAX_VALUE < 10.0 {
+            return Err(invalid(
+                "rate",
+                "at least 1e-11 Hz (10 controller periods within the longest `duration`, 1e12 s)",
+                c.rate,
+            ));
         }
         if c.duration * c.rate < 10.0 {
             return Err(invalid(
