@@ -242,6 +242,14 @@ impl Origin<'_> {
         }
     }
 
+    /// What to split at a gap: `file` or `arrays`.
+    fn noun(&self) -> &'static str {
+        match self {
+            Origin::File(_) => "file",
+            Origin::Arrays => "arrays",
+        }
+    }
+
     /// Sample `k` of column `name`.
     fn sample(&self, name: &str, k: usize) -> String {
         match self {
@@ -303,9 +311,10 @@ pub fn condition(
                 .position(|w| w[1] - w[0] == dmax)
                 .unwrap_or(0);
             bail!(
-                "{}: a time step of {dmax:e} s ({:.0} median steps of {median:e} s); resampling onto the median step would take {span:.3e} samples for {n} rows: split the data at the gap",
+                "{}: a time step of {dmax:e} s ({:.0} median steps of {median:e} s); resampling onto the median step would take {span:.3e} samples for {n} rows: split the {} at the gap",
                 origin.sample(&cols.time, gap + 1),
-                dmax / median
+                dmax / median,
+                origin.noun()
             );
         }
     }

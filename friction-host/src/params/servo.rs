@@ -552,7 +552,7 @@ impl ServoTable {
         if c.rate * MAX_VALUE < 10.0 {
             return Err(invalid(
                 "rate",
-                "at least 1e-11 Hz (10 controller periods within the longest `duration`, 1e12 s)",
+                "at least 1e-11 Hz (10 controller periods within the longest run, 1e12 s)",
                 c.rate,
             ));
         }
