@@ -4,6 +4,7 @@
 pub mod checks;
 pub mod control;
 pub mod experiments;
+pub mod fuzzing;
 pub mod identify;
 pub mod io;
 pub mod models;
