@@ -146,7 +146,7 @@ def test_compensator_tick_and_adaptation():
     u, f = a.run(x - 1e-4, x, np.full(500, 1e-2), np.zeros(500))
     assert np.all(np.abs(u) <= 5.0)
     assert a.adapted()["theta"] != 1.0
-    with pytest.raises(ValueError, match="unknown parameter"):
+    with pytest.raises(TypeError, match="unknown key"):
         m.compensator(h=1e-3, kp=1.0, kd=0.0, inertia=0.0, adaptive={"gama": 1.0})
     with pytest.raises(ValueError, match="kd"):
         m.compensator(h=1e-3, kp=1.0, kd=-1.0, inertia=0.0)

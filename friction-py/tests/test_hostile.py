@@ -34,6 +34,7 @@ def lugre_toml(**changes):
 
 
 def nan_inf(x):
+    x = float(x)
     return repr(x) if math.isfinite(x) else ("nan" if math.isnan(x) else "inf")
 
 
@@ -70,7 +71,8 @@ def cli_identify(*flags):
     def run(tmp):
         t, x, f = trajectory()
         inp = tmp / "in.csv"
-        inp.write_text("t,x,f\n" + "".join(f"{a!r},{b!r},{c!r}\n" for a, b, c in zip(t, x, f)))
+        inp.write_text("t,x,f\n" + "".join(f"{float(a)!r},{float(b)!r},{float(c)!r}\n"
+                                            for a, b, c in zip(t, x, f)))
         return ["identify", "--input", str(inp), "--model", "coulomb-viscous",
                 "--output", str(tmp / "id"), "--quiet", *flags]
     return run
@@ -168,8 +170,8 @@ def c_servo(adaptive=None, **changes):
                            p["torque_constant"], p["limit"])
         a = None
         if adaptive is not None:
-            d = dict(gamma=0.0, gamma_derivative=0.0, leakage=0.0, theta0=1.0,
-                     theta_min=0.2, theta_max=5.0, **adaptive)
+            d = dict(dict(gamma=0.0, gamma_derivative=0.0, leakage=0.0, theta0=1.0,
+                          theta_min=0.2, theta_max=5.0), **adaptive)
             a = ctypes.byref(AdaptiveParams(**d))
         status = lib.friction_servo_init_f64(servo, ctypes.byref(loop), model,
                                              ctypes.c_double(200.0), a, ctypes.byref(err))
