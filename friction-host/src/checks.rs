@@ -327,7 +327,10 @@ pub fn same_length(signals: &[(&str, usize)]) -> Result<(), SignalError> {
 }
 
 /// Every sample of `x` finite; the error names the first one that is not.
-pub fn finite_signal<'a>(name: &str, x: impl IntoIterator<Item = &'a f64>) -> Result<(), SignalError> {
+pub fn finite_signal<'a>(
+    name: &str,
+    x: impl IntoIterator<Item = &'a f64>,
+) -> Result<(), SignalError> {
     for (index, &xk) in x.into_iter().enumerate() {
         finite(xk).map_err(|error| SignalError::Sample {
             name: name.to_string(),
@@ -339,7 +342,10 @@ pub fn finite_signal<'a>(name: &str, x: impl IntoIterator<Item = &'a f64>) -> Re
 }
 
 /// A time signal: every sample finite and strictly increasing.
-pub fn time_signal<'a>(name: &str, t: impl IntoIterator<Item = &'a f64>) -> Result<(), SignalError> {
+pub fn time_signal<'a>(
+    name: &str,
+    t: impl IntoIterator<Item = &'a f64>,
+) -> Result<(), SignalError> {
     let mut previous = None;
     for (index, &tk) in t.into_iter().enumerate() {
         finite(tk)
@@ -381,11 +387,18 @@ mod tests {
     #[test]
     fn refusals_name_the_argument_in_each_spelling() {
         let e = filter_order(17).unwrap_err();
-        assert_eq!(e.to_string(), "--filter-order 17: must be a whole number from 1 to 16");
+        assert_eq!(
+            e.to_string(),
+            "--filter-order 17: must be a whole number from 1 to 16"
+        );
         assert_eq!(e.python(), "order=17: must be a whole number from 1 to 16");
         assert!(filter_order(0).is_err() && filter_order(16).is_ok());
         let e = within(args::STRIBECK_EXPONENT, 1e9, ranges::STRIBECK_EXPONENT).unwrap_err();
-        assert!(e.python().starts_with("stribeck_exponent=1000000000: "), "{}", e.python());
+        assert!(
+            e.python().starts_with("stribeck_exponent=1000000000: "),
+            "{}",
+            e.python()
+        );
         assert!(within(args::STRIBECK_EXPONENT, f64::NAN, ranges::STRIBECK_EXPONENT).is_err());
         assert!(decimate(0).is_err() && decimate(-3).is_err() && decimate(1).is_ok());
         let e = cutoff(600.0, 1000.0).unwrap_err();
@@ -417,7 +430,10 @@ mod tests {
     #[test]
     fn signals_name_the_index() {
         let e = time_signal("t", &[0.0, 1.0, 1.0]).unwrap_err();
-        assert_eq!(e.to_string(), "`t`[2]: time 1 does not increase (previous 1)");
+        assert_eq!(
+            e.to_string(),
+            "`t`[2]: time 1 does not increase (previous 1)"
+        );
         let e = finite_signal("v", &[0.0, f64::NAN]).unwrap_err();
         assert_eq!(e.to_string(), "`v`[1]: NaN is not finite");
         let e = same_length(&[("t", 3), ("v", 2)]).unwrap_err();

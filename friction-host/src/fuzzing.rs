@@ -24,7 +24,9 @@ pub fn csv(data: &[u8]) {
         }
     }
     if let Ok(text) = std::str::from_utf8(data) {
-        if let Ok(columns) = crate::identify::data::parse_columns(text, "fuzz.csv", &["t", "x", "f"]) {
+        if let Ok(columns) =
+            crate::identify::data::parse_columns(text, "fuzz.csv", &["t", "x", "f"])
+        {
             let _ = crate::identify::data::check_time(&columns.data[0], "fuzz.csv", "t");
         }
     }

@@ -188,7 +188,8 @@ pub fn write_cells(
         w.write_record(headers).map_err(io)?;
         let n = columns.iter().map(|c| c.len()).min().unwrap_or(0);
         for k in 0..n {
-            w.write_record(columns.iter().map(|c| cell(c[k]))).map_err(io)?;
+            w.write_record(columns.iter().map(|c| cell(c[k])))
+                .map_err(io)?;
         }
         w.flush()
             .with_context(|| format!("cannot write {}", path.display()))?;
@@ -205,9 +206,8 @@ pub fn parse_cell(s: &str, origin: &str, line: u64, index: usize, name: &str) ->
             index + 1
         )
     })?;
-    crate::checks::finite(x).map_err(|e| {
-        anyhow::anyhow!("{origin}:{line}: column {} (`{name}`): {e}", index + 1)
-    })
+    crate::checks::finite(x)
+        .map_err(|e| anyhow::anyhow!("{origin}:{line}: column {} (`{name}`): {e}", index + 1))
 }
 
 /// Refuses a header that names a column twice (which of the two would be
@@ -277,9 +277,8 @@ impl<R: Read> TvRows<R> {
         let field =
             |i: usize, name: &str| parse_cell(rec.get(i).unwrap_or(""), origin, line, i, name);
         let (tk, vk) = (field(self.it, "t")?, field(self.iv, "v")?);
-        crate::checks::increasing(self.last_t, tk).map_err(|e| {
-            anyhow::anyhow!("{origin}:{line}: column {} (`t`): {e}", self.it + 1)
-        })?;
+        crate::checks::increasing(self.last_t, tk)
+            .map_err(|e| anyhow::anyhow!("{origin}:{line}: column {} (`t`): {e}", self.it + 1))?;
         self.last_t = Some(tk);
         Ok((line, tk, vk))
     }

@@ -70,13 +70,13 @@ impl Simulation {
                 };
                 // the period is the input's, not the parameter file's: a
                 // period the core refuses is reported as the input's fault
-                let stepper = spec.fixed_stepper(h).map_err(|e| {
-                    match e.downcast_ref::<friction_core::ParamError>() {
-                        Some(&error) if crate::checks::param_name(&error) == "h" => {
-                            anyhow::Error::new(PeriodRefused { h, error })
-                        }
-                        _ => e,
+                let stepper = spec.fixed_stepper(h).map_err(|e| match e
+                    .downcast_ref::<friction_core::ParamError>()
+                {
+                    Some(&error) if crate::checks::param_name(&error) == "h" => {
+                        anyhow::Error::new(PeriodRefused { h, error })
                     }
+                    _ => e,
                 })?;
                 (
                     stepper,

@@ -257,7 +257,15 @@ pub fn run_with(dir: &Path, timings: bool) -> Result<bool> {
     );
     crate::outln!(
         "{:<32} {:<28} {:>7} {:>10} {:>10} {:>12} {:>10} {:>9} {:>5}",
-        "model", "signal", "rate", "rms/Fs", "max/Fs", "mean-v rms", "f32-f64", "fixed", "ok"
+        "model",
+        "signal",
+        "rate",
+        "rms/Fs",
+        "max/Fs",
+        "mean-v rms",
+        "f32-f64",
+        "fixed",
+        "ok"
     );
     let mut rows = Vec::new();
     // (set, bounded, plots, with its variants): the bounds are set for

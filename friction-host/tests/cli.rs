@@ -1158,7 +1158,10 @@ fn servo_rows_and_bounds_are_refused_by_key_and_row() {
         // the key named is the one printed, with its own value
         ("theta_max = 1e-300", &["`theta_max`", "got 1e-300"]),
         ("theta_min = 2", &["`theta_min`", "got 2"]),
-        ("velocity_filter = 1e9", &["`velocity_filter`", "below half"]),
+        (
+            "velocity_filter = 1e9",
+            &["`velocity_filter`", "below half"],
+        ),
     ] {
         let p = servo_params(dir.path(), servo);
         let out = friction(&[
@@ -1194,7 +1197,13 @@ fn a_diverged_loop_writes_no_number_a_reader_takes_for_data() {
     for servo in ["load_friction = 1e12", "inertia = 1e-20"] {
         let p = servo_params(dir.path(), &format!("duration = 1\n{servo}"));
         let out_dir = dir.path().join("servo");
-        let out = friction(&["servo", "--params", &p, "--output", out_dir.to_str().unwrap()]);
+        let out = friction(&[
+            "servo",
+            "--params",
+            &p,
+            "--output",
+            out_dir.to_str().unwrap(),
+        ]);
         assert!(out.status.success(), "{servo}: {}", stderr(&out));
         assert!(stdout(&out).contains("servo none unstable"), "{servo}");
         let rows = cells(&out_dir.join("trace.csv"));

@@ -6,10 +6,10 @@
 //! `identify` runs `identify::identify`.
 
 use friction_core::{AdaptiveParams, CompensatorParams, Setpoint};
+use friction_host::checks::{self, Refusal, SignalError};
 use friction_host::control::{Controller, Loop, ObserverRequest};
 use friction_host::identify as fit;
 use friction_host::params::ParamFile;
-use friction_host::checks::{self, Refusal, SignalError};
 use friction_host::sim::{PeriodRefused, SimScalar, Simulation};
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
@@ -279,13 +279,15 @@ fn adaptive_params(d: &Bound<'_, PyDict>) -> PyResult<AdaptiveParams> {
     let mut p = AdaptiveParams::DEFAULT;
     let mut theta0_given = false;
     for (k, v) in d.iter() {
-        let key: String = k.extract().map_err(|_| {
-            PyTypeError::new_err(format!("adaptive: keys are strings ({KEYS})"))
-        })?;
+        let key: String = k
+            .extract()
+            .map_err(|_| PyTypeError::new_err(format!("adaptive: keys are strings ({KEYS})")))?;
         let x: f64 = v.extract().map_err(|_| {
             PyTypeError::new_err(format!(
                 "adaptive[{key:?}]: expected a number, got {}",
-                v.get_type().name().map_or_else(|_| "?".into(), |n| n.to_string())
+                v.get_type()
+                    .name()
+                    .map_or_else(|_| "?".into(), |n| n.to_string())
             ))
         })?;
         match key.as_str() {

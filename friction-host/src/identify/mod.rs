@@ -720,13 +720,15 @@ pub fn run(o: &Options) -> Result<bool> {
     if let Some(e) = out.estimation {
         crate::outln!(
             "  estimation: relative error {:.3} %, RMS {:.4e}",
-            e.relative, e.rms
+            e.relative,
+            e.rms
         );
     }
     if let Some(e) = out.validation {
         crate::outln!(
             "  validation: relative error {:.3} %, RMS {:.4e}",
-            e.relative, e.rms
+            e.relative,
+            e.rms
         );
     }
     let folder = if out.rejected.is_some() {
