@@ -11,8 +11,6 @@
 //! sample ([`SampleError`]); the front end says where (a CSV file's line
 //! and column, an array's index).
 
-use crate::io::num;
-
 /// An argument as each front end spells it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Arg {
@@ -168,7 +166,7 @@ pub fn cutoff(c: f64, fs: f64) -> Result<f64, Refusal> {
             value: c,
             rule: format!(
                 "must be below the Nyquist frequency, {} Hz (half the sample rate)",
-                crate::io::short(0.5 * fs)
+                short(0.5 * fs)
             ),
         })
     }
@@ -377,6 +375,44 @@ pub fn param_name(e: &friction_core::ParamError) -> &'static str {
         E::StaticBelowCoulomb => "fs",
         E::PeriodMismatch => "h",
         E::NotBelow { name, .. } => name,
+    }
+}
+
+/// A number exactly as given (the shortest form that reads back to the same
+/// value), in exponent form outside `1e-5 ..= 1e15` so that `1e300` is not
+/// printed with 301 digits: for echoing a user's value in a message.
+pub fn num(x: f64) -> String {
+    let a = x.abs();
+    if !x.is_finite() || x == 0.0 || (1e-5..=1e15).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// A computed figure to four significant digits, trailing zeros dropped,
+/// in exponent form outside `1e-3 .. 1e5`: `0.7407`, `25`, `1.5e-7`.
+pub fn short(x: f64) -> String {
+    let a = x.abs();
+    if !x.is_finite() || x == 0.0 {
+        return format!("{x}");
+    }
+    let trim = |s: String| {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    };
+    if (1e-3..1e5).contains(&a) {
+        let digits = (3 - a.log10().floor() as i32).clamp(0, 6) as usize;
+        trim(format!("{x:.digits$}"))
+    } else {
+        let s = format!("{x:.3e}");
+        match s.split_once('e') {
+            Some((m, e)) => format!("{}e{e}", trim(m.to_string())),
+            None => s,
+        }
     }
 }
 

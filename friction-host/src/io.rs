@@ -320,43 +320,9 @@ pub fn parse_tv(text: &str, origin: &str) -> Result<(Vec<f64>, Vec<f64>)> {
     Ok((t, v))
 }
 
-/// A number exactly as given (the shortest form that reads back to the same
-/// value), in exponent form outside `1e-5 ..= 1e15` so that `1e300` is not
-/// printed with 301 digits: for echoing a user's value in a message.
-pub fn num(x: f64) -> String {
-    let a = x.abs();
-    if !x.is_finite() || x == 0.0 || (1e-5..=1e15).contains(&a) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
-
-/// A computed figure to four significant digits, trailing zeros dropped,
-/// in exponent form outside `1e-3 .. 1e5`: `0.7407`, `25`, `1.5e-7`.
-pub fn short(x: f64) -> String {
-    let a = x.abs();
-    if !x.is_finite() || x == 0.0 {
-        return format!("{x}");
-    }
-    let trim = |s: String| {
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        }
-    };
-    if (1e-3..1e5).contains(&a) {
-        let digits = (3 - a.log10().floor() as i32).clamp(0, 6) as usize;
-        trim(format!("{x:.digits$}"))
-    } else {
-        let s = format!("{x:.3e}");
-        match s.split_once('e') {
-            Some((m, e)) => format!("{}e{e}", trim(m.to_string())),
-            None => s,
-        }
-    }
-}
+// the formatting of a value in a message lives with the checks that echo
+// it (the lowest layer); the rest of the crate reaches it here
+pub use crate::checks::{num, short};
 
 /// A fraction as a readable percentage: `2.5 %`, `0.031 %`, `1.0e-7 %`.
 pub fn pct(x: f64) -> String {
