@@ -359,12 +359,17 @@ pub fn condition(
     let edge = lp.settle().max(1);
     let needed = edge.saturating_mul(2).saturating_add(MIN_SAMPLES);
     if n <= needed {
-        bail!(
-            "{}: {n} samples; with the filter's settling time ({edge} samples at each end, dropped) identification needs at least {} (raise the filter's cut-off, now {} Hz)",
-            origin.whole(),
-            needed.saturating_add(1),
-            crate::io::num(cutoff)
-        );
+        // named as the cut-off's fault, in each front end's spelling: a
+        // higher one settles sooner (also when the default was used)
+        let refusal = checks::Refusal {
+            arg: args::CUTOFF,
+            value: cutoff,
+            rule: format!(
+                "too low for {n} samples: the filter's settling time ({edge} samples at each end, dropped) leaves too few, identification needs at least {} at this cut-off; raise it",
+                needed.saturating_add(1)
+            ),
+        };
+        return Err(anyhow::Error::new(refusal).context(origin.whole()));
     }
     let inner = edge..n - edge;
     let full = FullRate {
