@@ -86,9 +86,11 @@ pub struct ServoTable {
     pub asymmetry: Option<f64>,
     /// `[T, x0]`: an external torque `-T sin(x + x0)` on the plant (a
     /// pendulum, zero pointing down).
+    #[serde(default, deserialize_with = "super::rows::gravity")]
     pub gravity: Option<[f64; 2]>,
     /// `[[amplitude, cycles_per_rad], ...]`: the plant's friction times
     /// `1 + sum a sin(n x)` (gear mesh).
+    #[serde(default, deserialize_with = "super::rows::ripple")]
     pub ripple: Option<Vec<[f64; 2]>>,
     /// A BAM parameter file (JSON, m1 to m6) for the plant's friction,
     /// relative to the parameter file.
