@@ -421,6 +421,16 @@ impl ServoTable {
                 return Err(invalid(key, rule, value));
             }
         }
+        // a rate at which no allowed `duration` holds 10 periods is the
+        // rate's fault, not the duration's (nor any key checked against
+        // the period below)
+        if c.rate * MAX_VALUE < 10.0 {
+            return Err(invalid(
+                "rate",
+                "at least 1e-11 Hz (10 controller periods within the longest run, 1e12 s)",
+                c.rate,
+            ));
+        }
         if c.encoder_counts != c.encoder_counts.round() || c.encoder_counts > 1e12 {
             return Err(invalid(
                 "encoder_counts",
@@ -548,15 +558,6 @@ impl ServoTable {
                 });
             }
             last_t = *t;
-        }
-        // a rate at which no allowed `duration` holds 10 periods is the
-        // rate's fault, not the duration's
-        if c.rate * MAX_VALUE < 10.0 {
-            return Err(invalid(
-                "rate",
-                "at least 1e-11 Hz (10 controller periods within the longest run, 1e12 s)",
-                c.rate,
-            ));
         }
         if c.duration * c.rate < 10.0 {
             return Err(invalid(
