@@ -330,7 +330,10 @@ fn dahl_at_is_the_variable_step_solution() {
 fn elasto_plastic_at_is_the_variable_step_solution() {
     for p in ep_sets() {
         for h in [1e-3, 1e-4] {
-            let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f64>(h).unwrap());
+            // the full step; the default (bounded) step is judged against it
+            // by `bounded_zone_substeps_stay_within_their_documented_error`
+            let var = p.build::<f64>().unwrap();
+            let at = p.build_at::<f64>(h).unwrap().with_full_step();
             assert_agrees("elasto-plastic", var, at, h, p.lugre.curve.fs);
         }
     }
@@ -395,7 +398,8 @@ fn new_fixed_step_forms_f32_track_f64() {
         assert!(gap < 1e-5, "dahl {p:?}: {gap} of Fc");
     }
     for p in ep_sets() {
-        let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f32>(h).unwrap());
+        let var = p.build::<f64>().unwrap();
+        let at = p.build_at::<f32>(h).unwrap().with_full_step();
         let gap = f32_gap(var, at, h, p.lugre.curve.fs);
         assert!(gap < 1e-5, "elasto-plastic {p:?}: {gap} of Fs");
     }
@@ -514,7 +518,11 @@ fn compensator_at_period_runs_every_new_form() {
         lugre: o,
         z_ba: 0.5 * o.curve.fc / o.sigma0,
     };
-    run("ep", ep.build().unwrap(), ep.build_at(1e-3).unwrap());
+    run(
+        "ep",
+        ep.build().unwrap(),
+        ep.build_at(1e-3).unwrap().with_full_step(),
+    );
     let gms = gms_sets::<4>()[1];
     run("gms", gms.build().unwrap(), gms.build_at(1e-3).unwrap());
     let xiong = xiong_sets::<4>()[1];
@@ -1223,7 +1231,7 @@ fn bounded_zone_substeps_stay_within_their_documented_error() {
                 lugre,
                 z_ba: frac * lugre.curve.fc / lugre.sigma0,
             };
-            let full = p.build_at::<f64>(h).unwrap();
+            let full = p.build_at::<f64>(h).unwrap().with_full_step();
             let bounded = p.build_at::<f64>(h).unwrap().with_max_substeps(k);
             let curve = lugre.curve.build::<f64>().unwrap();
             for i in 0..1200 {
@@ -1240,4 +1248,32 @@ fn bounded_zone_substeps_stay_within_their_documented_error() {
         std::println!("max_substeps {k}: worst gap {worst:.2e} of the zone width");
         assert!(worst <= bound, "k = {k}: {worst} > {bound}");
     }
+}
+
+/// The fixed-step elasto-plastic form is built bounded (no RK4 sub-step of
+/// the zone, the `k = 0` step a real-time loop is sized by), and
+/// `with_full_step` is the full one: a step that crosses the zone from
+/// rest tells them apart.
+#[test]
+fn elasto_plastic_at_is_bounded_by_default() {
+    let p = ElastoPlasticParams {
+        lugre: LuGreParams::CANUDAS_1995,
+        z_ba: 0.5 * LuGreParams::CANUDAS_1995.curve.fc / LuGreParams::CANUDAS_1995.sigma0,
+    };
+    let built = p.build_at::<f64>(1e-3).unwrap();
+    let (k0, full) = (built.with_max_substeps(0), built.with_full_step());
+    assert_eq!(built, k0);
+    assert_ne!(built, full);
+    // from rest, speeds that slide 0.5 to 5 N in one step, into and across
+    // the zone (from 0.5 N to g(v), 1 to 1.5 N)
+    let differ = (0..100)
+        .filter(|i| {
+            let v = 5e-3 * 10f64.powf(*i as f64 / 100.0);
+            let (mut a, mut b) = (LuGreAtState::default(), LuGreAtState::default());
+            built.step(&mut a, v);
+            full.step(&mut b, v);
+            a.w != b.w
+        })
+        .count();
+    assert!(differ > 10, "{differ}");
 }

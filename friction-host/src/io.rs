@@ -8,6 +8,56 @@ use anyhow::{bail, Context, Result};
 use std::fs::File;
 use std::io::{BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Standard output was closed by its reader (`friction servo | head -c1`):
+/// later writes are skipped, and the run finishes its files.
+static STDOUT_CLOSED: AtomicBool = AtomicBool::new(false);
+/// Writing standard output failed otherwise (a full disk): the run's exit
+/// code says so ([`stdout_failed`]).
+static STDOUT_FAILED: AtomicBool = AtomicBool::new(false);
+
+/// Writes to standard output without ever panicking (`println!` panics on
+/// a closed pipe): a reader that stopped reading ends the output quietly,
+/// and any other error is reported once on standard error. Used through
+/// [`out!`](crate::out) and [`outln!`](crate::outln).
+pub fn print(args: std::fmt::Arguments<'_>) {
+    if STDOUT_CLOSED.load(Ordering::Relaxed) {
+        return;
+    }
+    if let Err(e) = std::io::stdout().lock().write_fmt(args) {
+        STDOUT_CLOSED.store(true, Ordering::Relaxed);
+        if e.kind() != std::io::ErrorKind::BrokenPipe {
+            STDOUT_FAILED.store(true, Ordering::Relaxed);
+            eprintln!("error: cannot write to standard output: {e}");
+        }
+    }
+}
+
+/// Whether writing standard output failed for a reason other than its
+/// reader closing it.
+pub fn stdout_failed() -> bool {
+    STDOUT_FAILED.load(Ordering::Relaxed)
+}
+
+/// `print!` that never panics: see [`io::print`](crate::io::print).
+#[macro_export]
+macro_rules! out {
+    ($($arg:tt)*) => {
+        $crate::io::print(format_args!($($arg)*))
+    };
+}
+
+/// `println!` that never panics: see [`io::print`](crate::io::print).
+#[macro_export]
+macro_rules! outln {
+    () => {
+        $crate::io::print(format_args!("\n"))
+    };
+    ($($arg:tt)*) => {
+        $crate::io::print(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
 
 /// Writes `path` atomically: `fill` writes into a temporary file next to it,
 /// which is flushed, synced and renamed onto `path` only if `fill` succeeds.
@@ -112,15 +162,33 @@ pub fn refuse_overwrite(option: &str, output: &Path, inputs: &[&Path]) -> Result
     Ok(())
 }
 
-/// Writes equal-length columns with a header row, atomically.
+/// Writes equal-length columns with a header row, atomically. A value
+/// that is not finite (a diverged loop's) is written as an empty cell,
+/// never as `NaN` or `inf`, which a reader would take for data.
 pub fn write_columns(path: &Path, headers: &[&str], columns: &[&[f64]]) -> Result<()> {
+    write_cells(path, headers, columns, |x| {
+        if x.is_finite() {
+            format!("{x:.12e}")
+        } else {
+            String::new()
+        }
+    })
+}
+
+/// [`write_columns`] with each value written by `cell`.
+pub fn write_cells(
+    path: &Path,
+    headers: &[&str],
+    columns: &[&[f64]],
+    cell: impl Fn(f64) -> String,
+) -> Result<()> {
     write_atomic(path, |w| {
         let mut w = csv::Writer::from_writer(w);
         let io = |e: csv::Error| anyhow::anyhow!("cannot write {}: {e}", path.display());
         w.write_record(headers).map_err(io)?;
         let n = columns.iter().map(|c| c.len()).min().unwrap_or(0);
         for k in 0..n {
-            w.write_record(columns.iter().map(|c| format!("{:.12e}", c[k])))
+            w.write_record(columns.iter().map(|c| cell(c[k])))
                 .map_err(io)?;
         }
         w.flush()
@@ -138,13 +206,8 @@ pub fn parse_cell(s: &str, origin: &str, line: u64, index: usize, name: &str) ->
             index + 1
         )
     })?;
-    if !x.is_finite() {
-        bail!(
-            "{origin}:{line}: column {} (`{name}`): `{s}` is not finite",
-            index + 1
-        );
-    }
-    Ok(x)
+    crate::checks::finite(x)
+        .map_err(|e| anyhow::anyhow!("{origin}:{line}: column {} (`{name}`): {e}", index + 1))
 }
 
 /// Refuses a header that names a column twice (which of the two would be
@@ -214,16 +277,8 @@ impl<R: Read> TvRows<R> {
         let field =
             |i: usize, name: &str| parse_cell(rec.get(i).unwrap_or(""), origin, line, i, name);
         let (tk, vk) = (field(self.it, "t")?, field(self.iv, "v")?);
-        if let Some(prev) = self.last_t {
-            if tk <= prev {
-                bail!(
-                    "{origin}:{line}: column {} (`t`): time {} does not increase (previous {})",
-                    self.it + 1,
-                    num(tk),
-                    num(prev)
-                );
-            }
-        }
+        crate::checks::increasing(self.last_t, tk)
+            .map_err(|e| anyhow::anyhow!("{origin}:{line}: column {} (`t`): {e}", self.it + 1))?;
         self.last_t = Some(tk);
         Ok((line, tk, vk))
     }
@@ -265,43 +320,9 @@ pub fn parse_tv(text: &str, origin: &str) -> Result<(Vec<f64>, Vec<f64>)> {
     Ok((t, v))
 }
 
-/// A number exactly as given (the shortest form that reads back to the same
-/// value), in exponent form outside `1e-5 ..= 1e15` so that `1e300` is not
-/// printed with 301 digits: for echoing a user's value in a message.
-pub fn num(x: f64) -> String {
-    let a = x.abs();
-    if !x.is_finite() || x == 0.0 || (1e-5..=1e15).contains(&a) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
-
-/// A computed figure to four significant digits, trailing zeros dropped,
-/// in exponent form outside `1e-3 .. 1e5`: `0.7407`, `25`, `1.5e-7`.
-pub fn short(x: f64) -> String {
-    let a = x.abs();
-    if !x.is_finite() || x == 0.0 {
-        return format!("{x}");
-    }
-    let trim = |s: String| {
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        }
-    };
-    if (1e-3..1e5).contains(&a) {
-        let digits = (3 - a.log10().floor() as i32).clamp(0, 6) as usize;
-        trim(format!("{x:.digits$}"))
-    } else {
-        let s = format!("{x:.3e}");
-        match s.split_once('e') {
-            Some((m, e)) => format!("{}e{e}", trim(m.to_string())),
-            None => s,
-        }
-    }
-}
+// the formatting of a value in a message lives with the checks that echo
+// it (the lowest layer); the rest of the crate reaches it here
+pub use crate::checks::{num, short};
 
 /// A fraction as a readable percentage: `2.5 %`, `0.031 %`, `1.0e-7 %`.
 pub fn pct(x: f64) -> String {

@@ -1,8 +1,10 @@
 //! The desk side of `friction-core`: reference solver, experiments,
 //! validation report and the `friction` command-line tool.
 
+pub mod checks;
 pub mod control;
 pub mod experiments;
+pub mod fuzzing;
 pub mod identify;
 pub mod io;
 pub mod models;

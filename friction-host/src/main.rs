@@ -2,11 +2,12 @@
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
+use friction_host::checks::{self, args, ranges};
 use friction_host::experiments::{self, Options};
 use friction_host::identify;
 use friction_host::io;
 use friction_host::params::ParamFile;
-use friction_host::sim::{SimScalar, Simulation};
+use friction_host::sim::{PeriodRefused, SimScalar, Simulation};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -160,11 +161,11 @@ struct IdentifyArgs {
     #[arg(long)]
     cutoff: Option<f64>,
     /// Order of the Butterworth low-pass, 1 to 16.
-    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=16))]
-    filter_order: u32,
+    #[arg(long, default_value_t = 4, allow_hyphen_values = true)]
+    filter_order: i64,
     /// Decimation factor, at least 1 [default: largest keeping Nyquist >= 2.5 cut-off].
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
-    decimate: Option<u64>,
+    #[arg(long, allow_hyphen_values = true)]
+    decimate: Option<i64>,
     /// Stribeck exponent (fixed during the fit), 1 to 100.
     #[arg(long, default_value_t = 2.0)]
     stribeck_exponent: f64,
@@ -179,32 +180,13 @@ struct IdentifyArgs {
     quiet: bool,
 }
 
-/// The documented ranges of the numeric options (checked before anything
-/// runs: exit 2, the option named).
-mod ranges {
-    /// `experiment --dt` (s); the run must also take 100 to 5e6 samples.
-    pub const DT: (f64, f64) = (1e-9, 10.0);
-    /// `experiment --duration` (s).
-    pub const DURATION: (f64, f64) = (1e-6, 1e7);
-    /// `identify --cutoff` (Hz); also below the Nyquist frequency.
-    pub const CUTOFF: (f64, f64) = (1e-6, 1e9);
-    /// `identify --force-gain`, in magnitude (either sign).
-    pub const FORCE_GAIN: (f64, f64) = (1e-12, 1e12);
-    /// `identify --stribeck-exponent`.
-    pub const STRIBECK_EXPONENT: (f64, f64) = (1.0, 100.0);
-}
-
-/// Checks numeric option `--name` against its range `lo ..= hi`.
-fn within(name: &str, x: Option<f64>, (lo, hi): (f64, f64)) -> Result<()> {
-    match x {
-        Some(v) if !(lo..=hi).contains(&v) => anyhow::bail!(
-            "--{name} {}: must be within {} ..= {}",
-            io::num(v),
-            io::num(lo),
-            io::num(hi)
-        ),
-        _ => Ok(()),
+/// Checks numeric option `arg` against its range (see
+/// [`friction_host::checks`], shared with the Python package).
+fn within(arg: checks::Arg, x: Option<f64>, range: (f64, f64)) -> Result<()> {
+    if let Some(x) = x {
+        checks::within(arg, x, range)?;
     }
+    Ok(())
 }
 
 /// `friction simulate`: streams the input row by row into the output, so
@@ -223,6 +205,8 @@ fn simulate(params: &Path, input: &Path, output: &Path, scalar: SimScalar) -> Re
     let mut first_row = None;
     // fixed point: the period of the first two rows, which every row keeps
     let mut period = None;
+    // the line of the second row, whose time step is the period
+    let mut second_line = 0;
     if scalar == SimScalar::Fixed {
         let first = match rows.next() {
             Some(row) => row?,
@@ -235,7 +219,10 @@ fn simulate(params: &Path, input: &Path, output: &Path, scalar: SimScalar) -> Re
             }
         }
         let h = match rows.peek() {
-            Some(Ok((_, t, _))) => t - first.1,
+            Some(Ok((line, t, _))) => {
+                second_line = *line;
+                t - first.1
+            }
             _ => anyhow::bail!(
                 "{}: `--scalar fixed` needs at least two rows (the time step)",
                 input.display()
@@ -250,7 +237,13 @@ fn simulate(params: &Path, input: &Path, output: &Path, scalar: SimScalar) -> Re
         period = Some(h);
         first_row = Some(first);
     }
-    let mut sim = Simulation::new(&file.model, scalar, period).with_context(context)?;
+    let mut sim = Simulation::new(&file.model, scalar, period).map_err(|e| {
+        if e.is::<PeriodRefused>() {
+            anyhow::anyhow!("{}:{second_line}: {e}", input.display())
+        } else {
+            e.context(context())
+        }
+    })?;
     let limit = sim.limit();
     let names = sim.state_names();
     let count = io::write_atomic(output, |w| {
@@ -316,44 +309,39 @@ fn run(cli: Cli) -> Result<bool> {
             duration,
             output,
         } => {
-            within("dt", dt, ranges::DT)?;
-            within("duration", duration, ranges::DURATION)?;
+            within(args::DT, dt, ranges::DT)?;
+            within(args::DURATION, duration, ranges::DURATION)?;
             let file = ParamFile::load(&params)?;
             for out in ["trace.csv".to_string(), format!("{name}.svg")] {
                 io::refuse_overwrite("--output", &output.join(out), &[&params])?;
             }
             let out = experiments::run(&name, &file, Options { dt, duration }, &output)
                 .with_context(|| params.display().to_string())?;
-            println!(
+            friction_host::outln!(
                 "{} ({}) for `{}`",
                 out.name,
                 out.phenomenon,
                 file.model.name()
             );
-            println!("  {}: {}", out.verdict(), out.figure);
+            friction_host::outln!("  {}: {}", out.verdict(), out.figure);
             for line in &out.summary {
-                println!("  {line}");
+                friction_host::outln!("  {line}");
             }
-            println!("  trace: {}", output.join("trace.csv").display());
-            println!("  plot:  {}", out.plot.display());
+            friction_host::outln!("  trace: {}", output.join("trace.csv").display());
+            friction_host::outln!("  plot:  {}", out.plot.display());
             // exit code 1 when the verdict is FAIL, so scripts see it
             Ok(out.pass != Some(false))
         }
         Command::Identify(a) => {
-            within("cutoff", a.cutoff, ranges::CUTOFF)?;
-            within(
-                "stribeck-exponent",
-                Some(a.stribeck_exponent),
+            within(args::CUTOFF, a.cutoff, ranges::CUTOFF)?;
+            checks::within(
+                args::STRIBECK_EXPONENT,
+                a.stribeck_exponent,
                 ranges::STRIBECK_EXPONENT,
             )?;
-            if !(ranges::FORCE_GAIN.0..=ranges::FORCE_GAIN.1).contains(&a.force_gain.abs()) {
-                anyhow::bail!(
-                    "--force-gain {}: its magnitude must be within {} ..= {} (either sign)",
-                    io::num(a.force_gain),
-                    io::num(ranges::FORCE_GAIN.0),
-                    io::num(ranges::FORCE_GAIN.1)
-                );
-            }
+            checks::magnitude_within(args::FORCE_GAIN, a.force_gain, ranges::FORCE_GAIN)?;
+            let order = checks::filter_order(a.filter_order)?;
+            let decimate = a.decimate.map(checks::decimate).transpose()?;
             let o = identify::Options {
                 input: a.input,
                 model: a.model,
@@ -369,8 +357,8 @@ fn run(cli: Cli) -> Result<bool> {
                 inertia: a.inertia,
                 conditioning: identify::Conditioning {
                     cutoff: a.cutoff,
-                    order: a.filter_order as usize,
-                    decimate: a.decimate.map(|d| usize::try_from(d).unwrap_or(usize::MAX)),
+                    order,
+                    decimate,
                 },
                 stribeck_exponent: a.stribeck_exponent,
                 lugre_static: a.lugre_static,
@@ -392,7 +380,16 @@ fn run(cli: Cli) -> Result<bool> {
 }
 
 fn main() -> ExitCode {
-    match run(Cli::parse()) {
+    let result = run(Cli::parse());
+    // a reader that closed standard output early (`| head`) is no error;
+    // a failed write otherwise is (already reported on standard error)
+    if io::stdout_failed() {
+        if let Err(e) = &result {
+            eprintln!("error: {e:#}");
+        }
+        return ExitCode::from(2);
+    }
+    match result {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::FAILURE,
         Err(e) => {

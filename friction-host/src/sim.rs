@@ -19,6 +19,17 @@ pub enum SimScalar {
     Fixed,
 }
 
+/// The fixed-step model refused its period, the time step of the input's
+/// first two samples (not a parameter of the file).
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+#[error("the time step {} s from the previous sample cannot be the fixed-step model's period: {error}", crate::io::num(*.h))]
+pub struct PeriodRefused {
+    /// The time step (s).
+    pub h: f64,
+    /// The core's error.
+    pub error: friction_core::ParamError,
+}
+
 /// `friction simulate`'s stepping, row by row, for the command line (which
 /// streams a CSV) and the Python package (which passes arrays): row `k`
 /// steps the model from `t[k-1]` to `t[k]` with `v[k]` held (clamped to
@@ -57,8 +68,18 @@ impl Simulation {
                         anyhow::bail!("`--scalar fixed` needs at least two rows (the time step)")
                     }
                 };
+                // the period is the input's, not the parameter file's: a
+                // period the core refuses is reported as the input's fault
+                let stepper = spec.fixed_stepper(h).map_err(|e| match e
+                    .downcast_ref::<friction_core::ParamError>()
+                {
+                    Some(&error) if crate::checks::param_name(&error) == "h" => {
+                        anyhow::Error::new(PeriodRefused { h, error })
+                    }
+                    _ => e,
+                })?;
                 (
-                    spec.fixed_stepper(h)?,
+                    stepper,
                     friction_core::Scalar::to_f64(
                         <friction_core::Fixed32 as friction_core::Scalar>::VELOCITY_LIMIT,
                     ),

@@ -251,13 +251,21 @@ pub fn run_with(dir: &Path, timings: bool) -> Result<bool> {
     use anyhow::Context;
     std::fs::create_dir_all(dir)
         .with_context(|| format!("--output {}: cannot create the folder", dir.display()))?;
-    println!(
+    crate::outln!(
         "Accuracy against the reference solver (diffsol BDF, rtol {:e})",
         crate::sim::REFERENCE_RTOL
     );
-    println!(
+    crate::outln!(
         "{:<32} {:<28} {:>7} {:>10} {:>10} {:>12} {:>10} {:>9} {:>5}",
-        "model", "signal", "rate", "rms/Fs", "max/Fs", "mean-v rms", "f32-f64", "fixed", "ok"
+        "model",
+        "signal",
+        "rate",
+        "rms/Fs",
+        "max/Fs",
+        "mean-v rms",
+        "f32-f64",
+        "fixed",
+        "ok"
     );
     let mut rows = Vec::new();
     // (set, bounded, plots, with its variants): the bounds are set for
@@ -356,7 +364,7 @@ pub fn run_with(dir: &Path, timings: bool) -> Result<bool> {
     }
     timed(format!("accuracy {}", hard.0), since);
 
-    println!("\nPhenomena");
+    crate::outln!("\nPhenomena");
     let mut outcomes: Vec<(String, Outcome)> = Vec::new();
     let jobs: Vec<(&str, &str)> = plan
         .iter()
@@ -381,7 +389,7 @@ pub fn run_with(dir: &Path, timings: bool) -> Result<bool> {
         .collect();
     for (&(set, _), out) in jobs.iter().zip(judged) {
         let out = out?;
-        println!(
+        crate::outln!(
             "{:<22} {:<16} {:<5} {}",
             set,
             out.name,
@@ -390,7 +398,7 @@ pub fn run_with(dir: &Path, timings: bool) -> Result<bool> {
         );
         outcomes.push((set.to_string(), out));
     }
-    println!(
+    crate::outln!(
         "\nBristle model: sliding force against N (mean / (N sigma0 delta_s / 3), relative spread)"
     );
     tick("bristle convergence");
@@ -398,7 +406,7 @@ pub fn run_with(dir: &Path, timings: bool) -> Result<bool> {
     let convergence = bristle_convergence()?;
     timed("bristle convergence".into(), since);
     for c in &convergence {
-        println!(
+        crate::outln!(
             "N = {:>2}: mean {:.4}, std/mean {:.4}, std/mean x sqrt(N) {:.3}",
             c.n,
             c.mean,
@@ -428,7 +436,7 @@ pub fn run_with(dir: &Path, timings: bool) -> Result<bool> {
             eprintln!("{secs:>8.2}  {what}");
         }
     }
-    println!(
+    crate::outln!(
         "\n{} — report: {}",
         if all_pass {
             "all checks pass"
@@ -489,7 +497,7 @@ impl Progress {
 
 /// One accuracy row on the console.
 fn print_row(r: &AccuracyRow) {
-    println!(
+    crate::outln!(
         "{:<40} {:<28} {:>5.0}Hz {:>9.4}% {:>9.3}% {:>11.4}% {:>9.4}% ({:>3.0}%) {:>9.2e} {:>9} {:>5}",
         r.model,
         r.signal,

@@ -1081,3 +1081,216 @@ fn servo_adaptive_rows_beat_static_where_the_error_only_law_failed() {
         }
     }
 }
+
+/// Runs `friction ARGS` with its standard output closed before it writes
+/// (a reader such as `head -c1` that has gone): exit code and stderr.
+fn with_stdout_closed(args: &[&str]) -> (Option<i32>, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_friction"))
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // the read end closed: every write to stdout fails with a broken pipe
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn a_closed_stdout_ends_every_printing_command_quietly() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = servo_params(dir.path(), "duration = 0.5");
+    let out = |name: &str| dir.path().join(name).display().to_string();
+    for args in [
+        vec!["servo", "--params", &p, "--output", &out("servo")],
+        vec![
+            "robustness",
+            "--params",
+            &p,
+            "--output",
+            &out("map"),
+            "--points",
+            "2",
+        ],
+        vec![
+            "experiment",
+            "stribeck",
+            "--params",
+            &params(),
+            "--output",
+            &out("exp"),
+        ],
+    ] {
+        let (code, err) = with_stdout_closed(&args);
+        assert!(
+            matches!(code, Some(0) | Some(141)),
+            "{args:?}: exit {code:?}: {err}"
+        );
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+    // the run still wrote its files
+    assert!(dir.path().join("servo/trace.csv").exists());
+    assert!(dir.path().join("map/robustness.csv").exists());
+}
+
+#[test]
+fn servo_rows_and_bounds_are_refused_by_key_and_row() {
+    let dir = tempfile::tempdir().unwrap();
+    for (servo, needles) in [
+        (
+            "friction_drift = [[0, 1.0, 999], [1, 2.0, \"junk\"]]",
+            &["`friction_drift` point 1: 3 elements", "line"][..],
+        ),
+        (
+            "friction_drift = [[0, 1.0], [1, \"junk\"]]",
+            &["`friction_drift` point 2: element 2 is a string"],
+        ),
+        (
+            "friction_drift = [[0, 1.0], [2]]",
+            &["`friction_drift` point 2: 1 elements"],
+        ),
+        // the rate, not the duration, leaves no room for 10 periods
+        ("rate = 1e-300", &["`rate`", "got 1e-300"]),
+        // the key named is the one printed, with its own value
+        ("theta_max = 1e-300", &["`theta_max`", "got 1e-300"]),
+        ("theta_min = 2", &["`theta_min`", "got 2"]),
+        (
+            "velocity_filter = 1e9",
+            &["`velocity_filter`", "below half"],
+        ),
+    ] {
+        let p = servo_params(dir.path(), servo);
+        let out = friction(&[
+            "servo",
+            "--params",
+            &p,
+            "--output",
+            dir.path().to_str().unwrap(),
+        ]);
+        assert_eq!(out.status.code(), Some(2), "{servo}");
+        let err = stderr(&out);
+        assert!(err.contains("servo.toml"), "{servo}: {err}");
+        for needle in needles {
+            assert!(err.contains(needle), "{servo}: {needle}: {err}");
+        }
+        assert!(!err.contains("`duration`"), "{servo}: {err}");
+    }
+}
+
+/// The cells of a CSV file's data rows.
+fn cells(path: &Path) -> Vec<Vec<String>> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect()
+}
+
+#[test]
+fn a_diverged_loop_writes_no_number_a_reader_takes_for_data() {
+    let dir = tempfile::tempdir().unwrap();
+    for servo in ["load_friction = 1e12", "inertia = 1e-20"] {
+        let p = servo_params(dir.path(), &format!("duration = 1\n{servo}"));
+        let out_dir = dir.path().join("servo");
+        let out = friction(&[
+            "servo",
+            "--params",
+            &p,
+            "--output",
+            out_dir.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{servo}: {}", stderr(&out));
+        assert!(stdout(&out).contains("servo none unstable"), "{servo}");
+        let rows = cells(&out_dir.join("trace.csv"));
+        // a diverged column is empty from the tick it diverged; every other
+        // cell is a finite number
+        assert!(rows.iter().flatten().any(String::is_empty), "{servo}");
+        for cell in rows.iter().flatten().filter(|c| !c.is_empty()) {
+            let x: f64 = cell.parse().unwrap();
+            assert!(x.is_finite(), "{servo}: {cell}");
+        }
+        let map_dir = dir.path().join("map");
+        let out = friction(&[
+            "robustness",
+            "--params",
+            &p,
+            "--output",
+            map_dir.to_str().unwrap(),
+            "--points",
+            "2",
+        ]);
+        assert!(out.status.success(), "{servo}: {}", stderr(&out));
+        let rows = cells(&map_dir.join("robustness.csv"));
+        assert!(rows.iter().flatten().any(|c| c == "unstable"), "{servo}");
+        for cell in rows.iter().flatten().filter(|c| *c != "unstable") {
+            let x: f64 = cell.parse().unwrap();
+            assert!(x.is_finite(), "{servo}: {cell}");
+        }
+    }
+}
+
+#[test]
+fn simulate_fixed_blames_the_inputs_time_step_not_the_params() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.csv");
+    std::fs::write(&input, "t,v\n0,0\n1e308,0.1\n").unwrap();
+    let out = friction(&[
+        "simulate",
+        "--params",
+        &params(),
+        "--input",
+        input.to_str().unwrap(),
+        "--output",
+        dir.path().join("out.csv").to_str().unwrap(),
+        "--scalar",
+        "fixed",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = stderr(&out);
+    assert!(err.contains("in.csv:3: the time step 1e308 s"), "{err}");
+    assert!(!err.contains("canudas1995.toml"), "{err}");
+}
+
+#[test]
+fn identify_options_are_named_as_flags() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.csv");
+    let mut text = String::from("t,x,f\n");
+    for k in 0..400 {
+        let t = k as f64 * 1e-3;
+        text.push_str(&format!("{t},{},{}\n", (t * 3.0).sin(), (t * 3.0).cos()));
+    }
+    std::fs::write(&input, text).unwrap();
+    for (flag, value) in [
+        ("--filter-order", "17"),
+        ("--filter-order", "0"),
+        ("--stribeck-exponent", "1e9"),
+        ("--decimate", "0"),
+        ("--cutoff", "600"),
+    ] {
+        let out = friction(&[
+            "identify",
+            "--input",
+            input.to_str().unwrap(),
+            "--model",
+            "coulomb-viscous",
+            "--output",
+            dir.path().join("id").to_str().unwrap(),
+            "--quiet",
+            flag,
+            value,
+        ]);
+        assert_eq!(out.status.code(), Some(2), "{flag} {value}");
+        let err = stderr(&out);
+        assert!(err.contains(&format!("{flag} ")), "{flag} {value}: {err}");
+    }
+}
+
+fn stdout(out: &std::process::Output) -> String {
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}

@@ -444,7 +444,7 @@ fn bad_input_exits_2_with_a_clear_message() {
             "cut-off far below the record's length",
             good.clone(),
             &["--cutoff", "1e-6"],
-            "raise --cutoff",
+            "--cutoff 1e-6: too low for 400 samples",
         ),
         // issue 18: an unbounded order took tens of GB
         (

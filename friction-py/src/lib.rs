@@ -6,19 +6,38 @@
 //! `identify` runs `identify::identify`.
 
 use friction_core::{AdaptiveParams, CompensatorParams, Setpoint};
+use friction_host::checks::{self, Refusal, SignalError};
 use friction_host::control::{Controller, Loop, ObserverRequest};
 use friction_host::identify as fit;
 use friction_host::params::ParamFile;
-use friction_host::sim::{SimScalar, Simulation};
+use friction_host::sim::{PeriodRefused, SimScalar, Simulation};
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString};
 use std::path::PathBuf;
 
-/// A Python `ValueError` carrying an error's whole chain.
+/// A Python `ValueError` carrying an error's whole chain; an argument the
+/// shared checks refused is named as Python spells it (`order=17`), not as
+/// the command line does.
 fn value_error(e: anyhow::Error) -> PyErr {
-    PyValueError::new_err(format!("{e:#}"))
+    match e.chain().find_map(|c| c.downcast_ref::<Refusal>()) {
+        Some(r) => PyValueError::new_err(r.python()),
+        None => PyValueError::new_err(format!("{e:#}")),
+    }
+}
+
+/// A signal refused by the shared checks, as a `ValueError` naming the
+/// array and the index.
+fn signal_error(e: SignalError) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+/// Whether a parameter file's reader refused an unknown key (serde's
+/// `deny_unknown_fields` message, the only typed trace it leaves): in
+/// Python an unknown keyword argument, a `TypeError`.
+fn is_unknown_key(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| c.to_string().contains("unknown field `"))
 }
 
 /// A Python value as TOML: numbers, booleans, strings, lists and dicts
@@ -71,28 +90,10 @@ struct Model {
     origin: String,
 }
 
-fn array(name: &str, a: &PyReadonlyArray1<'_, f64>) -> PyResult<Vec<f64>> {
+/// A numpy array's values (copied once; non-contiguous arrays too).
+fn array(a: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
     a.as_slice()
-        .map(<[f64]>::to_vec)
-        .or_else(|_| Ok::<_, PyErr>(a.as_array().to_vec()))
-        .and_then(|v| {
-            if v.is_empty() {
-                Err(PyValueError::new_err(format!("`{name}` is empty")))
-            } else {
-                Ok(v)
-            }
-        })
-}
-
-fn same_length(names: &[&str], lens: &[usize]) -> PyResult<()> {
-    if lens.windows(2).any(|w| w[0] != w[1]) {
-        return Err(PyValueError::new_err(format!(
-            "{} must have the same length (got {:?})",
-            names.join(", "),
-            lens
-        )));
-    }
-    Ok(())
+        .map_or_else(|_| a.as_array().to_vec(), <[f64]>::to_vec)
 }
 
 #[pymethods]
@@ -108,10 +109,23 @@ impl Model {
             Some(p) => toml_table(p)?,
             None => toml::Table::new(),
         };
+        let origin = format!("Model({name:?})");
+        // the model is the first argument; a `model` keyword would silently
+        // replace it (as a file cannot name its model twice)
+        if table.contains_key("model") {
+            return Err(PyTypeError::new_err(format!(
+                "{origin}: unexpected keyword argument `model` (the model is the first argument)"
+            )));
+        }
         table.insert("model".into(), toml::Value::String(name.into()));
         let text = toml::to_string(&table).map_err(|e| PyValueError::new_err(e.to_string()))?;
-        let origin = format!("Model({name:?})");
-        let file = ParamFile::parse(&text, &origin).map_err(value_error)?;
+        let file = ParamFile::parse(&text, &origin).map_err(|e| {
+            if is_unknown_key(&e) {
+                PyTypeError::new_err(format!("{e:#}"))
+            } else {
+                value_error(e)
+            }
+        })?;
         Ok(Self { file, origin })
     }
 
@@ -147,17 +161,17 @@ impl Model {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         // contiguous arrays are read in place, others copied once
         let (t, v) = (t.as_array(), v.as_array());
-        if t.is_empty() {
-            return Err(PyValueError::new_err("`t` is empty"));
-        }
-        same_length(&["t", "v"], &[t.len(), v.len()])?;
+        // the command line's checks of its CSV rows, by array index
+        checks::same_length(&[("t", t.len()), ("v", v.len())]).map_err(signal_error)?;
+        checks::time_signal("t", t.iter()).map_err(signal_error)?;
+        checks::finite_signal("v", v.iter()).map_err(signal_error)?;
         let kind = match scalar {
             "f64" => SimScalar::F64,
             "f32" => SimScalar::F32,
             "fixed" => SimScalar::Fixed,
             other => {
                 return Err(PyValueError::new_err(format!(
-                    "scalar {other:?}: one of \"f64\", \"f32\", \"fixed\""
+                    "scalar={other:?}: one of \"f64\", \"f32\", \"fixed\""
                 )))
             }
         };
@@ -165,12 +179,18 @@ impl Model {
             (SimScalar::Fixed, Some(t1), Some(t0)) => Some(t1 - t0),
             _ => None,
         };
-        let mut sim = Simulation::new(&self.file.model, kind, period).map_err(value_error)?;
+        let mut sim = Simulation::new(&self.file.model, kind, period).map_err(|e| {
+            if e.is::<PeriodRefused>() {
+                PyValueError::new_err(format!("`t`[1]: {e}"))
+            } else {
+                value_error(e)
+            }
+        })?;
         let mut f = Vec::with_capacity(t.len());
         for (k, (&tk, &vk)) in t.iter().zip(v.iter()).enumerate() {
             let (_, force) = sim
                 .row(tk, vk)
-                .map_err(|e| PyValueError::new_err(format!("sample {k}: {e:#}")))?;
+                .map_err(|e| PyValueError::new_err(format!("`t`[{k}]: {e:#}")))?;
             f.push(force);
         }
         Ok(f.into_pyarray(py))
@@ -221,16 +241,31 @@ impl Model {
         adaptive: Option<&Bound<'_, PyDict>>,
         velocity_filter: Option<f64>,
     ) -> PyResult<Compensator> {
+        let params = CompensatorParams {
+            h,
+            kp,
+            ki,
+            kd,
+            inertia,
+            torque_constant,
+            limit,
+        };
+        // the loop first (the filter's rule needs a valid rate 1/h), then
+        // the filter by the rule the command line's `[servo]` table uses
+        params
+            .validate()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        if let Some(cutoff) = velocity_filter {
+            if let Some(rule) = checks::velocity_filter_rule(cutoff, 1.0 / h) {
+                return Err(PyValueError::new_err(format!(
+                    "velocity_filter={}: must be {rule} (1/h = {} Hz; None for no filter)",
+                    friction_host::io::num(cutoff),
+                    friction_host::io::num(1.0 / h)
+                )));
+            }
+        }
         let setup = Loop {
-            params: CompensatorParams {
-                h,
-                kp,
-                ki,
-                kd,
-                inertia,
-                torque_constant,
-                limit,
-            },
+            params,
             velocity_filter,
         };
         let adaptive = adaptive.map(adaptive_params).transpose()?;
@@ -240,24 +275,47 @@ impl Model {
 }
 
 fn adaptive_params(d: &Bound<'_, PyDict>) -> PyResult<AdaptiveParams> {
+    const KEYS: &str = "gamma, gamma_derivative, leakage, theta0, theta_min, theta_max";
     let mut p = AdaptiveParams::DEFAULT;
+    let mut theta0_given = false;
     for (k, v) in d.iter() {
-        let key: String = k.extract()?;
-        let x: f64 = v.extract()?;
+        let key: String = k
+            .extract()
+            .map_err(|_| PyTypeError::new_err(format!("adaptive: keys are strings ({KEYS})")))?;
+        let x: f64 = v.extract().map_err(|_| {
+            PyTypeError::new_err(format!(
+                "adaptive[{key:?}]: expected a number, got {}",
+                v.get_type()
+                    .name()
+                    .map_or_else(|_| "?".into(), |n| n.to_string())
+            ))
+        })?;
         match key.as_str() {
             "gamma" => p.gamma = x,
             "gamma_derivative" => p.gamma_derivative = x,
             "leakage" => p.leakage = x,
-            "theta0" => p.theta0 = x,
+            "theta0" => {
+                p.theta0 = x;
+                theta0_given = true;
+            }
             "theta_min" => p.theta_min = x,
             "theta_max" => p.theta_max = x,
             _ => {
-                return Err(PyValueError::new_err(format!(
-                    "adaptive: unknown parameter `{key}` (gamma, gamma_derivative, leakage, theta0, theta_min, theta_max)"
+                return Err(PyTypeError::new_err(format!(
+                    "adaptive: unknown key {key:?} (one of {KEYS})"
                 )))
             }
         }
     }
+    // the bounds by the rule the command line's `[servo]` table uses
+    checks::theta_bounds(p.theta_min, p.theta_max, p.theta0, theta0_given).map_err(|e| {
+        PyValueError::new_err(format!(
+            "adaptive[{:?}] = {}: must be {}",
+            e.key,
+            friction_host::io::num(e.value),
+            e.rule
+        ))
+    })?;
     Ok(p)
 }
 
@@ -312,8 +370,8 @@ impl Observer {
         x: PyReadonlyArray1<'py, f64>,
         x_ref: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let (x, r) = (array("x", &x)?, array("x_ref", &x_ref)?);
-        same_length(&["x", "x_ref"], &[x.len(), r.len()])?;
+        let (x, r) = (array(&x), array(&x_ref));
+        checks::same_length(&[("x", x.len()), ("x_ref", r.len())]).map_err(signal_error)?;
         let mut axis = lock(&self.axis);
         let out: Vec<f64> = x
             .iter()
@@ -369,16 +427,14 @@ impl Compensator {
         v_ref: PyReadonlyArray1<'py, f64>,
         a_ref: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<ArrayPair<'py>> {
-        let x = array("x", &x)?;
-        let (r, v, a) = (
-            array("x_ref", &x_ref)?,
-            array("v_ref", &v_ref)?,
-            array("a_ref", &a_ref)?,
-        );
-        same_length(
-            &["x", "x_ref", "v_ref", "a_ref"],
-            &[x.len(), r.len(), v.len(), a.len()],
-        )?;
+        let (x, r, v, a) = (array(&x), array(&x_ref), array(&v_ref), array(&a_ref));
+        checks::same_length(&[
+            ("x", x.len()),
+            ("x_ref", r.len()),
+            ("v_ref", v.len()),
+            ("a_ref", a.len()),
+        ])
+        .map_err(signal_error)?;
         let mut axis = lock(&self.axis);
         let (mut u, mut f) = (Vec::with_capacity(x.len()), Vec::with_capacity(x.len()));
         for k in 0..x.len() {
@@ -467,21 +523,34 @@ fn identify<'py>(
     model: &str,
     inertia: bool,
     cutoff: Option<f64>,
-    order: usize,
-    decimate: Option<usize>,
+    order: i64,
+    decimate: Option<i64>,
     stribeck_exponent: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (t, x, f) = (array("t", &t)?, array("x", &x)?, array("force", &force)?);
-    same_length(&["t", "x", "force"], &[t.len(), x.len(), f.len()])?;
+    let (t, x, f) = (array(&t), array(&x), array(&force));
+    // the command line's checks of its CSV rows, by array index; the
+    // options are checked by the pipeline itself (the shared checks)
+    checks::same_length(&[("t", t.len()), ("x", x.len()), ("force", f.len())])
+        .map_err(signal_error)?;
+    checks::time_signal("t", &t).map_err(signal_error)?;
+    checks::finite_signal("x", &x).map_err(signal_error)?;
+    checks::finite_signal("force", &f).map_err(signal_error)?;
+    let order = checks::filter_order(order).map_err(|e| PyValueError::new_err(e.python()))?;
+    let decimate = decimate
+        .map(checks::decimate)
+        .transpose()
+        .map_err(|e| PyValueError::new_err(e.python()))?;
+    // the outputs (report, plots) go to a folder removed afterwards
     let dir = tempfile::tempdir().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-    let input = dir.path().join("data.csv");
-    friction_host::io::write_columns(&input, &["t", "x", "f"], &[&t, &x, &f])
-        .map_err(value_error)?;
+    let columns = fit::Columns {
+        force: "force".into(),
+        ..fit::Columns::default()
+    };
     let options = fit::Options {
-        input,
+        input: PathBuf::from("identify(t, x, force)"),
         model: model.to_string(),
         output: dir.path().join("out"),
-        columns: fit::Columns::default(),
+        columns,
         inertia,
         conditioning: fit::Conditioning {
             cutoff,
@@ -493,7 +562,8 @@ fn identify<'py>(
         validate: None,
         progress: false,
     };
-    let outcome = fit::identify(&options).map_err(value_error)?;
+    // the columns in the pipeline's order: time, force, position
+    let outcome = fit::identify_data(&options, vec![t, f, x]).map_err(value_error)?;
     if let Some(reason) = outcome.rejected {
         return Err(PyRuntimeError::new_err(format!("fit rejected: {reason}")));
     }

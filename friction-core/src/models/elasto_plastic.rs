@@ -122,7 +122,7 @@ impl ElastoPlasticParams {
         Ok(ElastoPlasticAt {
             w_ba: convert("z_ba", lugre.force_scale() * self.lugre.sigma0 * self.z_ba)?,
             lugre,
-            max_substeps: MAX_SUBSTEPS as u8,
+            max_substeps: DEFAULT_SUBSTEPS,
         })
     }
 }
@@ -339,6 +339,11 @@ const RK_REACH: f64 = 0.5;
 /// Most sub-steps in one step; 22 suffice from `u = 1` down to `TAIL` (the
 /// distance shrinks by at least `1 / (1 + RK_REACH / 2)` a sub-step).
 const MAX_SUBSTEPS: usize = 24;
+/// RK4 sub-steps of the zone the fixed-step form takes when built: none, so
+/// that its worst step stays within the 4x its average a real-time loop is
+/// sized by on every core and scalar (the full step's worst is 20x on a
+/// Cortex-M4F; see [`ElastoPlasticAt::with_max_substeps`]).
+const DEFAULT_SUBSTEPS: u8 = 0;
 /// Below this normalised distance to `z_max` the closed-form tail takes over.
 const TAIL: f64 = 0.01;
 /// `(pi / 2)^2`.
@@ -536,8 +541,10 @@ const LIFT: i8 = 8;
 /// ```
 ///
 /// with the variable-step form's discretisation ([`ElastoPlastic`]): exact
-/// below `W_ba` and above `g(v)`, RK4 sub-steps then the exact Riccati
-/// tail in the zone, so the two agree to rounding. `c` is an observer's
+/// below `W_ba` and above `g(v)`, in the zone the exact Riccati tail with
+/// its rate frozen where the step starts (bounded in cost, the default) or
+/// RK4 sub-steps then that tail ([`ElastoPlasticAt::with_full_step`]: the
+/// two forms then agree to rounding). `c` is an observer's
 /// correction, 0 for the model. As in [`LuGreAt`], forces (the state `w`
 /// and `W_ba` included) are carried times its force scale (1 in floating
 /// point), ratios of forces are formed from the unscaled `1/g` or as
@@ -555,7 +562,8 @@ pub struct ElastoPlasticAt<S> {
 
 impl<S: Scalar> ElastoPlasticAt<S> {
     /// The same model with at most `k` RK4 sub-steps of the transition zone
-    /// a step (0 to 24, clamped; 24 when built, enough for any distance):
+    /// a step (0 to 24, clamped; 0 when built, the bounded step; 24, the
+    /// full step of [`Self::with_full_step`], is enough for any distance):
     /// a real-time loop sized by its worst step trades accuracy for a
     /// bound. The distance left after `k` sub-steps goes to the closed-form
     /// tail with the rate's `b` frozen where the sub-steps stopped (with
@@ -588,6 +596,24 @@ impl<S: Scalar> ElastoPlasticAt<S> {
     pub fn with_max_substeps(mut self, k: u8) -> Self {
         self.max_substeps = k.min(MAX_SUBSTEPS as u8);
         self
+    }
+
+    /// The same model with the full step: as many RK4 sub-steps of the
+    /// transition zone as the distance needs (24 at most), the
+    /// variable-step form's solution to rounding, at an unbounded cost
+    /// (its worst step 20x its average on a Cortex-M4F): for the desk, or
+    /// a loop with time to spare.
+    ///
+    /// ```
+    /// use friction_core::{ElastoPlasticParams, LuGreParams};
+    /// let p = ElastoPlasticParams { lugre: LuGreParams::CANUDAS_1995, z_ba: 0.5 / 1e5 };
+    /// let exact = p.build_at::<f64>(1e-3)?.with_full_step();
+    /// # let _ = exact;
+    /// # Ok::<(), friction_core::ParamError>(())
+    /// ```
+    #[must_use]
+    pub fn with_full_step(self) -> Self {
+        self.with_max_substeps(MAX_SUBSTEPS as u8)
     }
 
     /// The break-away force `sigma0 z_ba` (N).

@@ -533,23 +533,28 @@ macro_rules! fixed_step_rows {
         .build_at::<$S>(h)
         .unwrap_or_else(|_| fail("fixed-step Dahl parameters"));
         row!($pt, "dahl", $label, f, &dahl, $dahl, $S);
-        // the full step, and the bounded ones a real-time loop can choose
-        // (`with_max_substeps(k)`: at most k RK4 sub-steps of the zone)
+        // the default (bounded) step, the full step, and the bounds a
+        // real-time loop can choose (`with_max_substeps(k)`: at most k RK4
+        // sub-steps of the zone; `None`: as built)
         for (name, frac, k) in [
-            ("elasto-plastic", 0.5, 24),
-            ("elasto-plastic-z99", 0.99, 24),
-            ("elasto-plastic-k3", 0.5, 3),
-            ("elasto-plastic-z99-k3", 0.99, 3),
-            ("elasto-plastic-k1", 0.5, 1),
-            ("elasto-plastic-k0", 0.5, 0),
+            ("elasto-plastic", 0.5, None),
+            ("elasto-plastic-full", 0.5, Some(24)),
+            ("elasto-plastic-z99-full", 0.99, Some(24)),
+            ("elasto-plastic-k3", 0.5, Some(3)),
+            ("elasto-plastic-z99-k3", 0.99, Some(3)),
+            ("elasto-plastic-k1", 0.5, Some(1)),
+            ("elasto-plastic-k0", 0.5, Some(0)),
         ] {
-            let ep = ElastoPlasticParams {
+            let built = ElastoPlasticParams {
                 lugre: NOMINAL,
                 z_ba: frac * NOMINAL.curve.fc / NOMINAL.sigma0,
             }
             .build_at::<$S>(h)
-            .unwrap_or_else(|_| fail("fixed-step elasto-plastic parameters"))
-            .with_max_substeps(k);
+            .unwrap_or_else(|_| fail("fixed-step elasto-plastic parameters"));
+            let ep = match k {
+                Some(k) => built.with_max_substeps(k),
+                None => built,
+            };
             row!($pt, name, $label, f, &ep, $ep, $S);
         }
         if let Some(m) = gms_at::<$S, 1>($label) {

@@ -79,14 +79,8 @@ pub fn parse_columns(text: &str, origin: &str, names: &[&str]) -> Result<Columns
 /// (header = line 1).
 pub fn check_time(t: &[f64], origin: &str, name: &str) -> Result<()> {
     for k in 1..t.len() {
-        if t[k] <= t[k - 1] {
-            bail!(
-                "{origin}:{}: column `{name}`: time {} does not increase (previous {})",
-                k + 2,
-                crate::io::num(t[k]),
-                crate::io::num(t[k - 1])
-            );
-        }
+        crate::checks::increasing(Some(t[k - 1]), t[k])
+            .map_err(|e| anyhow::anyhow!("{origin}:{}: column `{name}`: {e}", k + 2))?;
     }
     Ok(())
 }

@@ -29,6 +29,7 @@ pub mod fit;
 pub mod report;
 pub mod solve;
 
+use crate::checks::{self, args, ranges};
 use anyhow::{bail, Result};
 use filter::{central_differences, downsample, Butterworth};
 use std::path::{Path, PathBuf};
@@ -222,20 +223,77 @@ impl Signals {
     }
 }
 
+/// Where a trajectory came from, to name a sample in a message: a file's
+/// line and column, or an array's index (the Python package).
+#[derive(Clone, Copy, Debug)]
+pub enum Origin<'a> {
+    /// A file (its path as shown); sample `k` is on line `k + 2`.
+    File(&'a str),
+    /// Arrays passed by a caller, named by the columns' names.
+    Arrays,
+}
+
+impl Origin<'_> {
+    /// The whole trajectory: `data.csv:` or `the arrays:`.
+    fn whole(&self) -> String {
+        match self {
+            Origin::File(path) => path.to_string(),
+            Origin::Arrays => "the arrays".into(),
+        }
+    }
+
+    /// What to split at a gap: `file` or `arrays`.
+    fn noun(&self) -> &'static str {
+        match self {
+            Origin::File(_) => "file",
+            Origin::Arrays => "arrays",
+        }
+    }
+
+    /// Sample `k` of column `name`.
+    fn sample(&self, name: &str, k: usize) -> String {
+        match self {
+            Origin::File(path) => format!("{path}:{}: column `{name}`", k + 2),
+            Origin::Arrays => format!("`{name}`[{k}]"),
+        }
+    }
+}
+
 /// Reads and conditions a trajectory. Errors are bad input (exit code 2).
 pub fn prepare(path: &Path, cols: &Columns, cond: &Conditioning) -> Result<Signals> {
     let origin = path.display().to_string();
+    let data = data::read_columns(path, &column_names(cols))?.data;
+    data::check_time(&data[0], &origin, &cols.time)?;
+    condition(data, Origin::File(&origin), cols, cond)
+}
+
+/// The columns a trajectory needs, in the order [`condition`] takes them:
+/// time, force, position (or velocity), and the normal force if used.
+pub fn column_names(cols: &Columns) -> Vec<&str> {
     let mut names: Vec<&str> = vec![&cols.time, &cols.force];
     names.push(cols.velocity.as_deref().unwrap_or(&cols.position));
     if let Some(n) = &cols.normal_force {
         names.push(n);
     }
-    let data = data::read_columns(path, &names)?.data;
+    names
+}
+
+/// Conditions a trajectory whose columns are in the order of
+/// [`column_names`], each finite, the time strictly increasing (checked
+/// by the caller, which knows where each sample came from).
+pub fn condition(
+    data: Vec<Vec<f64>>,
+    origin: Origin<'_>,
+    cols: &Columns,
+    cond: &Conditioning,
+) -> Result<Signals> {
     let n = data[0].len();
     if n < MIN_SAMPLES {
-        bail!("{origin}: {n} samples; identification needs at least {MIN_SAMPLES}");
+        bail!(
+            "{}: {n} samples; identification needs at least {MIN_SAMPLES}",
+            origin.whole()
+        );
     }
-    data::check_time(&data[0], &origin, &cols.time)?;
     // uneven sampling (gaps, a stretch at another rate): linear
     // interpolation onto the median period
     let mut steps: Vec<f64> = data[0].windows(2).map(|w| w[1] - w[0]).collect();
@@ -253,10 +311,10 @@ pub fn prepare(path: &Path, cols: &Columns, cond: &Conditioning) -> Result<Signa
                 .position(|w| w[1] - w[0] == dmax)
                 .unwrap_or(0);
             bail!(
-                "{origin}:{}: column `{}`: a time step of {dmax:e} s ({:.0} median steps of {median:e} s); resampling onto the median step would take {span:.3e} samples for {n} rows: split the file at the gap",
-                gap + 3,
-                cols.time,
-                dmax / median
+                "{}: a time step of {dmax:e} s ({:.0} median steps of {median:e} s); resampling onto the median step would take {span:.3e} samples for {n} rows: split the {} at the gap",
+                origin.sample(&cols.time, gap + 1),
+                dmax / median,
+                origin.noun()
             );
         }
     }
@@ -268,13 +326,21 @@ pub fn prepare(path: &Path, cols: &Columns, cond: &Conditioning) -> Result<Signa
     let t = &data[0];
     let n = t.len();
     let h = (t[n - 1] - t[0]) / (n - 1) as f64;
-    if !(cols.force_gain.is_finite() && cols.force_gain != 0.0) {
-        bail!("--force-gain must be a finite non-zero number");
-    }
+    checks::magnitude_within(args::FORCE_GAIN, cols.force_gain, ranges::FORCE_GAIN)?;
+    let order = checks::filter_order(i64::try_from(cond.order).unwrap_or(i64::MAX))?;
     let fs = 1.0 / h;
-    let cutoff = cond.cutoff.unwrap_or(0.1 * fs);
-    let lp = Butterworth::lowpass(cond.order, cutoff, fs)
-        .map_err(|e| anyhow::anyhow!("--cutoff: {e} (sample rate {fs:.4} Hz)"))?;
+    let cutoff = match cond.cutoff {
+        Some(c) => checks::cutoff(c, fs)?,
+        None => 0.1 * fs,
+    };
+    // the checks above are the filter's own conditions: an error here is
+    // the sample rate's (a time span that over- or underflows)
+    let lp = Butterworth::lowpass(order, cutoff, fs).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: the sample rate {fs:e} Hz admits no filter: {e}",
+            origin.whole()
+        )
+    })?;
     let (v, a) = match cols.velocity {
         Some(_) => {
             let v = lp.filtfilt(&data[2]);
@@ -284,22 +350,26 @@ pub fn prepare(path: &Path, cols: &Columns, cond: &Conditioning) -> Result<Signa
         None => central_differences(&lp.filtfilt(&data[2]), h),
     };
     let normal = cols.normal_force.as_ref().map(|_| lp.filtfilt(&data[3]));
-    let decimate = cond
-        .decimate
-        .unwrap_or_else(|| ((0.5 * fs / (2.5 * cutoff)).floor() as usize).max(1));
-    if decimate == 0 {
-        bail!("--decimate must be at least 1");
-    }
+    let decimate = match cond.decimate {
+        Some(d) => checks::decimate(i64::try_from(d).unwrap_or(i64::MAX))?,
+        None => ((0.5 * fs / (2.5 * cutoff)).floor() as usize).max(1),
+    };
     // drop the ends, where the filtered position depends on the padding
     // (three periods of the cut-off, and at least the one-sided differences)
     let edge = lp.settle().max(1);
     let needed = edge.saturating_mul(2).saturating_add(MIN_SAMPLES);
     if n <= needed {
-        bail!(
-            "{origin}: {n} samples; with the filter's settling time ({edge} samples at each end, dropped) identification needs at least {} (raise --cutoff, now {} Hz)",
-            needed.saturating_add(1),
-            crate::io::num(cutoff)
-        );
+        // named as the cut-off's fault, in each front end's spelling: a
+        // higher one settles sooner (also when the default was used)
+        let refusal = checks::Refusal {
+            arg: args::CUTOFF,
+            value: cutoff,
+            rule: format!(
+                "too low for {n} samples: the filter's settling time ({edge} samples at each end, dropped) leaves too few, identification needs at least {} at this cut-off; raise it",
+                needed.saturating_add(1)
+            ),
+        };
+        return Err(anyhow::Error::new(refusal).context(origin.whole()));
     }
     let inner = edge..n - edge;
     let full = FullRate {
@@ -328,12 +398,16 @@ pub fn prepare(path: &Path, cols: &Columns, cond: &Conditioning) -> Result<Signa
     };
     if s.len() < MIN_SAMPLES {
         bail!(
-            "{origin}: {} samples after decimation by {decimate}; identification needs at least {MIN_SAMPLES}",
+            "{}: {} samples after decimation by {decimate}; identification needs at least {MIN_SAMPLES}",
+            origin.whole(),
             s.len()
         );
     }
     if s.v.iter().all(|v| v.abs() < f64::MIN_POSITIVE) {
-        bail!("{origin}: the axis never moves: friction cannot be identified");
+        bail!(
+            "{}: the axis never moves: friction cannot be identified",
+            origin.whole()
+        );
     }
     Ok(s)
 }
@@ -415,10 +489,24 @@ impl Drop for Staging {
 /// and plots into `rejected/` inside the output folder. Bad input is an
 /// error and writes nothing.
 pub fn identify(o: &Options) -> Result<Outcome> {
+    identify_from(o, None)
+}
+
+/// [`identify`] on a trajectory given as columns in the order of
+/// [`column_names`] (the Python package's arrays, checked by the caller:
+/// finite, time strictly increasing, equal lengths) instead of `o.input`,
+/// which only names it in the report.
+pub fn identify_data(o: &Options, data: Vec<Vec<f64>>) -> Result<Outcome> {
+    identify_from(o, Some(data))
+}
+
+fn identify_from(o: &Options, data: Option<Vec<Vec<f64>>>) -> Result<Outcome> {
     check_model(&o.model)?;
-    if !(o.stribeck_exponent.is_finite() && o.stribeck_exponent > 0.0) {
-        bail!("--stribeck-exponent must be a positive number");
-    }
+    checks::within(
+        args::STRIBECK_EXPONENT,
+        o.stribeck_exponent,
+        ranges::STRIBECK_EXPONENT,
+    )?;
     // no output of this run may overwrite an input
     let mut inputs: Vec<&Path> = vec![&o.input];
     if let Some(v) = &o.validate {
@@ -428,7 +516,10 @@ pub fn identify(o: &Options) -> Result<Outcome> {
         crate::io::refuse_overwrite("--output", &o.output.join(name), &inputs)?;
         crate::io::refuse_overwrite("--output", &o.output.join(REJECTED).join(name), &inputs)?;
     }
-    let s = prepare(&o.input, &o.columns, &o.conditioning)?;
+    let s = match data {
+        Some(data) => condition(data, Origin::Arrays, &o.columns, &o.conditioning)?,
+        None => prepare(&o.input, &o.columns, &o.conditioning)?,
+    };
     let val = match &o.validate {
         Some(p) => {
             let cond = Conditioning {
@@ -612,7 +703,7 @@ fn publish(staged: &Path, output: &Path, rejected: bool) -> Result<()> {
 pub fn run(o: &Options) -> Result<bool> {
     let out = identify(o)?;
     let s = &out.signals;
-    println!(
+    crate::outln!(
         "{} from {}: {} samples (cut-off {:.4} Hz, decimation {})",
         o.model,
         o.input.display(),
@@ -622,7 +713,7 @@ pub fn run(o: &Options) -> Result<bool> {
     );
     if let Some(fit) = &out.fit {
         for p in &fit.params {
-            println!(
+            crate::outln!(
                 "  {:<8} = {:>14.6e}  (std {:.3e}, {:.3} %)",
                 p.name,
                 p.value,
@@ -632,15 +723,17 @@ pub fn run(o: &Options) -> Result<bool> {
         }
     }
     if let Some(e) = out.estimation {
-        println!(
+        crate::outln!(
             "  estimation: relative error {:.3} %, RMS {:.4e}",
-            e.relative, e.rms
+            e.relative,
+            e.rms
         );
     }
     if let Some(e) = out.validation {
-        println!(
+        crate::outln!(
             "  validation: relative error {:.3} %, RMS {:.4e}",
-            e.relative, e.rms
+            e.relative,
+            e.rms
         );
     }
     let folder = if out.rejected.is_some() {
@@ -648,14 +741,14 @@ pub fn run(o: &Options) -> Result<bool> {
     } else {
         o.output.clone()
     };
-    println!("  report: {}", folder.join("report.md").display());
+    crate::outln!("  report: {}", folder.join("report.md").display());
     match out.rejected {
         Some(why) => {
             eprintln!("error: fit rejected: {why}");
             Ok(false)
         }
         None => {
-            println!("  params: {}", o.output.join("params.toml").display());
+            crate::outln!("  params: {}", o.output.join("params.toml").display());
             Ok(true)
         }
     }

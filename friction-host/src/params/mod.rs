@@ -4,6 +4,7 @@
 //! Unknown keys are errors that
 //! name the key, with line and column.
 
+pub mod rows;
 pub mod servo;
 
 use anyhow::{bail, Context, Result};

@@ -40,6 +40,7 @@ pub struct ServoTable {
     pub encoder_counts: Option<f64>,
     /// The plant's friction scale over time, `[[t, scale], ...]`: piecewise
     /// linear in `t`, held before the first and after the last point.
+    #[serde(default, deserialize_with = "super::rows::friction_drift")]
     pub friction_drift: Option<Vec<[f64; 2]>>,
     /// Load-dependent friction `mu` (1/(N m)): the plant's friction is
     /// multiplied by `1 + mu |kc u|`.
@@ -85,9 +86,11 @@ pub struct ServoTable {
     pub asymmetry: Option<f64>,
     /// `[T, x0]`: an external torque `-T sin(x + x0)` on the plant (a
     /// pendulum, zero pointing down).
+    #[serde(default, deserialize_with = "super::rows::gravity")]
     pub gravity: Option<[f64; 2]>,
     /// `[[amplitude, cycles_per_rad], ...]`: the plant's friction times
     /// `1 + sum a sin(n x)` (gear mesh).
+    #[serde(default, deserialize_with = "super::rows::ripple")]
     pub ripple: Option<Vec<[f64; 2]>>,
     /// A BAM parameter file (JSON, m1 to m6) for the plant's friction,
     /// relative to the parameter file.
@@ -418,6 +421,16 @@ impl ServoTable {
                 return Err(invalid(key, rule, value));
             }
         }
+        // a rate at which no allowed `duration` holds 10 periods is the
+        // rate's fault, not the duration's (nor any key checked against
+        // the period below)
+        if c.rate * MAX_VALUE < 10.0 {
+            return Err(invalid(
+                "rate",
+                "at least 1e-11 Hz (10 controller periods within the longest run, 1e12 s)",
+                c.rate,
+            ));
+        }
         if c.encoder_counts != c.encoder_counts.round() || c.encoder_counts > 1e12 {
             return Err(invalid(
                 "encoder_counts",
@@ -435,20 +448,15 @@ impl ServoTable {
             }
             c.delay_ticks = delay as usize;
         }
-        if c.velocity_filter > 0.0 && c.velocity_filter >= 0.5 * c.rate {
-            return Err(invalid(
-                "velocity_filter",
-                "0 (none) or a cut-off below half the controller `rate`",
-                c.velocity_filter,
-            ));
+        // 0 is "no filter" here; any other cut-off by the shared rule
+        if c.velocity_filter != 0.0 {
+            if let Some(rule) = crate::checks::velocity_filter_rule(c.velocity_filter, c.rate) {
+                return Err(invalid("velocity_filter", rule, c.velocity_filter));
+            }
         }
-        if c.theta_min >= c.theta_max || c.theta_min > 1.0 || c.theta_max < 1.0 {
-            return Err(invalid(
-                "theta_min",
-                "below `theta_max`, with 1 (the nominal model) between them",
-                c.theta_min,
-            ));
-        }
+        // θ starts at 1, the nominal model
+        crate::checks::theta_bounds(c.theta_min, c.theta_max, 1.0, false)
+            .map_err(|e| invalid(e.key, e.rule, e.value))?;
         if !(c.rls_forgetting > 0.0 && c.rls_forgetting <= 1.0) {
             return Err(invalid(
                 "rls_forgetting",

@@ -1041,17 +1041,17 @@ pub fn run(params: Option<&Path>, output: &Path) -> Result<bool> {
     let (file, origin) = load(params, output, &OUTPUTS)?;
     let bench = benchmark(&file, &origin)?;
     for line in bench.lines() {
-        println!("{line}");
+        crate::outln!("{line}");
     }
-    println!();
-    print!("{}", bench.table());
+    crate::outln!();
+    crate::out!("{}", bench.table());
     if let Some(note) = &bench.note {
-        println!("note: {note}");
+        crate::outln!("note: {note}");
     }
     let plots = bench.write(output)?;
-    println!("trace: {}", output.join("trace.csv").display());
+    crate::outln!("trace: {}", output.join("trace.csv").display());
     for p in plots {
-        println!("plot:  {}", p.display());
+        crate::outln!("plot:  {}", p.display());
     }
     Ok(true)
 }

@@ -13,7 +13,7 @@
 //! cores (rayon), with a progress bar on a terminal.
 
 use super::{simulate, Row};
-use crate::io::write_columns;
+use crate::io::write_cells;
 use crate::params::ParamFile;
 use anyhow::{anyhow, bail, Context, Result};
 use plotters::prelude::*;
@@ -29,6 +29,10 @@ pub const POINTS: std::ops::RangeInclusive<usize> = 2..=25;
 
 /// The files `friction robustness` writes into its output folder.
 pub const OUTPUTS: [&str; 2] = ["robustness.csv", "robustness.svg"];
+
+/// The cell `robustness.csv` writes for a loop that diverged (an empty cell
+/// is a compensation the model has no form of).
+pub const UNSTABLE: &str = "unstable";
 
 /// The grid of parameter errors.
 #[derive(Clone, Debug, PartialEq)]
@@ -273,7 +277,16 @@ impl RobustnessMap {
         }
         let columns: Vec<&[f64]> = columns.iter().map(Vec::as_slice).collect();
         let csv = dir.join(OUTPUTS[0]);
-        write_columns(&csv, &headers, &columns)?;
+        // an unstable cell says so; a form the model lacks is empty
+        write_cells(&csv, &headers, &columns, |x| {
+            if x.is_finite() {
+                format!("{x:.12e}")
+            } else if x.is_nan() {
+                String::new()
+            } else {
+                UNSTABLE.to_string()
+            }
+        })?;
         let svg = dir.join(OUTPUTS[1]);
         self.heat_map(&svg)?;
         Ok(vec![csv, svg])
@@ -485,9 +498,9 @@ pub fn run(params: Option<&Path>, output: &Path, points: usize) -> Result<bool> 
     });
     bar.finish_and_clear();
     let m = result?;
-    print!("{}", m.markdown());
+    crate::out!("{}", m.markdown());
     for path in m.write(output)? {
-        println!("wrote: {}", path.display());
+        crate::outln!("wrote: {}", path.display());
     }
     Ok(true)
 }

@@ -1,0 +1,3 @@
+//! The CSV readers on arbitrary bytes.
+#![no_main]
+libfuzzer_sys::fuzz_target!(|data: &[u8]| friction_host::fuzzing::csv(data));
