@@ -249,11 +249,10 @@ const VISCOUS_SLOWDOWN: f64 = 3.162_277_660_168_379_5;
 /// regressor stays finite.
 const SIGNAL_LIMIT: f64 = 1e6;
 
-/// The state: the normalized bristle, the estimates, the last error, the
-/// transmitted torque. `Default` is not usable before
-/// [`ParameterAdaptive::initial`] (estimates 0); the compensator's state
-/// starts from `Default`, so the estimates start at their nominal values on
-/// the first step (`started`).
+/// The state: the bristle, the estimates, the last error, the transmitted
+/// torque. The compensator's state starts from `Default` (estimates 0, not
+/// yet `started`): the first step sets the estimates to their nominal
+/// values, as [`ParameterAdaptive::initial`] does.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ParameterAdaptiveState<S> {
@@ -271,8 +270,9 @@ pub struct ParameterAdaptiveState<S> {
 }
 
 impl<S: Scalar> ParameterAdaptiveState<S> {
-    /// The estimates `[Fc+, Fc-, Fs - Fc, sigma2, mu]` (nominal before the
-    /// first step).
+    /// The estimates `[Fc+, Fc-, Fs - Fc, sigma2, mu]`: 0 in a `Default`
+    /// state until its first step sets them to the nominal values
+    /// ([`ParameterAdaptive::initial`] starts there).
     pub fn estimates(&self) -> [S; ESTIMATES] {
         self.estimates
     }
@@ -330,16 +330,21 @@ impl<S: Scalar> ParameterAdaptive<S> {
         }
     }
 
+    /// Sets a `Default` state's estimates to their nominal values (once),
+    /// keeping the rest of it (an external torque already set).
+    #[inline]
+    fn start(&self, state: &mut ParameterAdaptiveState<S>) {
+        if !state.started {
+            state.estimates = self.per.map(|k| k.nominal);
+            state.started = true;
+        }
+    }
+
     /// Sets the estimates of `state` (e.g. restored after a power cycle),
     /// each projected onto its box; a non-finite value leaves that estimate
     /// as it is.
     pub fn set_estimates(&self, state: &mut ParameterAdaptiveState<S>, values: [f64; ESTIMATES]) {
-        if !state.started {
-            *state = ParameterAdaptiveState {
-                z: state.z,
-                ..self.initial()
-            };
-        }
+        self.start(state);
         for ((x, v), k) in state.estimates.iter_mut().zip(values).zip(&self.per) {
             if v.is_finite() {
                 *x = S::from_f64(v).max(k.low).min(k.high);
@@ -379,9 +384,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// [module documentation](self)); returns `F^`.
     #[inline]
     pub fn step(&self, state: &mut ParameterAdaptiveState<S>, v: S, e: S) -> S {
-        if !state.started {
-            *state = self.initial();
-        }
+        self.start(state);
         if !(v.is_finite() && e.is_finite()) {
             return self.force(state, S::ZERO, S::ZERO);
         }
@@ -475,6 +478,28 @@ mod tests {
             torque_constant: 1.02,
             limit: 10.0,
         }
+    }
+
+    #[test]
+    fn a_default_state_starts_nominal_and_keeps_its_external_torque() {
+        let p = ParameterAdaptiveParams {
+            load_max: 0.2,
+            ..ParameterAdaptiveParams::new(LuGreParams::OLSSON_1998, 20.0)
+        };
+        let a = p.build::<f64>(&servo()).unwrap();
+        let mut s = ParameterAdaptiveState::default();
+        a.set_external_torque(&mut s, 2.0);
+        a.step(&mut s, 0.0, 0.0);
+        assert_eq!(s.estimates(), a.initial().estimates());
+        // the transmitted torque is the command's less the external one
+        a.commanded(&mut s, 1.0);
+        assert!((s.torque - (1.02 - 2.0)).abs() < 1e-12);
+        let mut t = ParameterAdaptiveState::default();
+        a.set_estimates(&mut t, [0.3, f64::NAN, 0.0, 1e9, 0.1]);
+        let nominal = a.initial().estimates();
+        assert_eq!(t.estimates()[0], 0.3);
+        assert_eq!(t.estimates()[1], nominal[1]); // NaN: left as it is
+        assert_eq!(t.estimates()[3], p.boxes()[3].1); // projected
     }
 
     #[test]
