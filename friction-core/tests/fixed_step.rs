@@ -771,7 +771,9 @@ mod fixed_point {
         // step accumulated its rise in force units)
         for h in [1e-3, 1e-4] {
             for p in ep_sets() {
-                let at = p.build_at::<Fixed32>(h).unwrap();
+                // the full step: the fixed-point arithmetic against f64, not
+                // the bounded default's own error
+                let at = p.build_at::<Fixed32>(h).unwrap().with_full_step();
                 let gaps = fixed_gaps(p.build::<f64>().unwrap(), at, h, p.lugre.curve.fs);
                 check(
                     &std::format!("elasto-plastic z_ba {:.1e}", p.z_ba),
@@ -1036,7 +1038,7 @@ mod fixed_point {
             let lugre = lugre_of(&c);
             let p = ElastoPlasticParams { lugre, z_ba: frac * lugre.curve.fc / lugre.sigma0 };
             let var = p.build::<f64>().unwrap();
-            judge("elasto-plastic", RANDOM_BOUND, p.build_at::<Fixed32>(c.h), p.build_at::<f64>(c.h).is_ok(), |at| {
+            judge("elasto-plastic", RANDOM_BOUND, p.build_at::<Fixed32>(c.h).map(|m| m.with_full_step()), p.build_at::<f64>(c.h).is_ok(), |at| {
                 Ok(random_gap(var, at, c.h, lugre.curve.fs, &program))
             })?;
         }
