@@ -31,6 +31,8 @@ pub mod stribeck;
 pub mod supervisor;
 #[cfg(test)]
 mod test_rng;
+#[cfg(test)]
+mod test_servo;
 
 pub use adaptive::{AdaptiveObserver, AdaptiveParams, AdaptiveState};
 pub use compensator::{

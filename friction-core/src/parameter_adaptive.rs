@@ -468,17 +468,7 @@ mod tests {
     use super::*;
     use crate::{CompensatorState, Setpoint};
 
-    fn servo() -> CompensatorParams {
-        CompensatorParams {
-            h: 1e-3,
-            kp: 60.0,
-            ki: 200.0,
-            kd: 1.2,
-            inertia: 0.0023,
-            torque_constant: 1.02,
-            limit: 10.0,
-        }
-    }
+    use crate::test_servo::olsson_servo as servo;
 
     #[test]
     fn a_default_state_starts_nominal_and_keeps_its_external_torque() {

@@ -351,22 +351,9 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{
-        CompensatorParams, CompensatorState, CoulombViscous, CoulombViscousParams, FeedForward,
-        Setpoint,
-    };
+    use crate::{CompensatorState, CoulombViscous, CoulombViscousParams, FeedForward, Setpoint};
 
-    fn servo() -> CompensatorParams {
-        CompensatorParams {
-            h: 1e-3,
-            kp: 60.0,
-            ki: 200.0,
-            kd: 1.2,
-            inertia: 0.0023,
-            torque_constant: 1.02,
-            limit: 10.0,
-        }
-    }
+    use crate::test_servo::olsson_servo as servo;
 
     fn map(fc: f64) -> CoulombViscous<f64> {
         CoulombViscousParams { fc, sigma2: 0.0176 }.build().unwrap()
