@@ -500,33 +500,10 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
                 accepted: false,
             };
         }
-        let mut v = match state.since_last {
-            0 => S::ZERO,
-            1 => self.inv_h.times(x - state.last_x),
-            n => self.inv_h.times(x - state.last_x) / S::from_f64(f64::from(n)),
-        }
-        .sat(self.signal_limit);
-        if self.filter_velocity {
-            v = if state.since_last == 0 {
-                S::ZERO
-            } else {
-                state.velocity + self.velocity_blend * (v - state.velocity)
-            };
-            state.velocity = v;
-        }
+        let v = self.velocity(state, x);
         let e = (x - r.x).sat(self.signal_limit);
         if C::LEARNS {
-            if state.run >= 2 {
-                if let Some(sample) = self.sample(state, x) {
-                    self.compensation.learn(&mut state.friction, sample);
-                }
-            }
-            state.run = if state.since_last == 1 {
-                state.run.saturating_add(1).min(2)
-            } else {
-                1
-            };
-            state.x_before = state.last_x;
+            self.measure(state, x);
         }
         let f = self
             .compensation
@@ -558,6 +535,111 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
             friction: f,
             accepted: true,
         }
+    }
+
+    /// One tick of listening: the drive applied `command` (command units),
+    /// from its own controller or a recording, instead of a command of this
+    /// compensator. The measured velocity, the friction sample and the
+    /// compensation's step are those of [`tick`](Self::tick) with `e = x -
+    /// r.x`; the compensation is told `command` (clamped to `±limit`) and
+    /// learns from the samples it makes, but the integral is not touched.
+    /// Returns the friction estimate `F^` (force units), 0 for a non-finite
+    /// input, which leaves the state as `tick` leaves it.
+    ///
+    /// This runs an estimator beside a controller that is not this one (a
+    /// drive's own loop, a commissioning routine) and replays logged runs
+    /// as the drive saw them, sample by sample.
+    ///
+    /// ```
+    /// use friction_core::{CompensatorParams, CompensatorState, RlsParams, Setpoint};
+    /// let p = CompensatorParams { h: 1e-3, kp: 0.0, ki: 0.0, kd: 0.0,
+    ///     inertia: 2.0, torque_constant: 1.0, limit: 100.0 };
+    /// let servo = p.build::<f64, _>(RlsParams::new(0.1, 50.0).build::<f64>()?)?;
+    /// let mut state = CompensatorState::default();
+    /// // a mass of 2 sliding at 0.1 against 10 of friction, held by a 10 push
+    /// for k in 0..3000 {
+    ///     let x = 0.1 * f64::from(k) * 1e-3;
+    ///     servo.listen(&mut state, x, Setpoint::default(), 10.0);
+    /// }
+    /// let estimate = servo.listen(&mut state, 0.3, Setpoint::default(), 10.0);
+    /// assert!((estimate - 10.0).abs() < 0.1);
+    /// # Ok::<(), friction_core::ParamError>(())
+    /// ```
+    pub fn listen(
+        &self,
+        state: &mut CompensatorState<S, C::State>,
+        x: S,
+        r: Setpoint<S>,
+        command: S,
+    ) -> S {
+        if !all_finite([x, r.x, command]) {
+            if state.since_last > 0 {
+                state.since_last = state.since_last.saturating_add(1);
+            }
+            state.run = 0;
+            return S::ZERO;
+        }
+        let v = self.velocity(state, x);
+        let e = (x - r.x).sat(self.signal_limit);
+        if C::LEARNS {
+            self.measure(state, x);
+        }
+        let f = self
+            .compensation
+            .estimate(&mut state.friction, v, e, self.h);
+        let command = command.sat(self.limit);
+        state.last_x = x;
+        state.since_last = 1;
+        self.compensation.commanded(&mut state.friction, command);
+        if C::LEARNS {
+            state.command_before = state.command;
+            state.command = command;
+        }
+        if f.is_finite() {
+            f
+        } else {
+            S::ZERO
+        }
+    }
+
+    /// The measured velocity at position `x`: the backward difference over
+    /// the ticks since the last accepted one (0 at the first), through the
+    /// velocity filter if there is one.
+    #[inline]
+    fn velocity(&self, state: &mut CompensatorState<S, C::State>, x: S) -> S {
+        let mut v = match state.since_last {
+            0 => S::ZERO,
+            1 => self.inv_h.times(x - state.last_x),
+            n => self.inv_h.times(x - state.last_x) / S::from_f64(f64::from(n)),
+        }
+        .sat(self.signal_limit);
+        if self.filter_velocity {
+            v = if state.since_last == 0 {
+                S::ZERO
+            } else {
+                state.velocity + self.velocity_blend * (v - state.velocity)
+            };
+            state.velocity = v;
+        }
+        v
+    }
+
+    /// For a compensation that learns: the friction sample ending at `x`
+    /// (when the two ticks before were accepted in a row) passed to
+    /// [`Compensation::learn`], and the positions kept for the next one.
+    #[inline]
+    fn measure(&self, state: &mut CompensatorState<S, C::State>, x: S) {
+        if state.run >= 2 {
+            if let Some(sample) = self.sample(state, x) {
+                self.compensation.learn(&mut state.friction, sample);
+            }
+        }
+        state.run = if state.since_last == 1 {
+            state.run.saturating_add(1).min(2)
+        } else {
+            1
+        };
+        state.x_before = state.last_x;
     }
 
     /// The friction sample over the last two periods (see

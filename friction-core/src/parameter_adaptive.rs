@@ -35,6 +35,14 @@
 //! loop's PD part), scaled per estimate by its regressor's size: 1 for the
 //! levels, the reference speed for `sigma2`, the reference torque for `mu`.
 //!
+//! A second law, off by default, learns from the friction the compensator
+//! measures instead of the tracking error ([`ParameterAdaptive::learn`]):
+//! the estimates' prediction `φᵀ θ^` of each measured sample against the
+//! sample (a gradient on the prediction error, as in composite adaptation,
+//! Slotine & Li 1989). It is the one that learns where this compensation
+//! is not in the loop: beside another controller, or on a logged run
+//! replayed through [`Compensator::listen`](crate::Compensator::listen).
+//!
 //! Robust modifications, all optional:
 //! - **dead zone**: no adaptation while `|e|` is within `dead_zone` (one or
 //!   two encoder counts: a quantized error that small carries no
@@ -51,7 +59,7 @@
 //! at that speed (see [`ParameterAdaptive::bound`]). A NaN or infinite input
 //! leaves the state untouched.
 
-use crate::compensator::{Compensation, CompensatorParams};
+use crate::compensator::{Compensation, CompensatorParams, FrictionSample};
 use crate::model::{convert, non_negative, positive, ParamError};
 use crate::models::lugre::LuGreParams;
 use crate::Scalar;
@@ -98,12 +106,16 @@ pub struct ParameterAdaptiveParams {
     pub load: f64,
     /// Upper bound `load_max >= mu0` of the load coefficient (0: no load term).
     pub load_max: f64,
+    /// Rate `>= 0` (1/s) of the prediction-error law (0: off), which
+    /// learns from the friction the compensator measures (see the
+    /// [module docs](self)); `prediction_rate h <= 1`.
+    pub prediction_rate: f64,
 }
 
 impl ParameterAdaptiveParams {
     /// Defaults around `model` with observer gain `k`: rate 4 1/s, `w = 1`,
     /// no leakage, box factor 5, no dead zone, no speed threshold,
-    /// reference speed 1, no load term.
+    /// reference speed 1, no load term, no prediction-error law.
     pub const fn new(model: LuGreParams, observer_gain: f64) -> Self {
         Self {
             model,
@@ -117,6 +129,7 @@ impl ParameterAdaptiveParams {
             speed: 1.0,
             load: 0.0,
             load_max: 0.0,
+            prediction_rate: 0.0,
         }
     }
 
@@ -136,6 +149,7 @@ impl ParameterAdaptiveParams {
         positive("speed", self.speed)?;
         non_negative("load", self.load)?;
         non_negative("load_max", self.load_max)?;
+        non_negative("prediction_rate", self.prediction_rate)?;
         if self.load > self.load_max {
             return Err(ParamError::NotBelow {
                 name: "load",
@@ -189,21 +203,39 @@ impl ParameterAdaptiveParams {
         let size = [1.0, 1.0, 1.0, self.speed * VISCOUS_SLOWDOWN, torque];
         let nominal = self.nominal();
         let boxes = self.boxes();
+        if self.prediction_rate * h > 1.0 {
+            return Err(ParamError::NotBelow {
+                name: "prediction_rate",
+                limit: "1 / h",
+            });
+        }
         let zero = Estimate {
             gamma_h: S::ZERO,
+            gamma_p: S::ZERO,
             gamma_d: S::ZERO,
             nominal: S::ZERO,
             low: S::ZERO,
             high: S::ZERO,
         };
         let mut per = [zero; ESTIMATES];
-        for (((slot, size), nominal), (low, high)) in
-            per.iter_mut().zip(size).zip(nominal).zip(boxes)
+        // the prediction law's sizes: without the slowdown, which helps the
+        // tracking law only (its levels and viscous term share one error)
+        let predicted_size = [1.0, 1.0, 1.0, self.speed, torque];
+        for ((((slot, size), predicted_size), nominal), (low, high)) in per
+            .iter_mut()
+            .zip(size)
+            .zip(predicted_size)
+            .zip(nominal)
+            .zip(boxes)
         {
             let scale = 1.0 / (size * size);
             *slot = Estimate {
                 gamma_h: convert_or_zero("rate", gamma * h * scale)?,
                 gamma_d: convert_or_zero("derivative_weight", gamma_d * scale)?,
+                gamma_p: convert_or_zero(
+                    "prediction_rate",
+                    self.prediction_rate * h / (predicted_size * predicted_size),
+                )?,
                 nominal: convert_or_zero("fc", nominal)?,
                 low: convert_or_zero("box_factor", low)?,
                 high: convert_or_zero("box_factor", high)?,
@@ -284,6 +316,8 @@ impl<S: Scalar> ParameterAdaptiveState<S> {
 struct Estimate<S> {
     gamma_h: S,
     gamma_d: S,
+    /// The prediction-error law's gain per tick (0: off).
+    gamma_p: S,
     nominal: S,
     low: S,
     high: S,
@@ -390,12 +424,8 @@ impl<S: Scalar> ParameterAdaptive<S> {
         }
         let v = v.sat(S::VELOCITY_LIMIT);
         let e = e.sat(S::VELOCITY_LIMIT);
-        let th = state.estimates;
         let s = self.shape(v);
-        let level = |z: S| if z >= S::ZERO { th[0] } else { th[1] };
-        // g^ at the bristle's side, at least the smallest Coulomb level of the boxes
-        let g = (level(state.z) + th[2] * s + th[4] * state.torque.abs())
-            .max(self.per[0].low.min(self.per[1].low));
+        let g = self.level(state, s);
         // LuGre's observer, implicit Euler: z' = (z + h (v - k e)) / (1 + sigma0 h |v| / g)
         let drive = (v - (self.observer_gain * e).sat(S::VELOCITY_LIMIT)).sat(S::VELOCITY_LIMIT);
         let z = (state.z + self.h * drive) / (S::ONE + self.sigma0_h * v.abs() / g);
@@ -414,14 +444,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
         state.last_error = e;
         state.primed = true;
         let adapting = e.abs() > self.dead_zone && v.abs() >= self.min_speed;
-        let load = state.torque.abs();
-        let phi = [
-            zeta.max(S::ZERO),
-            zeta.min(S::ZERO),
-            s * zeta,
-            v,
-            load * zeta,
-        ];
+        let phi = Self::regressors(state, zeta, s, v);
         for ((x, p), k) in state.estimates.iter_mut().zip(phi).zip(&self.per) {
             let mut next = *x;
             if adapting {
@@ -437,6 +460,78 @@ impl<S: Scalar> ParameterAdaptive<S> {
         self.force(state, v, z_dot)
     }
 
+    /// `g^(v)` at the bristle's side (`Fc+^` for `z >= 0`), with the
+    /// Stribeck shape `s = s(v)`; at least the smallest Coulomb level of
+    /// the boxes.
+    #[inline]
+    fn level(&self, state: &ParameterAdaptiveState<S>, s: S) -> S {
+        let th = &state.estimates;
+        let coulomb = if state.z >= S::ZERO { th[0] } else { th[1] };
+        (coulomb + th[2] * s + th[4] * state.torque.abs()).max(self.per[0].low.min(self.per[1].low))
+    }
+
+    /// The regressors `φ` at normalized bristle `ζ`, shape `s` and speed `v`.
+    #[inline]
+    fn regressors(state: &ParameterAdaptiveState<S>, zeta: S, s: S, v: S) -> [S; ESTIMATES] {
+        [
+            zeta.max(S::ZERO),
+            zeta.min(S::ZERO),
+            s * zeta,
+            v,
+            state.torque.abs() * zeta,
+        ]
+    }
+
+    /// The prediction-error law: the steady friction `φᵀ θ^` the estimates
+    /// predict for a measured sample (`φ` at the sample's mean velocity
+    /// with `ζ = sign v`) against the measured force,
+    ///
+    /// ```text
+    /// ε   = force - φᵀ θ^
+    /// θ^ += Γp φ ε,  then projection onto the boxes
+    /// ```
+    ///
+    /// with `Γp` the prediction rate times `h`, scaled per estimate as the
+    /// tracking law's `Γ`. A no-op when the rate is 0, for a sample slower
+    /// than `min_speed` (at rest the measured force is whatever holds the
+    /// load, not the curve: set `min_speed` above the speeds of reversals)
+    /// or a non-finite one. The [`Compensator`](crate::Compensator)
+    /// calls it through [`Compensation::learn`], in a tick or while it
+    /// listens ([`Compensator::listen`](crate::Compensator::listen)), where
+    /// the tracking error is another controller's and only this law can learn.
+    pub fn learn(&self, state: &mut ParameterAdaptiveState<S>, sample: FrictionSample<S>) {
+        if self.per.iter().all(|k| k.gamma_p == S::ZERO)
+            || !(sample.force.is_finite() && sample.v.is_finite())
+        {
+            return;
+        }
+        self.start(state);
+        let v = sample.v.sat(S::VELOCITY_LIMIT);
+        if v.abs() < self.min_speed {
+            return;
+        }
+        // the steady curve's regressors: above min_speed the sample is
+        // sliding friction, and the bristle's lag behind a changing speed
+        // (its ζ a little short of ±1) would bias the levels
+        let sign = if v > S::ZERO {
+            S::ONE
+        } else if v < S::ZERO {
+            -S::ONE
+        } else {
+            S::ZERO
+        };
+        let phi = Self::regressors(state, sign, self.shape(v), v);
+        let mut predicted = S::ZERO;
+        for (x, p) in state.estimates.iter().zip(phi) {
+            predicted = predicted + (*x * p).sat(self.signal_limit);
+        }
+        let error = (sample.force.sat(self.signal_limit) - predicted).sat(self.signal_limit);
+        for ((x, p), k) in state.estimates.iter_mut().zip(phi).zip(&self.per) {
+            let next = *x + ((k.gamma_p * error).sat(self.signal_limit) * p).sat(self.signal_limit);
+            *x = next.max(k.low).min(k.high);
+        }
+    }
+
     /// `F^ = sigma0 z + mu^ |τ| ζ + sigma1 dz/dt + sigma2^ v` from the
     /// state and the step's `dz/dt` (0 when holding).
     #[inline]
@@ -450,6 +545,11 @@ impl<S: Scalar> ParameterAdaptive<S> {
 impl<S: Scalar> Compensation<S> for ParameterAdaptive<S> {
     type State = ParameterAdaptiveState<S>;
     const USES_H: bool = false;
+    const LEARNS: bool = true;
+    #[inline]
+    fn learn(&self, state: &mut Self::State, sample: FrictionSample<S>) {
+        ParameterAdaptive::learn(self, state, sample);
+    }
     #[inline]
     fn estimate(&self, state: &mut Self::State, v: S, e: S, _h: S) -> S {
         self.step(state, v, e)
@@ -578,6 +678,102 @@ mod tests {
             assert!((th[1] - fc).abs() < 0.05 * fc, "{factor}: {th:?}");
             // and they moved: the test can fail
             assert!((th[0] - factor * fc).abs() > 0.3 * fc, "{factor}: {th:?}");
+        }
+    }
+
+    /// The prediction-error law alone, listening beside another
+    /// controller (a PD loop that knows nothing of friction) on a plant
+    /// whose Coulomb level differs by direction: from 1.5x and 0.5x nominal
+    /// values, the levels per direction and the viscous coefficient end
+    /// within 5 % of the plant's after two minutes (the viscous term, nearly
+    /// collinear with the levels in each direction, is the slow one).
+    #[test]
+    fn the_prediction_law_learns_by_listening_to_another_loop() {
+        let (fc_pos, fc_neg, sigma2) = (0.33, 0.25, 0.018);
+        let j = 0.0023;
+        for factor in [1.5, 0.5] {
+            let mut nominal = LuGreParams::OLSSON_1998;
+            nominal.curve.fc = 0.29 * factor;
+            nominal.curve.fs = 0.29 * factor;
+            nominal.sigma2 = sigma2 * factor;
+            let p = ParameterAdaptiveParams {
+                rate: 0.0,
+                prediction_rate: 20.0,
+                speed: 1.5,
+                // at rest the measured friction is whatever holds the load
+                min_speed: 0.03,
+                ..ParameterAdaptiveParams::new(nominal, 0.0)
+            };
+            let listener = servo().build(p.build::<f64>(&servo()).unwrap()).unwrap();
+            let mut s = CompensatorState::default();
+            let (mut x, mut v) = (0.0f64, 0.0f64);
+            let hp = 1e-5;
+            let (w1, w2) = (
+                2.0 * core::f64::consts::PI * 0.2,
+                2.0 * core::f64::consts::PI * 0.7,
+            );
+            for k in 0..120_000 {
+                let t = k as f64 * 1e-3;
+                let r = 0.5 * libm::sin(w1 * t) + 0.1 * libm::sin(w2 * t);
+                let rv = 0.5 * w1 * libm::cos(w1 * t) + 0.1 * w2 * libm::cos(w2 * t);
+                // the other controller: PD, no friction compensation
+                let u = (8.0 * (r - x) + 0.4 * (rv - v)).clamp(-10.0, 10.0);
+                listener.listen(&mut s, x, Setpoint::default(), u);
+                for _ in 0..100 {
+                    let level = if v >= 0.0 { fc_pos } else { fc_neg };
+                    let f = level * libm::tanh(v / 1e-3) + sigma2 * v;
+                    v += hp * (1.02 * u - f) / j;
+                    x += hp * v;
+                }
+            }
+            let th = s.friction().estimates();
+            for (i, want) in [(0, fc_pos), (1, fc_neg), (3, sigma2)] {
+                assert!((th[i] - want).abs() < 0.05 * want, "{factor}: {i} {th:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn hostile_samples_keep_every_estimate_in_its_box() {
+        let p = ParameterAdaptiveParams {
+            load_max: 0.3,
+            prediction_rate: 100.0,
+            ..ParameterAdaptiveParams::new(LuGreParams::OLSSON_1998, 20.0)
+        };
+        let boxes = p.boxes();
+        let a = p.build::<f32>(&servo()).unwrap();
+        let mut s = a.initial();
+        let mut rng = crate::test_rng::xorshift64(11);
+        let mut pick = || -> f32 {
+            let r = rng();
+            let unit = (r >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+            match r % 4 {
+                0 => f32::MAX,
+                1 => -f32::MAX,
+                2 => unit as f32 * 1e-3,
+                _ => unit as f32 * 1e3,
+            }
+        };
+        for _ in 0..200_000 {
+            a.commanded(&mut s, pick());
+            a.learn(
+                &mut s,
+                FrictionSample {
+                    force: pick(),
+                    v: pick(),
+                },
+            );
+            let v = pick();
+            let f = a.step(&mut s, v, pick());
+            assert!(f.is_finite() && f.abs() <= a.bound(v) * 1.0001, "{f} {v}");
+            for (x, (lo, hi)) in s.estimates().iter().zip(boxes) {
+                assert!(*x >= lo as f32 * 0.9999 && *x <= hi as f32 * 1.0001, "{x}");
+            }
+        }
+        let before = s;
+        for (force, v) in [(f32::NAN, 1.0), (1.0, f32::INFINITY)] {
+            a.learn(&mut s, FrictionSample { force, v });
+            assert_eq!(s, before);
         }
     }
 
