@@ -258,6 +258,7 @@ impl ParameterAdaptiveParams {
             torque_constant: convert("torque_constant", servo.torque_constant)?,
             torque_limit: convert("limit", 4.0 * servo.torque_constant * servo.limit)?,
             signal_limit: S::from_f64(SIGNAL_LIMIT),
+            centre: convert("speed", 0.5 * self.speed)?,
             params: *self,
             period: h,
         })
@@ -345,6 +346,8 @@ pub struct ParameterAdaptive<S> {
     torque_constant: S,
     torque_limit: S,
     signal_limit: S,
+    /// Half the reference speed: the prediction law's centre.
+    centre: S,
     params: ParameterAdaptiveParams,
     period: f64,
 }
@@ -526,9 +529,22 @@ impl<S: Scalar> ParameterAdaptive<S> {
             predicted = predicted + (*x * p).sat(self.signal_limit);
         }
         let error = (sample.force.sat(self.signal_limit) - predicted).sat(self.signal_limit);
-        for ((x, p), k) in state.estimates.iter_mut().zip(phi).zip(&self.per) {
-            let next = *x + ((k.gamma_p * error).sat(self.signal_limit) * p).sat(self.signal_limit);
-            *x = next.max(k.low).min(k.high);
+        let lim = self.signal_limit;
+        // the viscous term on `v - c sign v` (c half the reference speed),
+        // and each level as the friction at `c`: in one direction `sign v`
+        // and `v` are nearly collinear and a plain gradient crawls along
+        // their shared direction; centred, the two are nearly independent
+        let viscous = ((self.per[3].gamma_p * error).sat(lim) * (v - self.centre * sign)).sat(lim);
+        let mut step = [S::ZERO; ESTIMATES];
+        for ((d, p), k) in step.iter_mut().zip(phi).zip(&self.per) {
+            *d = ((k.gamma_p * error).sat(lim) * p).sat(lim);
+        }
+        step[3] = viscous;
+        let shift = (self.centre * viscous).sat(lim);
+        step[0] = step[0] - phi[0] * shift;
+        step[1] = step[1] + phi[1] * shift;
+        for ((x, d), k) in state.estimates.iter_mut().zip(step).zip(&self.per) {
+            *x = (*x + d).max(k.low).min(k.high);
         }
     }
 

@@ -8,6 +8,7 @@ pub mod fuzzing;
 pub mod identify;
 pub mod io;
 pub mod models;
+pub mod online;
 pub mod params;
 pub mod plot;
 pub mod reference;

@@ -79,6 +79,16 @@ enum Command {
     /// Exit codes: 0 accepted, 1 fit rejected (a bound, no convergence, a
     /// zero gradient), 2 bad input.
     Identify(IdentifyArgs),
+    /// Online estimation: the compensator's estimators replayed causally on a measured run.
+    ///
+    /// Each sample's position and command go through the compensator as a
+    /// drive would run it beside its own controller: the per-parameter
+    /// estimator (prediction-error law) and the least-squares feed-forward
+    /// learn from the friction it measures. Writes DIR/estimates.csv (the
+    /// estimates over time), DIR/estimates.svg and DIR/report.md, with the
+    /// offline IDIM-LS fit of the same run and, with --validate, each model's
+    /// force prediction error on a second run.
+    Online(OnlineArgs),
     /// Position servo benchmark: each friction compensation against a simulated plant.
     ///
     /// Prints `servo NAME RMS_MRAD MAX_MRAD` per compensation and a table;
@@ -178,6 +188,56 @@ struct IdentifyArgs {
     /// No progress bar.
     #[arg(long)]
     quiet: bool,
+}
+
+#[derive(clap::Args)]
+struct OnlineArgs {
+    /// Measured run (CSV; tab- or semicolon-separated text works too).
+    #[arg(long)]
+    input: PathBuf,
+    /// Output folder.
+    #[arg(long)]
+    output: PathBuf,
+    /// Time column (s).
+    #[arg(long, default_value = "t")]
+    time: String,
+    /// Position column.
+    #[arg(long, default_value = "x")]
+    position: String,
+    /// Command column (the force the drive applied, before --force-gain).
+    #[arg(long, default_value = "f")]
+    force: String,
+    /// Factor from the command column to force (e.g. motor constant; negative
+    /// flips the sign), magnitude 1e-12 to 1e12.
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    force_gain: f64,
+    /// Moving mass (or inertia) of the drive's loop, > 0.
+    #[arg(long)]
+    mass: f64,
+    /// Starting guess of the Coulomb level, > 0.
+    #[arg(long)]
+    coulomb: f64,
+    /// Starting guess of the viscous coefficient, > 0.
+    #[arg(long)]
+    viscous: f64,
+    /// Speed scale of the viscous regressors, > 0 [default: the run's peak speed].
+    #[arg(long)]
+    speed: Option<f64>,
+    /// Slowest sample the estimators learn from, > 0 [default: speed / 50].
+    #[arg(long)]
+    min_speed: Option<f64>,
+    /// Rate (1/s) of the per-parameter estimator, > 0, at most the sample rate.
+    #[arg(long, default_value_t = friction_host::online::defaults::RATE)]
+    rate: f64,
+    /// Forgetting factor of the least-squares feed-forward, 0 < f <= 1.
+    #[arg(long, default_value_t = friction_host::online::defaults::FORGETTING)]
+    forgetting: f64,
+    /// Box factor of the per-parameter estimates around the guesses, >= 1.
+    #[arg(long, default_value_t = friction_host::online::defaults::BOX_FACTOR)]
+    box_factor: f64,
+    /// Second run (same columns) on which each model predicts the force.
+    #[arg(long)]
+    validate: Option<PathBuf>,
 }
 
 /// Checks numeric option `arg` against its range (see
@@ -366,6 +426,31 @@ fn run(cli: Cli) -> Result<bool> {
                 progress: !a.quiet,
             };
             identify::run(&o)
+        }
+        Command::Online(a) => {
+            checks::magnitude_within(args::FORCE_GAIN, a.force_gain, ranges::FORCE_GAIN)?;
+            let o = friction_host::online::Options {
+                input: a.input,
+                output: a.output,
+                columns: identify::Columns {
+                    time: a.time,
+                    position: a.position,
+                    velocity: None,
+                    force: a.force,
+                    force_gain: a.force_gain,
+                    normal_force: None,
+                },
+                mass: a.mass,
+                coulomb: a.coulomb,
+                viscous: a.viscous,
+                speed: a.speed,
+                min_speed: a.min_speed,
+                rate: a.rate,
+                forgetting: a.forgetting,
+                box_factor: a.box_factor,
+                validate: a.validate,
+            };
+            friction_host::online::run_and_print(&o)
         }
         Command::Servo { params, output } => friction_host::servo::run(params.as_deref(), &output),
         Command::Robustness {
