@@ -166,7 +166,7 @@ fn listening_loop(o: &Options, run: &Run) -> Result<CompensatorParams> {
 pub fn replay(o: &Options, run: &Run) -> Result<(Trace, (f64, f64))> {
     let servo = listening_loop(o, run)?;
     let speed = o.speed.unwrap_or_else(|| peak_speed(run));
-    if !(speed > 0.0) {
+    if speed.is_nan() || speed <= 0.0 {
         bail!("{}: the axis never moves", o.input.display());
     }
     let min_speed = o.min_speed.unwrap_or(speed / 50.0);
