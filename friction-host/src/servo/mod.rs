@@ -1182,6 +1182,34 @@ mod tests {
         }
     }
 
+    /// The EMPS axis (its published mass, loop, Coulomb and viscous
+    /// figures, the measured offset as an asymmetry): the actuator targets
+    /// of issue 32, `adaptive±50` at most 0.3x the better of `static` and
+    /// `observer`, `rls` better than `static`.
+    #[test]
+    fn emps_axis_meets_the_actuator_targets() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../params/actuators/emps.toml");
+        let file = ParamFile::load(&path).unwrap();
+        let cfg = file.servo.resolve(&path.display().to_string()).unwrap();
+        let rows = ["static", "observer", "adaptive+50", "adaptive-50", "rls"];
+        let rms: Vec<f64> = rows
+            .par_iter()
+            .map(|&row| {
+                let r = simulate(row, &cfg, &file.model, Row::named(row).unwrap())
+                    .unwrap()
+                    .unwrap();
+                assert!(r.stable, "{row}");
+                r.rms_half
+            })
+            .collect();
+        let better = rms[0].min(rms[1]);
+        for (row, r) in rows[2..4].iter().zip(&rms[2..4]) {
+            assert!(*r <= 0.3 * better, "{row}: {r} against {better}");
+        }
+        assert!(rms[4] < rms[0], "rls {} static {}", rms[4], rms[0]);
+    }
+
     #[test]
     fn static_maps_get_the_model_free_rows_and_a_note() {
         let f = ParamFile::parse(
