@@ -1294,3 +1294,59 @@ fn identify_options_are_named_as_flags() {
 fn stdout(out: &std::process::Output) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
+
+/// `friction online`: a bad option exits 2 naming its flag and writes
+/// nothing; a good run exits 0 with its outputs and figures.
+#[test]
+fn online_runs_and_refuses_bad_options() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/emps");
+    let input = data.join("estimation.csv").display().to_string();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("online").display().to_string();
+    let args = |mass: &str| {
+        vec![
+            "online",
+            "--input",
+            &input,
+            "--position",
+            "qm",
+            "--force",
+            "vir",
+            "--force-gain",
+            "35.15065188",
+            "--mass",
+            mass,
+            "--coulomb",
+            "20",
+            "--viscous",
+            "200",
+            "--output",
+            &out,
+        ]
+        .into_iter()
+        .map(String::from)
+        .collect::<Vec<_>>()
+    };
+    let bad = Command::new(env!("CARGO_BIN_EXE_friction"))
+        .args(args("0"))
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&bad.stderr);
+    assert!(e.contains("--mass"), "{e}");
+    assert!(!dir.path().join("online").exists());
+    let good = Command::new(env!("CARGO_BIN_EXE_friction"))
+        .args(args("95.1089"))
+        .output()
+        .unwrap();
+    assert!(
+        good.status.success(),
+        "{}",
+        String::from_utf8_lossy(&good.stderr)
+    );
+    let text = String::from_utf8_lossy(&good.stdout);
+    assert!(text.contains("adaptive") && text.contains("rls"), "{text}");
+    for name in ["estimates.csv", "estimates.svg", "report.md"] {
+        assert!(dir.path().join("online").join(name).exists(), "{name}");
+    }
+}

@@ -1188,8 +1188,8 @@ mod tests {
     /// `observer`, `rls` better than `static`.
     #[test]
     fn emps_axis_meets_the_actuator_targets() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../params/actuators/emps.toml");
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../params/actuators/emps.toml");
         let file = ParamFile::load(&path).unwrap();
         let cfg = file.servo.resolve(&path.display().to_string()).unwrap();
         let rows = ["static", "observer", "adaptive+50", "adaptive-50", "rls"];
