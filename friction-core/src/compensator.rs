@@ -300,6 +300,11 @@ impl CompensatorParams {
             },
             velocity_blend: S::ONE,
             filter_velocity: false,
+            observer_alpha: S::ZERO,
+            observer_beta: zero,
+            observer_gamma: zero,
+            observer_h: zero,
+            inv_inertia: zero,
             params: *self,
         })
     }
@@ -346,6 +351,13 @@ pub struct CompensatorState<S, T> {
     command: S,
     command_before: S,
     run: u8,
+    /// The velocity observer's position estimate and the acceleration it
+    /// predicts over the next period (with a velocity observer).
+    x_hat: S,
+    accel: S,
+    /// The velocity observer's estimate of the acceleration the command
+    /// and the friction estimate do not explain.
+    disturbance: S,
 }
 
 impl<S: Scalar, T> CompensatorState<S, T> {
@@ -411,6 +423,13 @@ pub struct Compensator<S, C> {
     /// The velocity filter's `h / (tau + h)` (`1`: no filter).
     velocity_blend: S,
     filter_velocity: bool,
+    /// The velocity observer's position and velocity gains `alpha`,
+    /// `beta / h` (`alpha = 0`: no observer), its period and `1 / J`.
+    observer_alpha: S,
+    observer_beta: Gain<S>,
+    observer_gamma: Gain<S>,
+    observer_h: Gain<S>,
+    inv_inertia: Gain<S>,
     params: CompensatorParams,
 }
 
@@ -459,7 +478,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
     /// `v_f += h / (tau + h) (v - v_f)`, `tau = 1 / (2 pi cutoff)`. With a
     /// quantized encoder the backward difference jumps by whole counts per
     /// period; the filter trades that noise for phase lag. `cutoff_hz`
-    /// must be finite and `> 0`.
+    /// must be finite and `> 0`. Replaces a velocity observer.
     ///
     /// ```
     /// use friction_core::{CompensatorParams, NoCompensation, ParamError};
@@ -478,6 +497,66 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
         Ok(Self {
             velocity_blend: convert("velocity_cutoff", h / (tau + h))?,
             filter_velocity: true,
+            observer_alpha: S::ZERO,
+            ..self
+        })
+    }
+
+    /// Estimates the velocity with an observer driven by the command and
+    /// corrected by the measured position, as drive firmware does on coarse
+    /// encoders, instead of the backward difference (which jumps by whole
+    /// counts per period). Between ticks the observer predicts the motion
+    /// of the inertia `J` under the last command and friction estimate,
+    /// `a = (kc u - F^) / J`, plus a disturbance `d^` it estimates (what the
+    /// prediction misses: a friction error, a load, gravity); each tick it
+    /// corrects by the innovation `x - x^` with the gains of a critically
+    /// damped (fading-memory) alpha-beta-gamma tracker of bandwidth
+    /// `bandwidth_hz` (Brookner 1998, Tracking and Kalman Filtering Made
+    /// Easy, Ch. 1):
+    ///
+    /// ```text
+    /// x^ <- x^ + h v^ + h^2 (a + d^) / 2,   v^ <- v^ + h (a + d^)      prediction
+    /// x^ <- x^ + alpha i,  v^ <- v^ + beta / h i,  d^ <- d^ + 2 gamma / h^2 i,   i = x - x^
+    /// theta = exp(-2 pi bandwidth h)
+    /// alpha = 1 - theta^3, beta = 1.5 (1 - theta)^2 (1 + theta), gamma = 0.5 (1 - theta)^3
+    /// ```
+    ///
+    /// Needs `J > 0`; `bandwidth_hz` finite, `> 0` and below half the sample
+    /// rate. Replaces a velocity filter.
+    ///
+    /// ```
+    /// use friction_core::{CompensatorParams, NoCompensation, ParamError};
+    /// let p = CompensatorParams { h: 1e-3, kp: 60.0, ki: 200.0, kd: 1.2,
+    ///     inertia: 0.0023, torque_constant: 1.0, limit: 5.0 };
+    /// let servo = p.build::<f32, _>(NoCompensation)?.with_velocity_observer(50.0)?;
+    /// assert_eq!(p.build::<f32, _>(NoCompensation)?.with_velocity_observer(600.0).err(),
+    ///     Some(ParamError::NotBelow { name: "velocity_observer", limit: "half the sample rate" }));
+    /// # let _ = servo;
+    /// # Ok::<(), ParamError>(())
+    /// ```
+    pub fn with_velocity_observer(self, bandwidth_hz: f64) -> Result<Self, ParamError> {
+        positive("velocity_observer", bandwidth_hz)?;
+        let h = self.params.h;
+        if bandwidth_hz * h >= 0.5 {
+            return Err(ParamError::NotBelow {
+                name: "velocity_observer",
+                limit: "half the sample rate",
+            });
+        }
+        positive("inertia", self.params.inertia)?;
+        let theta = libm::exp(-2.0 * core::f64::consts::PI * bandwidth_hz * h);
+        let alpha = 1.0 - theta * theta * theta;
+        let beta = 1.5 * (1.0 - theta) * (1.0 - theta) * (1.0 + theta);
+        let gamma = 0.5 * (1.0 - theta) * (1.0 - theta) * (1.0 - theta);
+        Ok(Self {
+            observer_alpha: convert("velocity_observer", alpha)?,
+            observer_beta: Gain::new("velocity_observer", beta / h)?,
+            observer_gamma: Gain::new("velocity_observer", 2.0 * gamma / (h * h))?,
+            observer_h: Gain::new("h", h)?,
+            inv_inertia: Gain::new("inertia", 1.0 / self.params.inertia)?,
+            kc: Gain::new("torque_constant", self.params.torque_constant)?,
+            velocity_blend: S::ONE,
+            filter_velocity: false,
             ..self
         })
     }
@@ -526,6 +605,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
         state.since_last = 1;
         let command = (base + state.integral).sat(self.limit);
         self.compensation.commanded(&mut state.friction, command);
+        self.predict_acceleration(state, command, f);
         if C::LEARNS {
             state.command_before = state.command;
             state.command = command;
@@ -591,15 +671,13 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
         state.last_x = x;
         state.since_last = 1;
         self.compensation.commanded(&mut state.friction, command);
+        let f = if f.is_finite() { f } else { S::ZERO };
+        self.predict_acceleration(state, command, f);
         if C::LEARNS {
             state.command_before = state.command;
             state.command = command;
         }
-        if f.is_finite() {
-            f
-        } else {
-            S::ZERO
-        }
+        f
     }
 
     /// The measured velocity at position `x`: the backward difference over
@@ -607,6 +685,9 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
     /// velocity filter if there is one.
     #[inline]
     fn velocity(&self, state: &mut CompensatorState<S, C::State>, x: S) -> S {
+        if self.observer_alpha != S::ZERO {
+            return self.observe_velocity(state, x);
+        }
         let mut v = match state.since_last {
             0 => S::ZERO,
             1 => self.inv_h.times(x - state.last_x),
@@ -622,6 +703,41 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
             state.velocity = v;
         }
         v
+    }
+
+    /// The velocity observer's estimate at measured position `x` (see
+    /// [`with_velocity_observer`](Self::with_velocity_observer)): the
+    /// prediction over the ticks since the last accepted one, corrected by
+    /// the innovation `x - x^`.
+    fn observe_velocity(&self, state: &mut CompensatorState<S, C::State>, x: S) -> S {
+        if state.since_last == 0 {
+            state.x_hat = x;
+            state.velocity = S::ZERO;
+            return S::ZERO;
+        }
+        let half = S::from_f64(0.5);
+        // a gap of n ticks is predicted as one step of n periods
+        let n = S::from_f64(f64::from(state.since_last.min(1 << 20)));
+        let dv = n * self.observer_h.times(state.accel + state.disturbance);
+        let predicted_x = state.x_hat + n * self.observer_h.times(state.velocity + half * dv);
+        let predicted_v = state.velocity + dv;
+        let innovation = (x - predicted_x).sat(self.signal_limit);
+        state.x_hat = predicted_x + self.observer_alpha * innovation;
+        state.velocity =
+            (predicted_v + self.observer_beta.times(innovation)).sat(self.signal_limit);
+        state.disturbance =
+            (state.disturbance + self.observer_gamma.times(innovation)).sat(self.signal_limit);
+        state.velocity
+    }
+
+    /// With a velocity observer: the acceleration `(kc u - F^) / J` the
+    /// command `u` and the friction estimate `f` give over the next period.
+    #[inline]
+    fn predict_acceleration(&self, state: &mut CompensatorState<S, C::State>, command: S, f: S) {
+        if self.observer_alpha != S::ZERO {
+            let force = self.kc.times(command) - f;
+            state.accel = self.inv_inertia.times(force).sat(self.signal_limit);
+        }
     }
 
     /// For a compensation that learns: the friction sample ending at `x`
@@ -814,6 +930,107 @@ mod tests {
         let t = c.tick(&mut s, -2e-3, r); // v = -2 rad/s
         assert!((t.friction - map.force(-2.0)).abs() < 1e-12);
         assert!((t.command - map.force(-2.0) / 1.02).abs() < 1e-12);
+    }
+
+    /// The velocity observer on a 12-bit encoder (4096 counts a turn): a
+    /// PD loop on a sine, the plant the loop's inertia and torque constant
+    /// with Coulomb friction the compensation does not know (the
+    /// observer's disturbance state takes it up). Its velocity error is at
+    /// most a fifth of the backward difference's in f64 and f32, and at most
+    /// 0.4 of it in Q16.16.
+    #[test]
+    fn the_velocity_observer_beats_the_backward_difference_on_a_coarse_encoder() {
+        fn run<S: Scalar>() -> (f64, f64) {
+            let p = params();
+            let c = p
+                .build::<S, _>(NoCompensation)
+                .unwrap()
+                .with_velocity_observer(50.0)
+                .unwrap();
+            let q = 2.0 * core::f64::consts::PI / 4096.0;
+            let mut s = CompensatorState::default();
+            let (mut x, mut v, mut last) = (0.0f64, 0.0f64, 0.0f64);
+            let (mut observed, mut differenced, mut n) = (0.0, 0.0, 0.0);
+            let w = 2.0 * core::f64::consts::PI * 0.5;
+            for k in 0..4000 {
+                let t = k as f64 * 1e-3;
+                let r = Setpoint {
+                    x: S::from_f64(libm::sin(w * t)),
+                    v: S::from_f64(w * libm::cos(w * t)),
+                    a: S::from_f64(-w * w * libm::sin(w * t)),
+                };
+                let measured = libm::round(x / q) * q;
+                let u = c.tick(&mut s, S::from_f64(measured), r).command.to_f64();
+                if k > 1000 {
+                    let difference = (measured - last) / 1e-3;
+                    observed += (s.velocity.to_f64() - v) * (s.velocity.to_f64() - v);
+                    differenced += (difference - v) * (difference - v);
+                    n += 1.0;
+                }
+                last = measured;
+                for _ in 0..10 {
+                    let f = 0.1 * libm::tanh(v / 1e-3);
+                    v += 1e-4 * (p.torque_constant * u - f) / p.inertia;
+                    x += 1e-4 * v;
+                }
+            }
+            (libm::sqrt(observed / n), libm::sqrt(differenced / n))
+        }
+        for (observed, differenced) in [run::<f64>(), run::<f32>()] {
+            assert!(observed < 0.2 * differenced, "{observed} {differenced}");
+        }
+        #[cfg(feature = "fixed")]
+        {
+            // Q16.16 measured 0.36x (f64 and f32 0.17x): bounded at 0.4x
+            let (observed, differenced) = run::<crate::Fixed32>();
+            assert!(
+                observed < 0.4 * differenced,
+                "Q16.16: {observed} {differenced}"
+            );
+        }
+    }
+
+    /// The observer keeps its state through NaN and infinite positions and
+    /// stays finite for hostile finite ones.
+    #[test]
+    fn the_velocity_observer_is_safe_for_hostile_inputs() {
+        let c = params()
+            .build::<f32, _>(NoCompensation)
+            .unwrap()
+            .with_velocity_observer(100.0)
+            .unwrap();
+        let mut s = CompensatorState::default();
+        c.tick(&mut s, 0.0, Setpoint::default());
+        c.tick(&mut s, 1e-3, Setpoint::default());
+        let before = s;
+        for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            c.tick(&mut s, bad, Setpoint::default());
+        }
+        assert_eq!(
+            (s.x_hat, s.velocity, s.disturbance),
+            (before.x_hat, before.velocity, before.disturbance)
+        );
+        let mut rng = crate::test_rng::xorshift64(5);
+        for _ in 0..100_000 {
+            let r = rng();
+            let x = match r % 4 {
+                0 => f32::MAX,
+                1 => -f32::MAX,
+                2 => 0.0,
+                _ => ((r >> 11) as f64 / (1u64 << 53) as f64 * 2e3 - 1e3) as f32,
+            };
+            let tick = c.tick(&mut s, x, Setpoint::default());
+            assert!(tick.command.is_finite() && tick.command.abs() <= 5.0);
+            assert!(s.velocity.is_finite() && s.x_hat.is_finite() && s.disturbance.is_finite());
+        }
+        assert_eq!(
+            params()
+                .build::<f32, _>(NoCompensation)
+                .unwrap()
+                .with_velocity_observer(f64::NAN)
+                .err(),
+            Some(ParamError::NotFinite("velocity_observer"))
+        );
     }
 
     #[test]

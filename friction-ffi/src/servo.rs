@@ -14,9 +14,9 @@ use friction_core::{
 
 /// Words (8 bytes each) of a `float` servo object, room for the largest
 /// value it holds (a compile-time check keeps it so).
-pub const FRICTION_SERVO_F32_WORDS: usize = 80;
+pub const FRICTION_SERVO_F32_WORDS: usize = 88;
 /// Words (8 bytes each) of a `double` servo object.
-pub const FRICTION_SERVO_F64_WORDS: usize = 144;
+pub const FRICTION_SERVO_F64_WORDS: usize = 160;
 
 /// A compensated servo axis in `float` (caller-allocated; see [`friction_servo_init_f32`]).
 #[repr(C)]

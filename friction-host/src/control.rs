@@ -58,6 +58,8 @@ pub struct Loop {
     pub params: CompensatorParams,
     /// Cut-off (Hz) of the velocity low-pass, if any.
     pub velocity_filter: Option<f64>,
+    /// Bandwidth (Hz) of the velocity observer, if any.
+    pub velocity_observer: Option<f64>,
 }
 
 /// Builds one axis around `compensation` with nothing to read.
@@ -83,6 +85,9 @@ where
     let mut ctl = setup.params.build::<f64, C>(compensation)?;
     if let Some(cutoff) = setup.velocity_filter {
         ctl = ctl.with_velocity_filter(cutoff)?;
+    }
+    if let Some(bandwidth) = setup.velocity_observer {
+        ctl = ctl.with_velocity_observer(bandwidth)?;
     }
     Ok(Box::new(Axis {
         ctl,

@@ -213,6 +213,7 @@ impl Model {
                 limit: 1e15,
             },
             velocity_filter: None,
+            velocity_observer: None,
         };
         let axis = self.controller(&setup, gain, damping, None)?;
         Ok(Observer { axis })
@@ -267,6 +268,7 @@ impl Model {
         let setup = Loop {
             params,
             velocity_filter,
+            velocity_observer: None,
         };
         let adaptive = adaptive.map(adaptive_params).transpose()?;
         let axis = self.controller(&setup, gain, true, adaptive)?;

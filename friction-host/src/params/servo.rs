@@ -49,6 +49,8 @@ pub struct ServoTable {
     pub delay_ticks: Option<f64>,
     /// Cut-off (Hz) of the controller's velocity low-pass (0: none).
     pub velocity_filter: Option<f64>,
+    /// Bandwidth (Hz) of the controller's velocity observer (0: none).
+    pub velocity_observer: Option<f64>,
     /// Adaptation rate `a` (1/s) of the θ-adaptive observer:
     /// `gamma = a kc kp / Fs^2`.
     pub adaptation_rate: Option<f64>,
@@ -136,6 +138,8 @@ pub struct ServoConfig {
     pub delay_ticks: usize,
     /// `velocity_filter` (Hz, 0: none).
     pub velocity_filter: f64,
+    /// `velocity_observer` (Hz, 0: none).
+    pub velocity_observer: f64,
     /// `adaptation_rate` (1/s).
     pub adaptation_rate: f64,
     /// `adaptation_leakage` (1/s).
@@ -196,6 +200,7 @@ impl Default for ServoConfig {
             load_friction: 0.0,
             delay_ticks: 0,
             velocity_filter: 0.0,
+            velocity_observer: 0.0,
             adaptation_rate: DEFAULT_ADAPTATION_RATE,
             adaptation_leakage: 0.0,
             adaptation_derivative: 1.0,
@@ -344,6 +349,7 @@ impl ServoTable {
             load_friction: self.load_friction.unwrap_or(d.load_friction),
             delay_ticks: 0,
             velocity_filter: self.velocity_filter.unwrap_or(d.velocity_filter),
+            velocity_observer: self.velocity_observer.unwrap_or(d.velocity_observer),
             adaptation_rate: self.adaptation_rate.unwrap_or(d.adaptation_rate),
             adaptation_leakage: self.adaptation_leakage.unwrap_or(d.adaptation_leakage),
             adaptation_derivative: self
@@ -401,6 +407,7 @@ impl ServoTable {
             ("encoder_counts", c.encoder_counts, false),
             ("load_friction", c.load_friction, false),
             ("velocity_filter", c.velocity_filter, false),
+            ("velocity_observer", c.velocity_observer, false),
             ("adaptation_rate", c.adaptation_rate, false),
             ("adaptation_leakage", c.adaptation_leakage, false),
             ("adaptation_derivative", c.adaptation_derivative, false),
@@ -452,6 +459,22 @@ impl ServoTable {
         if c.velocity_filter != 0.0 {
             if let Some(rule) = crate::checks::velocity_filter_rule(c.velocity_filter, c.rate) {
                 return Err(invalid("velocity_filter", rule, c.velocity_filter));
+            }
+        }
+        if c.velocity_observer != 0.0 {
+            if c.velocity_filter != 0.0 {
+                return Err(invalid(
+                    "velocity_observer",
+                    "0 when `velocity_filter` is set (one velocity estimate)",
+                    c.velocity_observer,
+                ));
+            }
+            if c.velocity_observer >= 0.5 * c.rate {
+                return Err(invalid(
+                    "velocity_observer",
+                    "below half the controller rate",
+                    c.velocity_observer,
+                ));
             }
         }
         // θ starts at 1, the nominal model
@@ -901,6 +924,28 @@ mod tests {
                 ..Default::default()
             },
             "velocity_filter",
+        );
+        bad(
+            ServoTable {
+                velocity_observer: Some(500.0),
+                ..Default::default()
+            },
+            "velocity_observer",
+        );
+        bad(
+            ServoTable {
+                velocity_observer: Some(50.0),
+                velocity_filter: Some(100.0),
+                ..Default::default()
+            },
+            "velocity_observer",
+        );
+        bad(
+            ServoTable {
+                velocity_observer: Some(-1.0),
+                ..Default::default()
+            },
+            "velocity_observer",
         );
         bad(
             ServoTable {

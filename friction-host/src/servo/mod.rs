@@ -370,6 +370,7 @@ pub fn build_controller(
     let setup = Loop {
         params: cfg.controller(),
         velocity_filter: (cfg.velocity_filter > 0.0).then_some(cfg.velocity_filter),
+        velocity_observer: (cfg.velocity_observer > 0.0).then_some(cfg.velocity_observer),
     };
     let built = match row {
         Row::NoFriction | Row::None => controller(&setup, NoCompensation),
@@ -770,6 +771,9 @@ impl ServoBenchmark {
         }
         if c.velocity_filter > 0.0 {
             let _ = write!(s, ", velocity low-pass {} Hz", c.velocity_filter);
+        }
+        if c.velocity_observer > 0.0 {
+            let _ = write!(s, ", velocity observer {} Hz", c.velocity_observer);
         }
         let _ = write!(
             s,
@@ -1208,6 +1212,37 @@ mod tests {
             assert!(*r <= 0.3 * better, "{row}: {r} against {better}");
         }
         assert!(rms[4] < rms[0], "rls {} static {}", rms[4], rms[0]);
+    }
+
+    /// Olsson's drive on a 12-bit encoder (4096 counts) with the velocity
+    /// observer at 50 Hz: `adaptive` at most 0.4x the better of `static`
+    /// and `observer` (issue 32's target for a coarse encoder; with the
+    /// backward difference it is 1.8x).
+    #[test]
+    fn a_velocity_observer_makes_adaptation_work_on_a_12_bit_encoder() {
+        let text = include_str!("../../../params/olsson1998-drive.toml")
+            .replace("encoder_counts = 262144", "encoder_counts = 4096");
+        assert!(text.contains("encoder_counts = 4096"));
+        let file =
+            ParamFile::parse(&format!("{text}\nvelocity_observer = 50\n"), "d.toml").unwrap();
+        let cfg = file.servo.resolve("d.toml").unwrap();
+        let rows = ["static", "observer", "adaptive"];
+        let rms: Vec<f64> = rows
+            .par_iter()
+            .map(|&row| {
+                let r = simulate(row, &cfg, &file.model, Row::named(row).unwrap())
+                    .unwrap()
+                    .unwrap();
+                assert!(r.stable, "{row}");
+                r.rms_half
+            })
+            .collect();
+        let better = rms[0].min(rms[1]);
+        assert!(
+            rms[2] <= 0.4 * better,
+            "adaptive {} against {better}",
+            rms[2]
+        );
     }
 
     #[test]
