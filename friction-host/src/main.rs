@@ -306,6 +306,11 @@ fn simulate(params: &Path, input: &Path, output: &Path, scalar: SimScalar) -> Re
     })?;
     let limit = sim.limit();
     let names = sim.state_names();
+    // the output's folder is made, as the other commands make theirs
+    if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| anyhow::anyhow!("cannot create {}: {e}", dir.display()))?;
+    }
     let count = io::write_atomic(output, |w| {
         let mut csv = csv::Writer::from_writer(w);
         let werr = |e: csv::Error| anyhow::anyhow!("cannot write {}: {e}", output.display());
