@@ -434,8 +434,8 @@ pub fn check_model(name: &str) -> Result<()> {
     }
     let supported = MODELS.join(", ");
     match name {
-        "gms" | "xiong" => bail!(
-            "model `{name}` does not exist in the library yet and cannot be identified; identify supports: {supported}"
+        "gms" | "xiong" | "elasto-plastic" | "dahl" | "leuven" | "reset-integrator" | "bristle" => bail!(
+            "model `{name}` exists in the library but `identify` cannot fit it yet; identify supports: {supported}"
         ),
         _ => bail!("unknown model `{name}`; identify supports: {supported}"),
     }
