@@ -51,6 +51,7 @@
 //! ([`Scalar::force_scale`] of its range): per-tick increments of `1e-6`
 //! would otherwise round to 0 in Q16.16.
 
+use crate::bits::Flag;
 use crate::compensator::Compensation;
 use crate::fixed_step::FixedStepObservable;
 use crate::gain::Gain;
@@ -206,7 +207,8 @@ pub struct AdaptiveState<T, S> {
     offset: S,
     /// The last position error, once `primed`.
     last_error: S,
-    primed: bool,
+    /// Whether `last_error` holds one (a byte: `crate::bits`).
+    primed: Flag,
 }
 
 /// The built θ-adaptive observer: immutable, shared by any number of
@@ -242,7 +244,9 @@ impl<M, S: Scalar> AdaptiveObserver<M, S> {
     /// `θ0 + offset / scale`, within `[θmin, θmax]` against rounding.
     #[inline]
     fn theta_of(&self, offset: S) -> S {
-        (self.theta0 + offset.rescale_pow2(-self.scale_exp))
+        // saturating: a stored exponent of -128 (C's garbage; a built one
+        // is in 0..=31) would overflow the plain negation
+        (self.theta0 + offset.rescale_pow2(self.scale_exp.saturating_neg()))
             .min(self.theta_max)
             .max(self.theta_min)
     }
@@ -282,7 +286,7 @@ impl<M, S: Scalar> AdaptiveObserver<M, S> {
         // each gain's product is clamped before it meets f, so no product
         // is inf * 0
         let limit = self.signal_limit;
-        let de = if state.primed {
+        let de = if state.primed.get() {
             (e - state.last_error).sat(limit)
         } else {
             S::ZERO
@@ -296,7 +300,7 @@ impl<M, S: Scalar> AdaptiveObserver<M, S> {
         };
         state.offset = (state.offset - step).min(self.high).max(self.low);
         state.last_error = e;
-        state.primed = true;
+        state.primed = Flag::new(true);
         scaled(self.theta_of(state.offset), f)
     }
 }
