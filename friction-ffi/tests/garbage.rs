@@ -435,6 +435,9 @@ struct Found {
     crashes: Vec<u64>,
     hangs: Vec<u64>,
     bad: Vec<u64>,
+    /// Patterns whose first call returned `FRICTION_OK` (the interior
+    /// sweep: the garbage got past the kind checks into the core's values).
+    reached: u64,
 }
 
 /// The count of tagged patterns (`FRICTION_GARBAGE_TAGGED` overrides it:
@@ -491,6 +494,7 @@ fn run_child(
             (Some("at"), Some(i)) => last = Some(i),
             (Some("bad"), Some(i)) => found.bad.push(i),
             (Some("done"), _) => done = true,
+            (Some("reached"), Some(n)) => found.reached += n,
             _ => {}
         }
     }
@@ -1330,17 +1334,21 @@ fn interior_child(index: usize, start: u64, end: u64, trace: bool) {
     let subjects = subjects();
     let subject = &subjects[index];
     let mut out = std::io::stdout().lock();
+    let mut reached = 0;
     for i in start..end {
         if trace {
             writeln!(out, "at {i}").unwrap();
             out.flush().unwrap();
         }
-        for (call, status, ok) in (subject.run)(interior_seed(index, i)) {
+        let outcomes = (subject.run)(interior_seed(index, i));
+        reached += u64::from(outcomes[0].1 == FRICTION_OK);
+        for (call, status, ok) in outcomes {
             if !ok {
                 writeln!(out, "bad {i} {call} {status:?}").unwrap();
             }
         }
     }
+    writeln!(out, "reached {reached}").unwrap();
     writeln!(out, "done").unwrap();
 }
 
@@ -1354,8 +1362,12 @@ fn tag_correct_objects_with_garbage_inside_never_crash() {
     let subjects = subjects();
     let per = per_subject(subjects.len());
     let (mut crashes, mut hangs, mut bad) = (0, 0, 0);
+    let mut least = (u64::MAX, "");
     for (index, subject) in subjects.iter().enumerate() {
         let found = sweep_in_children(&INTERIOR_SWEEP, index, per);
+        if found.reached < least.0 {
+            least = (found.reached, &subject.name);
+        }
         if !(found.crashes.is_empty() && found.hangs.is_empty() && found.bad.is_empty()) {
             println!(
                 "{:40} {per} patterns: crashes at {:?}, hangs at {:?}, wrong statuses at {:?}",
@@ -1367,10 +1379,16 @@ fn tag_correct_objects_with_garbage_inside_never_crash() {
         bad += found.bad.len();
     }
     println!(
-        "total over {} subjects x {per} patterns: {crashes} crashes, {hangs} hangs, {bad} wrong statuses",
-        subjects.len()
+        "total over {} subjects x {per} patterns: {crashes} crashes, {hangs} hangs, {bad} wrong statuses; \
+         fewest patterns stepped with FRICTION_OK: {} ({})",
+        subjects.len(),
+        least.0,
+        least.1
     );
     assert_eq!((crashes, hangs, bad), (0, 0, 0));
+    // the garbage reached the core's values (the kinds inside survived)
+    // for every subject, not only the kind checks
+    assert!(least.0 >= per / 10, "{least:?} of {per}");
 }
 
 /// Under Miri: three patterns of every subject (one of each kind of
