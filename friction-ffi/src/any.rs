@@ -190,8 +190,8 @@ macro_rules! each {
                 // SAFETY: the model's kind is this arm's, and a kind is only
                 // ever written together with the union field it names (by
                 // the constructors and `own`; C may copy them), C's bytes
-                // in that field being read as it (see slot.rs on what cannot
-                // be checked inside the core's values); the state's kind is
+                // in that field being read as it (any bytes are a value of
+                // the core's stored forms: see slot.rs); the state's kind is
                 // the model's (`own` made it so when it was not).
                 $kinds::$field => {
                     // SAFETY: the state's union field is inside `state`, a
