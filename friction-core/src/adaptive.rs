@@ -51,10 +51,11 @@
 //! ([`Scalar::force_scale`] of its range): per-tick increments of `1e-6`
 //! would otherwise round to 0 in Q16.16.
 
+use crate::bits::Flag;
 use crate::compensator::Compensation;
 use crate::fixed_step::FixedStepObservable;
 use crate::gain::Gain;
-use crate::model::{convert, non_negative, positive, ParamError};
+use crate::model::{convert, magnitude, magnitude_or_zero, non_negative, positive, ParamError};
 use crate::observer::{Observable, Observer};
 use crate::Scalar;
 
@@ -107,14 +108,16 @@ impl AdaptiveParams {
     }
 
     /// Checks `gamma`, `gamma_derivative`, `leakage` `>= 0`, `0 <= θmin <= θ0 <= θmax`,
-    /// `θmin < θmax`, all finite; the error names the parameter.
+    /// `θmin < θmax`, all finite, and each bound 0 (`θmin`, `θ0`) or within
+    /// [`PARAM_RANGE`](crate::PARAM_RANGE); the error names the parameter
+    /// (a `θmax` of `1e-300` is `θmax`'s error, not `θmin`'s).
     pub fn validate(&self) -> Result<(), ParamError> {
         non_negative("gamma", self.gamma)?;
         non_negative("gamma_derivative", self.gamma_derivative)?;
         non_negative("leakage", self.leakage)?;
-        non_negative("theta_min", self.theta_min)?;
-        positive("theta_max", self.theta_max)?;
-        non_negative("theta0", self.theta0)?;
+        magnitude_or_zero("theta_min", self.theta_min)?;
+        magnitude("theta_max", self.theta_max)?;
+        magnitude_or_zero("theta0", self.theta0)?;
         if self.theta_min >= self.theta_max {
             return Err(ParamError::NotBelow {
                 name: "theta_min",
@@ -206,7 +209,8 @@ pub struct AdaptiveState<T, S> {
     offset: S,
     /// The last position error, once `primed`.
     last_error: S,
-    primed: bool,
+    /// Whether `last_error` holds one (a byte: `crate::bits`).
+    primed: Flag,
 }
 
 /// The built θ-adaptive observer: immutable, shared by any number of
@@ -242,7 +246,9 @@ impl<M, S: Scalar> AdaptiveObserver<M, S> {
     /// `θ0 + offset / scale`, within `[θmin, θmax]` against rounding.
     #[inline]
     fn theta_of(&self, offset: S) -> S {
-        (self.theta0 + offset.rescale_pow2(-self.scale_exp))
+        // saturating: a stored exponent of -128 (C's garbage; a built one
+        // is in 0..=31) would overflow the plain negation
+        (self.theta0 + offset.rescale_pow2(self.scale_exp.saturating_neg()))
             .min(self.theta_max)
             .max(self.theta_min)
     }
@@ -282,7 +288,7 @@ impl<M, S: Scalar> AdaptiveObserver<M, S> {
         // each gain's product is clamped before it meets f, so no product
         // is inf * 0
         let limit = self.signal_limit;
-        let de = if state.primed {
+        let de = if state.primed.get() {
             (e - state.last_error).sat(limit)
         } else {
             S::ZERO
@@ -296,7 +302,7 @@ impl<M, S: Scalar> AdaptiveObserver<M, S> {
         };
         state.offset = (state.offset - step).min(self.high).max(self.low);
         state.last_error = e;
-        state.primed = true;
+        state.primed = Flag::new(true);
         scaled(self.theta_of(state.offset), f)
     }
 }
@@ -399,5 +405,52 @@ impl<S: Scalar, M: FixedStepObservable<S>> Compensation<S>
         } else {
             Some(-1.0)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_bound_out_of_range_is_named() {
+        let p = AdaptiveParams::DEFAULT;
+        // θmax far below θmin: θmax is wrong (θmin and θ0 are the defaults)
+        let tiny = AdaptiveParams {
+            theta_max: 1e-300,
+            ..p
+        };
+        assert_eq!(tiny.validate(), Err(ParamError::OutOfRange("theta_max")));
+        let huge = AdaptiveParams {
+            theta_max: 1e300,
+            ..p
+        };
+        assert_eq!(huge.validate(), Err(ParamError::OutOfRange("theta_max")));
+        let tiny_min = AdaptiveParams {
+            theta_min: 1e-300,
+            ..p
+        };
+        assert_eq!(
+            tiny_min.validate(),
+            Err(ParamError::OutOfRange("theta_min"))
+        );
+        // 0 stays a valid lower bound, and the defaults are valid
+        assert_eq!(
+            AdaptiveParams {
+                theta_min: 0.0,
+                ..p
+            }
+            .validate(),
+            Ok(())
+        );
+        assert_eq!(p.validate(), Ok(()));
+        assert_eq!(
+            AdaptiveParams {
+                theta_max: 0.0,
+                ..p
+            }
+            .validate(),
+            Err(ParamError::NotPositive("theta_max"))
+        );
     }
 }

@@ -42,6 +42,7 @@
 //! Immutable configuration ([`Compensator`]) is split from the mutable state
 //! ([`CompensatorState`]): one compensator drives any number of axes.
 
+use crate::bits::Flag;
 use crate::fixed_step::FixedStepObservable;
 use crate::gain::Gain;
 use crate::model::{convert, magnitude, magnitude_or_zero, positive, FrictionModel, ParamError};
@@ -299,7 +300,7 @@ impl CompensatorParams {
                 zero
             },
             velocity_blend: S::ONE,
-            filter_velocity: false,
+            filter_velocity: Flag::new(false),
             observer_alpha: S::ZERO,
             observer_beta: zero,
             observer_gamma: zero,
@@ -422,7 +423,7 @@ pub struct Compensator<S, C> {
     kc: Gain<S>,
     /// The velocity filter's `h / (tau + h)` (`1`: no filter).
     velocity_blend: S,
-    filter_velocity: bool,
+    filter_velocity: Flag,
     /// The velocity observer's position and velocity gains `alpha`,
     /// `beta / h` (`alpha = 0`: no observer), its period and `1 / J`.
     observer_alpha: S,
@@ -496,7 +497,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
         let h = self.params.h;
         Ok(Self {
             velocity_blend: convert("velocity_cutoff", h / (tau + h))?,
-            filter_velocity: true,
+            filter_velocity: Flag::new(true),
             observer_alpha: S::ZERO,
             ..self
         })
@@ -556,7 +557,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
             inv_inertia: Gain::new("inertia", 1.0 / self.params.inertia)?,
             kc: Gain::new("torque_constant", self.params.torque_constant)?,
             velocity_blend: S::ONE,
-            filter_velocity: false,
+            filter_velocity: Flag::new(false),
             ..self
         })
     }
@@ -694,7 +695,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
             n => self.inv_h.times(x - state.last_x) / S::from_f64(f64::from(n)),
         }
         .sat(self.signal_limit);
-        if self.filter_velocity {
+        if self.filter_velocity.get() {
             v = if state.since_last == 0 {
                 S::ZERO
             } else {

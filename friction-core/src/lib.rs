@@ -14,6 +14,7 @@
 extern crate std;
 
 pub mod adaptive;
+mod bits;
 pub mod compensator;
 #[cfg(feature = "fixed")]
 pub mod fixed_point;

@@ -30,6 +30,7 @@
 //! `sigma1 dz^/dt` feed-forward can cost more than it gains: it is a switch
 //! ([`Observer::with_damping`]).
 
+use crate::bits::Flag;
 use crate::fixed_step::FixedStepObservable;
 use crate::model::{checked_inputs, convert, non_negative, FrictionModel, ParamError};
 use crate::scalar::all_finite;
@@ -78,7 +79,8 @@ pub trait Observable<S: Scalar>: FrictionModel<S> {
 pub struct Observer<M, S> {
     model: M,
     gain: S,
-    damping: bool,
+    /// Whether the `sigma1 dz^/dt` term is included (a byte: `crate::bits`).
+    damping: Flag,
 }
 
 impl<S: Scalar, M> Observer<M, S> {
@@ -109,13 +111,16 @@ impl<S: Scalar, M> Observer<M, S> {
         Ok(Self {
             model,
             gain,
-            damping: true,
+            damping: Flag::new(true),
         })
     }
 
     /// Includes (`true`) or drops the `sigma1 dz^/dt` term from the estimate.
     pub fn with_damping(self, damping: bool) -> Self {
-        Self { damping, ..self }
+        Self {
+            damping: Flag::new(damping),
+            ..self
+        }
     }
 
     /// The wrapped model.
@@ -143,7 +148,7 @@ impl<S: Scalar, M: Observable<S>> Observer<M, S> {
                 let correction = (self.gain * e).sat(S::VELOCITY_LIMIT);
                 let f = self
                     .model
-                    .step_corrected(state, v, correction, h, self.damping);
+                    .step_corrected(state, v, correction, h, self.damping.get());
                 f.sat(self.model.force_bound(v))
             }
             _ => self.model.hold_force(state),
@@ -175,7 +180,7 @@ impl<S: Scalar, M: FixedStepObservable<S>> Observer<M, S> {
             let correction = (self.gain * e).sat(limit);
             let f = self
                 .model
-                .step_corrected(state, v, correction, self.damping);
+                .step_corrected(state, v, correction, self.damping.get());
             f.sat(self.model.force_bound(v))
         } else {
             self.model.hold_force(state)

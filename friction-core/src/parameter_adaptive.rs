@@ -59,6 +59,7 @@
 //! at that speed (see [`ParameterAdaptive::bound`]). A NaN or infinite input
 //! leaves the state untouched.
 
+use crate::bits::Flag;
 use crate::compensator::{Compensation, CompensatorParams, FrictionSample};
 use crate::model::{convert, non_negative, positive, ParamError};
 use crate::models::lugre::LuGreParams;
@@ -252,7 +253,7 @@ impl ParameterAdaptiveParams {
             observer_gain: convert_or_zero("observer_gain", self.observer_gain)?,
             inv_vs: convert("vs", 1.0 / self.model.curve.vs)?,
             exponent: convert("stribeck_exponent", self.model.curve.exponent)?,
-            square: self.model.curve.exponent == 2.0,
+            square: Flag::new(self.model.curve.exponent == 2.0),
             dead_zone: convert_or_zero("dead_zone", self.dead_zone)?,
             min_speed: convert_or_zero("min_speed", self.min_speed)?,
             torque_constant: convert("torque_constant", servo.torque_constant)?,
@@ -298,8 +299,8 @@ pub struct ParameterAdaptiveState<S> {
     torque: S,
     /// The external torque the user set.
     external: S,
-    started: bool,
-    primed: bool,
+    started: Flag,
+    primed: Flag,
 }
 
 impl<S: Scalar> ParameterAdaptiveState<S> {
@@ -340,7 +341,7 @@ pub struct ParameterAdaptive<S> {
     observer_gain: S,
     inv_vs: S,
     exponent: S,
-    square: bool,
+    square: Flag,
     dead_zone: S,
     min_speed: S,
     torque_constant: S,
@@ -362,7 +363,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
     pub fn initial(&self) -> ParameterAdaptiveState<S> {
         ParameterAdaptiveState {
             estimates: self.per.map(|k| k.nominal),
-            started: true,
+            started: Flag::new(true),
             ..Default::default()
         }
     }
@@ -371,9 +372,9 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// keeping the rest of it (an external torque already set).
     #[inline]
     fn start(&self, state: &mut ParameterAdaptiveState<S>) {
-        if !state.started {
+        if !state.started.get() {
             state.estimates = self.per.map(|k| k.nominal);
-            state.started = true;
+            state.started = Flag::new(true);
         }
     }
 
@@ -401,7 +402,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
     #[inline]
     fn shape(&self, v: S) -> S {
         let r = (v * self.inv_vs).abs();
-        let p = if self.square {
+        let p = if self.square.get() {
             r * r
         } else {
             r.powf(self.exponent)
@@ -439,13 +440,13 @@ impl<S: Scalar> ParameterAdaptive<S> {
         let z_dot = (z - state.z) * self.inv_h;
         state.z = zeta * g / self.sigma0;
         // adaptation
-        let de = if state.primed {
+        let de = if state.primed.get() {
             (e - state.last_error).sat(self.signal_limit)
         } else {
             S::ZERO
         };
         state.last_error = e;
-        state.primed = true;
+        state.primed = Flag::new(true);
         let adapting = e.abs() > self.dead_zone && v.abs() >= self.min_speed;
         let phi = Self::regressors(state, zeta, s, v);
         for ((x, p), k) in state.estimates.iter_mut().zip(phi).zip(&self.per) {

@@ -27,6 +27,7 @@
 //! `P` starts at `p0 I` and `w` at 0 (or the given initial weights): the
 //! first samples move `w` fast, by about `p0 / (1 + p0)` of each residual.
 
+use crate::bits::Flag;
 use crate::compensator::{Compensation, FrictionSample};
 use crate::model::{convert, positive, ParamError};
 use crate::Scalar;
@@ -154,8 +155,8 @@ impl RlsParams {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RlsState<S> {
     /// `false` until the first update: the weights are the built initial
-    /// ones and `P = p0 I`.
-    primed: bool,
+    /// ones and `P = p0 I` (a byte: `crate::bits`).
+    primed: Flag,
     w: [S; 2],
     /// `P` as `(p00, p01, p11)`.
     p: [S; 3],
@@ -204,7 +205,7 @@ impl<S: Scalar> RlsFeedForward<S> {
     }
 
     fn weights(&self, state: &RlsState<S>) -> [S; 2] {
-        if state.primed {
+        if state.primed.get() {
             state.w
         } else {
             self.initial
@@ -212,7 +213,7 @@ impl<S: Scalar> RlsFeedForward<S> {
     }
 
     fn covariance(&self, state: &RlsState<S>) -> [S; 3] {
-        if state.primed {
+        if state.primed.get() {
             state.p
         } else {
             [self.initial_covariance, S::ZERO, self.initial_covariance]
@@ -284,7 +285,7 @@ impl<S: Scalar> RlsFeedForward<S> {
         }
         state.w = [w0, w1];
         state.p = [q00, q01, q11];
-        state.primed = true;
+        state.primed = Flag::new(true);
         state.updates = state.updates.saturating_add(1);
     }
 }

@@ -73,17 +73,48 @@ impl StribeckParams {
             fs_minus_fc: convert("fs", self.fs - self.fc)?,
             inv_vs: convert_derived("vs", 1.0 / self.vs)?,
             inv_vs_fast: convert_derived("vs", fold / self.vs)?,
-            shape,
+            shape: StoredShape::new(shape),
         })
     }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 enum Shape<S> {
     Square,
     Linear,
     Power(S),
+}
+
+/// A [`Shape`] as a curve stores it: a tag byte and the exponent, so that
+/// every bit pattern is a shape (see `crate::bits`): tag 0 the square, 1
+/// the linear shape, any other byte the power `delta` (0 in the others,
+/// so that equal shapes compare equal).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+struct StoredShape<S> {
+    tag: u8,
+    delta: S,
+}
+
+impl<S: Scalar> StoredShape<S> {
+    fn new(shape: Shape<S>) -> Self {
+        let (tag, delta) = match shape {
+            Shape::Square => (0, S::ZERO),
+            Shape::Linear => (1, S::ZERO),
+            Shape::Power(delta) => (2, delta),
+        };
+        Self { tag, delta }
+    }
+
+    /// The shape: every tag byte is one.
+    #[inline(always)]
+    fn get(self) -> Shape<S> {
+        match self.tag {
+            0 => Shape::Square,
+            1 => Shape::Linear,
+            _ => Shape::Power(self.delta),
+        }
+    }
 }
 
 /// The built Stribeck curve `g(v)`: magnitude, even, between `Fc` and `Fs`.
@@ -98,7 +129,7 @@ pub struct StribeckCurve<S> {
     /// `log2 e` (`delta = 1`) where the scalar's cheaper exponential is
     /// `2^-x` ([`Scalar::EXP2_FOLDS`]).
     inv_vs_fast: S,
-    shape: Shape<S>,
+    shape: StoredShape<S>,
 }
 
 impl<S: Scalar> StribeckCurve<S> {
@@ -106,7 +137,7 @@ impl<S: Scalar> StribeckCurve<S> {
     #[inline]
     pub fn eval(&self, v: S) -> S {
         let r = (v * self.inv_vs).abs();
-        let p = match self.shape {
+        let p = match self.shape.get() {
             Shape::Square => r * r,
             Shape::Linear => r,
             Shape::Power(delta) => r.powf(delta),
@@ -122,13 +153,14 @@ impl<S: Scalar> StribeckCurve<S> {
     #[inline(always)]
     pub fn eval_fast(&self, v: S) -> S {
         let r = (v * self.inv_vs_fast).abs();
-        let e = match self.shape {
+        let shape = self.shape.get();
+        let e = match shape {
             // fixed point: a table of cubic segments in r (about 30
             // instructions on a Cortex-M0 instead of the product r r and
             // e^-x, about 90)
             Shape::Square if !S::EXP2_FOLDS => r.exp_neg_square(),
             _ => {
-                let p = match self.shape {
+                let p = match shape {
                     Shape::Square => r * r,
                     Shape::Linear => r,
                     Shape::Power(delta) if S::EXP2_FOLDS => {
@@ -156,6 +188,19 @@ impl<S: Scalar> StribeckCurve<S> {
     /// The static level `Fs`, the maximum of `g`.
     pub fn fs(&self) -> S {
         self.fs
+    }
+
+    /// A curve of zeros, stored where a model has none (so that its stored
+    /// form needs no `Option`, see `crate::bits`); never evaluated.
+    pub(crate) fn none() -> Self {
+        Self {
+            fc: S::ZERO,
+            fs: S::ZERO,
+            fs_minus_fc: S::ZERO,
+            inv_vs: S::ZERO,
+            inv_vs_fast: S::ZERO,
+            shape: StoredShape::new(Shape::Square),
+        }
     }
 }
 

@@ -60,6 +60,16 @@ impl Mode {
     pub fn code(self) -> u8 {
         self.index() as u8
     }
+
+    /// The mode of a [`Mode::code`], any byte being one (`Primary` for a
+    /// byte no mode has): a state stores the code (`crate::bits`).
+    fn of_code(code: u8) -> Self {
+        match code {
+            1 => Mode::Fallback,
+            2 => Mode::Off,
+            _ => Mode::Primary,
+        }
+    }
 }
 
 /// Design-time parameters of the supervisor, in `f64`.
@@ -189,12 +199,51 @@ pub struct SupervisorStatus<S> {
 pub struct SupervisedState<T, S> {
     /// The primary compensation's state.
     pub primary: T,
-    status: SupervisorStatus<S>,
+    status: StoredStatus<S>,
     /// The last two estimates `[primary, fallback]`, newest first.
     last: [[S; 2]; 2],
     /// Sums over the window: measured force, primary, fallback predictions.
     sums: [S; 3],
     count: u32,
+}
+
+/// A [`SupervisorStatus`] as a state stores it: the mode as its code, so
+/// that every bit pattern is a value (`crate::bits`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+struct StoredStatus<S> {
+    mode: u8,
+    switches: u32,
+    windows: u32,
+    since_switch: u32,
+    errors: [S; 3],
+}
+
+impl<S: Copy> StoredStatus<S> {
+    fn new(s: SupervisorStatus<S>) -> Self {
+        Self {
+            mode: s.mode.code(),
+            switches: s.switches,
+            windows: s.windows,
+            since_switch: s.since_switch,
+            errors: s.errors,
+        }
+    }
+
+    fn get(&self) -> SupervisorStatus<S> {
+        SupervisorStatus {
+            mode: self.mode(),
+            switches: self.switches,
+            windows: self.windows,
+            since_switch: self.since_switch,
+            errors: self.errors,
+        }
+    }
+
+    #[inline]
+    fn mode(&self) -> Mode {
+        Mode::of_code(self.mode)
+    }
 }
 
 /// The built supervisor around a primary compensation `P` and a static
@@ -228,13 +277,14 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
 
     /// The status of `state`.
     pub fn status<T>(&self, state: &SupervisedState<T, S>) -> SupervisorStatus<S> {
-        state.status
+        state.status.get()
     }
 
     /// Ends a window: updates the errors and, past the warm-up, the mode.
     fn close_window<T>(&self, state: &mut SupervisedState<T, S>) {
         let [force, primary, fallback] = state.sums;
-        let st = &mut state.status;
+        let mut status = state.status.get();
+        let st = &mut status;
         for (i, predicted) in [primary, fallback, S::ZERO].into_iter().enumerate() {
             let error = ((force - predicted) * self.inv_window).sat(S::from_f64(1e15));
             let squared = error * error;
@@ -252,6 +302,7 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
         state.count = 0;
         // a switch holds for `dwell` windows (the errors then reflect it)
         if st.windows <= self.warm_up || st.since_switch < self.dwell {
+            state.status = StoredStatus::new(*st);
             return;
         }
         let floor = self.floor;
@@ -283,6 +334,7 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
             st.switches = st.switches.saturating_add(1);
             st.since_switch = 0;
         }
+        state.status = StoredStatus::new(*st);
     }
 }
 
@@ -300,7 +352,7 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
     /// another compensation caused would teach it the wrong values.
     #[inline]
     fn estimate(&self, state: &mut Self::State, v: S, e: S, h: S) -> S {
-        let e = if state.status.mode == Mode::Primary {
+        let e = if state.status.mode() == Mode::Primary {
             e
         } else {
             S::ZERO
@@ -314,7 +366,7 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
         let fallback = self.fallback.step(&mut (), v, h);
         let [newest, _] = state.last;
         state.last = [[primary, fallback], newest];
-        match state.status.mode {
+        match state.status.mode() {
             Mode::Primary => primary,
             Mode::Fallback => fallback,
             Mode::Off => S::ZERO,
@@ -336,7 +388,7 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
         *force = *force + sample.force;
         *primary = *primary + half * (p1 + p2);
         *fallback = *fallback + half * (f1 + f2);
-        state.count += 1;
+        state.count = state.count.saturating_add(1);
         if state.count >= self.window {
             self.close_window(state);
         }

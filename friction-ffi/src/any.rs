@@ -15,9 +15,10 @@
 
 use crate::params::{FRICTION_BRISTLES, FRICTION_ELEMENTS, FRICTION_LEUVEN_MEMORY};
 use friction_core::{
-    Bristle, CoulombViscous, Dahl, DahlAt, ElastoPlastic, ElastoPlasticAt, FixedStepModel,
-    FixedStepObservable, FrictionModel, Gms, GmsAt, Leuven, LuGre, LuGreAt, Observable,
-    ResetIntegrator, Scalar, StribeckMap, Xiong, XiongAt,
+    Bristle, BristleState, CoulombViscous, Dahl, DahlAt, DahlState, ElastoPlastic, ElastoPlasticAt,
+    FixedStepModel, FixedStepObservable, FrictionModel, Gms, GmsAt, GmsState, Leuven, LeuvenState,
+    LuGre, LuGreAt, LuGreAtState, LuGreState, Observable, ResetIntegrator, ResetIntegratorState,
+    Scalar, SlipMode, StribeckMap, Xiong, XiongAt, XiongAtState, XiongState,
 };
 
 /// The kind of a state before its first step (no union field written).
@@ -126,6 +127,55 @@ macro_rules! family {
     };
 }
 
+/// A state whose bytes may need making valid before they are read as it:
+/// the core stores its private fields in forms every bit pattern is a value
+/// of, but a public field may hold an enum (GMS's slip modes), which C's
+/// bytes may not be a value of.
+trait Repair {
+    /// Makes the bytes at `state` a value of `Self` where they are not
+    /// (a public enum field's byte outside its discriminants becomes one of
+    /// them); nothing for a state of numbers.
+    ///
+    /// # Safety
+    ///
+    /// `state` is aligned and valid for reads and writes of a `Self`; its
+    /// bytes may be any (they are read as bytes only).
+    #[inline(always)]
+    unsafe fn repair(state: *mut Self) {
+        let _ = state;
+    }
+}
+
+impl Repair for () {}
+impl<S: Scalar, const N: usize> Repair for BristleState<S, N> {}
+impl<S: Scalar> Repair for ResetIntegratorState<S> {}
+impl<S: Scalar> Repair for DahlState<S> {}
+impl<S: Scalar> Repair for LuGreState<S> {}
+impl<S: Scalar> Repair for LuGreAtState<S> {}
+impl<S: Scalar, const M: usize> Repair for LeuvenState<S, M> {}
+impl<S: Scalar, const N: usize> Repair for XiongState<S, N> {}
+impl<S: Scalar, const N: usize> Repair for XiongAtState<S, N> {}
+
+/// GMS's public `mode` field: each byte read as a byte and written back as
+/// the mode `SlipMode::from_byte` reads it as (a `repr(u8)` enum: one byte
+/// each), so that a byte no mode has becomes `Stick` before the array is
+/// read as `SlipMode`s.
+impl<S: Scalar, const N: usize> Repair for GmsState<S, N> {
+    #[inline]
+    unsafe fn repair(state: *mut Self) {
+        const { assert!(core::mem::size_of::<SlipMode>() == 1) };
+        // SAFETY: `state` is valid (the caller); the field's N modes are
+        // N bytes (`repr(u8)`), each read and written as a `u8`.
+        unsafe {
+            let modes = core::ptr::addr_of_mut!((*state).mode).cast::<u8>();
+            for i in 0..N {
+                let byte = modes.add(i);
+                byte.write(SlipMode::from_byte(byte.read()) as u8);
+            }
+        }
+    }
+}
+
 /// `$body` with `$m` and `$s` bound to the model and its state, for the
 /// model's kind; an unknown kind gives `S::ZERO` (never reached: the calls
 /// check the kind first). A state of another kind (or `REST`) is first
@@ -140,10 +190,14 @@ macro_rules! each {
                 // SAFETY: the model's kind is this arm's, and a kind is only
                 // ever written together with the union field it names (by
                 // the constructors and `own`; C may copy them), C's bytes
-                // in that field being read as it (see slot.rs on what cannot
-                // be checked inside the core's values); the state's kind is
+                // in that field being read as it (any bytes are a value of
+                // the core's stored forms: see slot.rs); the state's kind is
                 // the model's (`own` made it so when it was not).
                 $kinds::$field => {
+                    // SAFETY: the state's union field is inside `state`, a
+                    // unique reference, and aligned; `repair` reads its
+                    // bytes as bytes only.
+                    unsafe { Repair::repair(core::ptr::addr_of_mut!(state.u.$field)) };
                     let ($m, $s) = unsafe { (&model.u.$field, &mut state.u.$field) };
                     $body
                 }

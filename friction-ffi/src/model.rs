@@ -94,8 +94,8 @@ impl<S: Scalar> Model<S> {
     pub(crate) fn load(kind: u32, stored: &Stored<S>) -> Option<Self> {
         // SAFETY (each arm): a kind is only written with the field it names
         // (`slot::put_kind` from `stored`; C may copy both), and C's bytes
-        // in that field are read as it (see slot.rs on what cannot be
-        // checked inside the core's values).
+        // in that field are read as it (any bytes are a value of
+        // the core's stored forms: see slot.rs).
         let (model, valid) = match kind {
             kind::STATIC => {
                 let m = unsafe { stored.static_map };

@@ -134,8 +134,8 @@ where
     };
     // SAFETY (each arm): a kind is only written with the field it names
     // (`slot::put_kind` from `stored`; C may copy both), and C's bytes in
-    // that field are read as it (see slot.rs on what cannot be checked
-    // inside the core's values).
+    // that field are read as it (any bytes are a value of
+    // the core's stored forms: see slot.rs).
     match kind {
         kind::VARIABLE => {
             let (o, s) = unsafe { &mut observer.variable };

@@ -184,8 +184,8 @@ macro_rules! each_servo {
         let servo: &mut Stored<S> = $servo;
         // SAFETY (each arm): a kind is only written with the field it names
         // (`slot::put_kind` from `Servo::stored`; C may copy both), and C's
-        // bytes in that field are read as it (see slot.rs on what cannot be
-        // checked inside the core's values).
+        // bytes in that field are read as it (any bytes are a value of
+        // the core's stored forms: see slot.rs).
         match $kind {
             kind::NONE => {
                 let ($c, $s) = unsafe { &mut servo.none };

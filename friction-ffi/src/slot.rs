@@ -19,16 +19,19 @@
 //! (`crate::any`), whose dispatch never reads a union field for a kind no
 //! constructor writes.
 //!
-//! What this cannot check: the private fields of the core's built models
-//! and states. `friction_core` keeps a few `bool`s and enums inside them
-//! (the Stribeck curve's shape, the observer's damping flag, the GMS slip
-//! modes, ...) and integers (the bristle model's re-bond budget, the
-//! adaptive observer's scale exponent). Bytes that carry a right tag word
-//! but were changed inside a core value by C are read as that value; an
-//! uninitialised or `memset` object, or a random pattern but with a chance
-//! of a few in 2^32, does not get that far. Checking them needs the core to
-//! store them in a form every bit pattern is a value of (or to check them
-//! itself).
+//! Behind a right tag word, C's bytes are read as the core's values: a
+//! tag-correct object whose other bytes C changed (or a random pattern
+//! with a chance of a few in 2^32) is viewed as the model, observer or
+//! compensator it claims to be. So `friction_core` stores every private
+//! field in a form that any bytes are a value of (its `bits` module:
+//! flags as bytes read `!= 0`, choices as bytes decoded totally, an
+//! optional curve as a curve and a flag) and bounds the integers where it
+//! uses them (the bristle model's re-bond budget, the elasto-plastic
+//! sub-step count, the adaptive observer's scale exponent, counters); the
+//! one public field that is an enum, GMS's slip modes, is made valid by
+//! `crate::any` (`Repair`) before the state is viewed. Such an object gives
+//! garbage numbers and a documented status, never undefined behaviour, a
+//! panic or a long loop (`tests/garbage.rs`, under Miri too).
 
 /// A C-visible object of `WORDS` 64-bit words holding one `Value`.
 pub(crate) trait Opaque: Sized {

@@ -831,6 +831,40 @@ fn servo_tick_matches_the_core() {
 }
 
 #[test]
+fn an_adaptive_bound_out_of_range_is_named() {
+    let mut m = model_f64();
+    assert_eq!(
+        friction_lugre_init_f64(Some(&mut m), Some(&LUGRE), 1e-3, None),
+        FRICTION_OK
+    );
+    let adaptive = friction_adaptive_params {
+        gamma: 50.0,
+        gamma_derivative: 0.0,
+        leakage: 0.0,
+        theta0: 1.0,
+        theta_min: 0.2,
+        theta_max: 1e-300,
+    };
+    let mut s = friction_servo_f64 {
+        opaque: [0; FRICTION_SERVO_F64_WORDS],
+    };
+    let mut err = no_error();
+    // theta_min (0.2) and theta0 (1) are right; theta_max is what is wrong
+    assert_eq!(
+        friction_servo_init_f64(
+            Some(&mut s),
+            Some(&servo_params()),
+            Some(&m),
+            200.0,
+            Some(&adaptive),
+            Some(&mut err)
+        ),
+        FRICTION_OUT_OF_RANGE
+    );
+    assert_eq!(name(&err), "theta_max");
+}
+
+#[test]
 fn every_status_has_a_distinct_name() {
     let names: Vec<String> = (0..=16)
         .map(|s| {

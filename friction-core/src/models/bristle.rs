@@ -52,11 +52,16 @@ use crate::Scalar;
 /// [`Bristle::with_snap_budget`]).
 pub const DEFAULT_SNAPS: u32 = 2;
 
-/// `per_bristle N` (at least 1), saturating.
+/// The most re-bonds per bristle and step a budget may allow
+/// ([`Bristle::with_snap_budget`] clamps to it): a step's loop is bounded
+/// by `MAX_SNAPS N` draws even for a stored budget C has overwritten.
+pub const MAX_SNAPS: u32 = 1024;
+
+/// `per_bristle N` (`per_bristle` within `1..=MAX_SNAPS`), saturating.
 fn snap_budget(n: usize, per_bristle: u32) -> u32 {
     u32::try_from(n)
         .unwrap_or(u32::MAX)
-        .saturating_mul(per_bristle.max(1))
+        .saturating_mul(per_bristle.clamp(1, MAX_SNAPS))
 }
 
 /// Bristle-model parameters (`model = "bristle"`).
@@ -135,7 +140,8 @@ impl<S: Scalar, const N: usize> Default for BristleState<S, N> {
 
 impl<S: Scalar, const N: usize> Bristle<S, N> {
     /// The same model with a budget of `per_bristle N` re-bonds per step
-    /// (`per_bristle` at least 1; [`DEFAULT_SNAPS`] = 2 when built): the
+    /// (`per_bristle` from 1 to [`MAX_SNAPS`]; [`DEFAULT_SNAPS`] = 2 when
+    /// built): the
     /// worst-case step draws that many, and a step that needs more holds
     /// the bristles it cannot re-bond at `±delta_s` (see the module docs).
     /// A desk simulation that wants the exact event sequence at any speed
@@ -245,7 +251,9 @@ impl<S: Scalar, const N: usize> Bristle<S, N> {
     /// state untouched) and returns the force.
     fn advance(&self, state: &mut BristleState<S, N>, d: S) -> S {
         if d != S::ZERO {
-            let mut budget = self.budget;
+            // a valid model's budget is at most this: the bound holds for
+            // any stored bytes
+            let mut budget = self.budget.min(snap_budget(N, MAX_SNAPS));
             for (i, (s, b)) in state
                 .strain
                 .iter_mut()

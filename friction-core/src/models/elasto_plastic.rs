@@ -716,7 +716,10 @@ impl<S: Scalar> ElastoPlasticAt<S> {
         let eps = self.ratio(width, inv_w_max);
         // quotients of scaled forces: 1/width in scaled units is tiny in fixed point
         let u = ((w_max - w) / width).min(S::ONE);
-        (w + zone_step_at(u, xi, width, eps, w_max - w, usize::from(self.max_substeps))).min(w_max)
+        // at most MAX_SUBSTEPS whatever the stored byte (C may have
+        // overwritten it): the same count for a built model
+        let substeps = usize::from(self.max_substeps).min(MAX_SUBSTEPS);
+        (w + zone_step_at(u, xi, width, eps, w_max - w, substeps)).min(w_max)
     }
 
     // CORRECTED: the observer's step, with its correction `c`; the model's

@@ -277,19 +277,35 @@ pub struct Gms<S, const N: usize> {
 }
 
 /// Whether an element sticks or slips, and which way.
+///
+/// One byte with the discriminants given ([`SlipMode::from_byte`] reads
+/// any byte as one): [`GmsState`] holds these in a public field, so a
+/// caller that keeps states in memory others may overwrite (the C ABI) can
+/// check the bytes before it reads them as `SlipMode`s.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[repr(u8)]
 pub enum SlipMode {
     /// Sticking: the element deflects with the velocity.
     #[default]
-    Stick,
+    Stick = 0,
     /// Slipping with `v > 0`.
-    Forward,
+    Forward = 1,
     /// Slipping with `v < 0`.
-    Backward,
+    Backward = 2,
 }
 
 impl SlipMode {
+    /// The mode a byte holds: its discriminant, and `Stick` for a byte no
+    /// mode has (so that any byte is read as some mode).
+    pub const fn from_byte(byte: u8) -> Self {
+        match byte {
+            1 => Self::Forward,
+            2 => Self::Backward,
+            _ => Self::Stick,
+        }
+    }
+
     /// Whether the element slips and `v` still has the sign it slips with.
     #[inline]
     fn slips_with<S: Scalar>(self, v: S) -> bool {

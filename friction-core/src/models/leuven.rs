@@ -93,6 +93,7 @@
 //! let m = p.build::<f32, 0>(); // error: a memory of capacity 0
 //! ```
 
+use crate::bits::Flag;
 use crate::model::{
     check_force, checked_inputs, convert, convert_derived, magnitude, magnitude_or_zero,
     FrictionModel, ParamError, VELOCITY_LIMIT,
@@ -187,7 +188,7 @@ impl LeuvenParams {
         } else if self.n == 2.0 {
             Power::Two
         } else {
-            Power::Real(convert("n", self.n)?)
+            Power::Real
         };
         // tolerance on z of the Newton iteration: a few ulps of xs
         let eps = if S::from_f64(1.0 + 1e-10).to_f64() == 1.0 {
@@ -200,7 +201,7 @@ impl LeuvenParams {
             sigma1: convert("sigma1", self.sigma1)?,
             sigma2: convert("sigma2", self.sigma2)?,
             n: convert("n", self.n)?,
-            shape,
+            shape: shape as u8,
             fs: convert("fs", fs)?,
             fm: convert("fs", 2.0 * fs)?,
             width: convert("xs", 2.0 * xs)?,
@@ -214,13 +215,28 @@ impl LeuvenParams {
     }
 }
 
-/// `rho^n` for the common exponents without `powf`.
+/// `rho^n` for the common exponents without `powf`; stored as its `u8`
+/// (see `crate::bits`) and read by [`Power::of`], for which any byte is
+/// one.
 #[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-enum Power<S> {
-    One,
-    Two,
-    Real(S),
+enum Power {
+    One = 0,
+    Two = 1,
+    /// `powf` with the model's `n`.
+    Real = 2,
+}
+
+impl Power {
+    /// The power a stored byte stands for: 0 and 1 the common ones, any
+    /// other byte `powf`.
+    #[inline]
+    fn of(byte: u8) -> Self {
+        match byte {
+            0 => Self::One,
+            1 => Self::Two,
+            _ => Self::Real,
+        }
+    }
 }
 
 /// The built Leuven model with a memory of `M` reversal points: immutable,
@@ -232,7 +248,8 @@ pub struct Leuven<S, const M: usize> {
     sigma1: S,
     sigma2: S,
     n: S,
-    shape: Power<S>,
+    /// A [`Power`] as its byte.
+    shape: u8,
     fs: S,
     /// `Fm = 2 Fs`: the asymptote of the virgin curve.
     fm: S,
@@ -270,7 +287,7 @@ pub struct LeuvenState<S, const M: usize> {
     dir: S,
     len: usize,
     /// The virgin curve lies below the oldest point (no slide, no drop yet).
-    virgin: bool,
+    virgin: Flag,
     points: [Reversal<S>; M],
 }
 
@@ -282,7 +299,7 @@ impl<S: Scalar, const M: usize> Default for LeuvenState<S, M> {
             fh: S::ZERO,
             dir: S::ZERO,
             len: 0,
-            virgin: true,
+            virgin: Flag::new(true),
             points: [Reversal::default(); M],
         }
     }
@@ -314,7 +331,7 @@ impl<S: Scalar, const M: usize> LeuvenState<S, M> {
 
     /// Whether the virgin curve is still remembered below the oldest point.
     pub fn on_virgin_curve(&self) -> bool {
-        self.virgin
+        self.virgin.get()
     }
 
     /// The current branch.
@@ -336,7 +353,7 @@ impl<S: Scalar, const M: usize> LeuvenState<S, M> {
     fn below(&self) -> Option<Reversal<S>> {
         match self.len {
             0 => None,
-            1 if self.virgin => self.points.first().map(|p| Reversal { z: -p.z, f: -p.f }),
+            1 if self.virgin.get() => self.points.first().map(|p| Reversal { z: -p.z, f: -p.f }),
             1 => None,
             n => self.points.get(n - 2).copied(),
         }
@@ -347,7 +364,7 @@ impl<S: Scalar, const M: usize> LeuvenState<S, M> {
         if self.len >= M {
             self.points.rotate_left(1);
             self.len = M - 1;
-            self.virgin = false;
+            self.virgin = Flag::new(false);
             self.rebase();
         }
         if let Some(p) = self.points.get_mut(self.len) {
@@ -363,7 +380,7 @@ impl<S: Scalar, const M: usize> LeuvenState<S, M> {
     /// virgin curve, the last point, back onto the virgin curve); without
     /// the virgin curve the oldest point is never popped.
     fn pop(&mut self) {
-        self.len = match (self.len, self.virgin) {
+        self.len = match (self.len, self.virgin.get()) {
             (0, _) => 0,
             (1, true) => 0,
             (1, false) => 1,
@@ -382,7 +399,7 @@ impl<S: Scalar, const M: usize> LeuvenState<S, M> {
             *p = top;
         }
         self.len = 1;
-        self.virgin = false;
+        self.virgin = Flag::new(false);
         self.rebase();
     }
 
@@ -390,7 +407,7 @@ impl<S: Scalar, const M: usize> LeuvenState<S, M> {
     /// small: pre-sliding needs its precision in `f32`). Not while the
     /// virgin curve, centred on `z = 0`, is remembered.
     fn rebase(&mut self) {
-        if self.virgin {
+        if self.virgin.get() {
             return;
         }
         let base = self.points.first().map_or(S::ZERO, |p| p.z);
@@ -454,10 +471,11 @@ impl<S: Scalar, const M: usize> Leuven<S, M> {
         if r <= S::ZERO {
             return (S::ZERO, S::ZERO);
         }
-        match self.shape {
+        match Power::of(self.shape) {
             Power::One => (r, S::ONE),
             Power::Two => (r * r, (S::ONE + S::ONE) * r),
-            Power::Real(n) => {
+            Power::Real => {
+                let n = self.n;
                 let p = r.powf(n);
                 (p, n * p / r)
             }
@@ -530,7 +548,7 @@ impl<S: Scalar, const M: usize> Leuven<S, M> {
         if state.dir != S::ZERO && e != state.dir {
             if state.len == 0 || state.z != state.branch().origin.z {
                 state.push();
-            } else if state.len >= 2 || state.virgin {
+            } else if state.len >= 2 || state.virgin.get() {
                 state.len -= 1; // back at the last point: undo its push
             }
         }
@@ -600,7 +618,7 @@ impl<S: Scalar, const M: usize> Leuven<S, M> {
         }
         let rate = self.taken(state, z0, d, v, elastic, inv_g, h);
         // sliding clears the memory below the top
-        if (state.len > 1 || state.virgin) && d == sv && sv * state.fh * inv_g >= self.slide {
+        if (state.len > 1 || state.virgin.get()) && d == sv && sv * state.fh * inv_g >= self.slide {
             state.clear();
         }
         rate

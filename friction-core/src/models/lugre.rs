@@ -16,6 +16,7 @@
 //! never formed where it could overflow (`sigma0 = 1e305` in `f64` still
 //! lands on the steady state).
 
+use crate::bits::Flag;
 use crate::fixed_step::{checked_velocity, period, signed, FixedStepModel, FixedStepObservable};
 use crate::model::{
     check_force, checked_inputs, convert, convert_derived, magnitude, magnitude_or_zero,
@@ -186,7 +187,7 @@ impl LuGreParams {
             sigma1_unscaled: sigma1.rescale_pow2(inv_scale_exp),
             sigma2: convert("sigma2", k * self.sigma2)?,
             inv_vd_sq,
-            fades: inv_vd_sq > S::ZERO,
+            fades: Flag::new(inv_vd_sq > S::ZERO),
             fs: convert("fs", k * fs)?,
             rate_factor: convert_derived("fs", 1.0 + fs / fc)?,
             inv_scale_exp,
@@ -377,7 +378,7 @@ pub struct LuGreAt<S> {
     inv_scale_exp: i8,
     /// `inv_vd_sq > 0`: `sigma1` fades with speed (a flag, one load and
     /// one branch instead of a floating-point comparison a step).
-    fades: bool,
+    fades: Flag,
     scale_s: S,
     scale: f64,
     h: f64,
@@ -491,7 +492,7 @@ impl<S: Scalar> LuGreAt<S> {
     /// `sigma1(v)`.
     #[inline(always)]
     pub(crate) fn damping(&self, v: S) -> S {
-        if self.fades {
+        if self.fades.get() {
             self.sigma1 * (v * v * self.inv_vd_sq).exp_neg()
         } else {
             self.sigma1
@@ -563,7 +564,7 @@ impl<S: Scalar> LuGreAt<S> {
                 // dimensionless factor formed from the unscaled sigma1 and
                 // 1/g, so that no rounding of a ratio (1.5e-5 in fixed
                 // point) is multiplied by sigma1 |v|, and with no division
-                let (d, d_unscaled) = if self.fades {
+                let (d, d_unscaled) = if self.fades.get() {
                     let d = self.damping(v);
                     (d, self.unscale(d))
                 } else {

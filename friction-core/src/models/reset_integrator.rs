@@ -15,6 +15,7 @@
 //! `±z0` within the step (the switching instant is handled inside the
 //! step, not at its end). Exact for held `v`.
 
+use crate::bits::Flag;
 use crate::model::{
     check_force, checked_inputs, convert, convert_derived, magnitude, magnitude_or_zero,
     FrictionModel, ParamError,
@@ -72,14 +73,15 @@ impl ResetIntegratorParams {
         check_force::<S>("sigma0", (1.0 + self.stiction) * self.sigma0 * self.z0)?;
         check_force::<S>("sigma1", self.sigma1 * 2.0 * S::VELOCITY_LIMIT.to_f64())?;
         let (curve, inv_fs) = match &self.curve {
-            Some(c) => (Some(c.build()?), convert_derived("fs", 1.0 / c.fs)?),
-            None => (None, S::ONE),
+            Some(c) => (c.build()?, convert_derived("fs", 1.0 / c.fs)?),
+            None => (StribeckCurve::none(), S::ONE),
         };
         Ok(ResetIntegrator {
             sigma0: convert("sigma0", self.sigma0)?,
             sigma1: convert("sigma1", self.sigma1)?,
             z0: convert("z0", self.z0)?,
             a: convert("stiction", self.stiction)?,
+            shaped: Flag::new(self.curve.is_some()),
             curve,
             inv_fs,
         })
@@ -94,7 +96,10 @@ pub struct ResetIntegrator<S> {
     sigma1: S,
     z0: S,
     a: S,
-    curve: Option<StribeckCurve<S>>,
+    /// The Stribeck curve, if `shaped` (stored as a curve and a flag, not
+    /// an `Option`: see `crate::bits`).
+    curve: StribeckCurve<S>,
+    shaped: Flag,
     inv_fs: S,
 }
 
@@ -110,9 +115,10 @@ impl<S: Scalar> ResetIntegrator<S> {
     /// `sigma0(v)`.
     #[inline]
     fn stiffness(&self, v: S) -> S {
-        match &self.curve {
-            Some(c) => self.sigma0 * (c.eval(v) * self.inv_fs),
-            None => self.sigma0,
+        if self.shaped.get() {
+            self.sigma0 * (self.curve.eval(v) * self.inv_fs)
+        } else {
+            self.sigma0
         }
     }
 
