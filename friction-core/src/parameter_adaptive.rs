@@ -56,6 +56,9 @@ use crate::model::{convert, non_negative, positive, ParamError};
 use crate::models::lugre::LuGreParams;
 use crate::Scalar;
 
+mod at;
+pub use at::{ParameterAdaptiveAt, ParameterAdaptiveAtState};
+
 /// The number of estimates: `Fc+`, `Fc-`, `Ds`, `sigma2`, `mu`.
 pub const ESTIMATES: usize = 5;
 
