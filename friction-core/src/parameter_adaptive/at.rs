@@ -2,7 +2,7 @@
 //! [`ParameterAdaptiveAt`], built by [`ParameterAdaptiveParams::build_at`].
 //!
 //! The law, the discretisation and the bounds are
-//! [`ParameterAdaptive`](super::ParameterAdaptive)'s; what differs is what
+//! [`ParameterAdaptive`]'s; what differs is what
 //! the state carries. The variable form keeps the bristle `z` (rad) and
 //! forms `sigma0 h`, `1/h` and `sigma1` at run time: in Q16.16 a bristle of
 //! `Fc / sigma0` is a few units of the last place, `h = 1e-3` is not held
@@ -16,13 +16,16 @@
 //!   allow within range, so an estimate's last place is about `1.5e-5 / k` N);
 //! - every product with `h` formed once in `f64` when built: `k sigma0 h`,
 //!   `sigma1 / (sigma0 h)` (the damping term from the change of `w`), and
-//!   each estimate's `k γ h`, `k γd`, as [`Gain`]s (a mantissa and a power
-//!   of two) so that gains far from 1 keep their precision.
+//!   the levels' `k γ h`, `k γd` and each estimate's weight (its gains over
+//!   the levels'), each as a mantissa and a power of two so that gains far
+//!   from 1 keep their precision; the adaptation signal is formed once a
+//!   tick and scaled by each weight.
 //!
 //! ```text
-//! W' = (W + k sigma0 h (v - k_o e)) / (1 + k sigma0 h |v| / G),   G = k g^(v)
-//! ζ  = clamp(W' / G, -1, 1),  W = ζ G
-//! F^ = (W + sigma1 / (sigma0 h) (W' - W_old) + k sigma2^ v) / k
+//! ζ' = (W + k sigma0 h (v - k_o e)) / (G + k sigma0 h |v|),   G = k g^(v)
+//!                      (= W' / G of the variable form's implicit Euler step)
+//! ζ  = clamp(ζ', -1, 1),  W = ζ G
+//! F^ = (W + sigma1 / (sigma0 h) (ζ' G - W_old) + k sigma2^ v) / k
 //! ```
 //!
 //! In `f64` it agrees with the variable form to rounding; in `f32` and
@@ -71,7 +74,7 @@ pub struct ParameterAdaptiveAtState<S> {
 /// documentation](self)): immutable, shared by any number of
 /// [`ParameterAdaptiveAtState`]s; a [`Compensation`] for a
 /// [`Compensator`](crate::Compensator) at the period it was built for, in
-/// `f32`, `f64` or [`Fixed32`](crate::Fixed32).
+/// `f32`, `f64` or `Fixed32` (feature `fixed`).
 ///
 /// ```
 /// use friction_core::{CompensatorParams, CompensatorState, LuGreParams, ParameterAdaptiveParams, Setpoint};
