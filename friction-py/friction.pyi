@@ -53,9 +53,14 @@ class Model:
         gain: float = 200.0,
         adaptive: Optional[dict] = None,
         velocity_filter: Optional[float] = None,
+        parameter_adaptive: Union[bool, dict, None] = None,
+        supervisor: Union[bool, dict, None] = None,
     ) -> "Compensator":
         """The compensated servo tick around the model's observer (or the
-        theta-adaptive observer when `adaptive` is a dict of its parameters)."""
+        theta-adaptive observer when `adaptive` is a dict of its parameters,
+        or the per-parameter adaptive observer under its supervisor when
+        `parameter_adaptive` is True or a dict of its settings; a
+        `supervisor` dict sets the supervisor, False turns it off)."""
 
 class Observer:
     """A model's observer at a fixed period: positions in, friction estimate out."""
@@ -78,7 +83,13 @@ class Compensator:
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
         """One tick per recorded sample (open loop): (commands, frictions)."""
     def adapted(self) -> dict[str, float]:
-        """The adapted quantities after the last tick (`theta` when adaptive)."""
+        """The adapted quantities after the last tick (`theta` when adaptive;
+        `fc_pos`, `fc_neg`, `stribeck`, `sigma2`, `load` and, supervised,
+        the `mode` code for the per-parameter law)."""
+    @property
+    def mode(self) -> Optional[str]:
+        """The supervisor's mode after the last tick: "primary", "fallback"
+        or "off"; None without a supervisor."""
 
 def load(path: Union[str, PathLike]) -> Model:
     """A parameter file exactly as the command line reads it (ValueError

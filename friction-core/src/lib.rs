@@ -54,7 +54,10 @@ pub use models::lugre::{LuGre, LuGreAt, LuGreAtState, LuGreParams, LuGreState};
 pub use models::reset_integrator::{ResetIntegrator, ResetIntegratorParams, ResetIntegratorState};
 pub use models::xiong::{Xiong, XiongAt, XiongAtState, XiongElement, XiongParams, XiongState};
 pub use observer::{Observable, Observer};
-pub use parameter_adaptive::{ParameterAdaptive, ParameterAdaptiveParams, ParameterAdaptiveState};
+pub use parameter_adaptive::{
+    ParameterAdaptive, ParameterAdaptiveAt, ParameterAdaptiveAtState, ParameterAdaptiveParams,
+    ParameterAdaptiveState,
+};
 pub use rls::{RlsFeedForward, RlsParams, RlsState};
 pub use scalar::{Conversion, Scalar};
 pub use stribeck::{
@@ -91,3 +94,22 @@ pub type AdaptiveLuGreServo<S> = AdaptiveServo<LuGreAt<S>, S>;
 /// A compensated servo tick with a static feed-forward map `F`, e.g.
 /// `FeedForwardServo<CoulombViscous<f32>, f32>`.
 pub type FeedForwardServo<F, S> = Compensator<S, FeedForward<F>>;
+
+/// The per-parameter adaptive observer's fixed-step form under its
+/// supervisor, with a Coulomb + viscous map as the static fallback: the
+/// compensation of `friction servo`'s `adaptive` rows, in any scalar.
+///
+/// ```
+/// use friction_core::{CompensatorParams, CoulombViscousParams, LuGreParams,
+///     ParameterAdaptiveParams, ParameterAdaptiveServo, SupervisorParams};
+/// let servo = CompensatorParams { h: 1e-3, kp: 60.0, ki: 200.0, kd: 1.2,
+///     inertia: 0.0023, torque_constant: 1.02, limit: 10.0 };
+/// let adaptive = ParameterAdaptiveParams::new(LuGreParams::OLSSON_1998, 20.0).build_at::<f32>(&servo)?;
+/// let fallback = CoulombViscousParams { fc: 0.28, sigma2: 0.0176 }.build::<f32>()?;
+/// let supervised = SupervisorParams::DEFAULT.build(adaptive, fallback, servo.h)?;
+/// let ctl: ParameterAdaptiveServo<f32> = servo.build(supervised)?;
+/// # let _ = ctl;
+/// # Ok::<(), friction_core::ParamError>(())
+/// ```
+pub type ParameterAdaptiveServo<S> =
+    Compensator<S, Supervised<ParameterAdaptiveAt<S>, CoulombViscous<S>, S>>;

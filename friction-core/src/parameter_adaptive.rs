@@ -58,12 +58,18 @@
 //! and the output is finite and within the largest friction the boxes allow
 //! at that speed (see [`ParameterAdaptive::bound`]). A NaN or infinite input
 //! leaves the state untouched.
+//!
+//! The fixed-step form for every scalar, Q16.16 included, is [`at`]
+//! ([`ParameterAdaptiveParams::build_at`]).
 
 use crate::bits::Flag;
 use crate::compensator::{Compensation, CompensatorParams, FrictionSample};
 use crate::model::{convert, non_negative, positive, ParamError};
 use crate::models::lugre::LuGreParams;
 use crate::Scalar;
+
+pub mod at;
+pub use at::{ParameterAdaptiveAt, ParameterAdaptiveAtState};
 
 /// The number of estimates: `Fc+`, `Fc-`, `Ds`, `sigma2`, `mu`.
 pub const ESTIMATES: usize = 5;

@@ -68,6 +68,24 @@
 #define FRICTION_NAME_LEN 32
 
 /**
+ * Which compensation the supervisor applies.
+ */
+typedef enum {
+  /**
+   * The adaptive observer.
+   */
+  FRICTION_MODE_PRIMARY = 0,
+  /**
+   * The static fallback (Coulomb + viscous feed-forward).
+   */
+  FRICTION_MODE_FALLBACK = 1,
+  /**
+   * No compensation.
+   */
+  FRICTION_MODE_OFF = 2,
+} friction_mode;
+
+/**
  * What a call did: `FRICTION_OK` (0) or why it refused. Values are stable;
  * [`friction_status_name`] names each one. In C the type is an
  * `int32_t` (the enum names the values), the same size on every target.
@@ -632,6 +650,169 @@ typedef struct {
   double friction;
 } friction_tick_f64;
 
+/**
+ * The per-parameter adaptive observer (`friction_core::ParameterAdaptiveParams`):
+ * a LuGre observer whose Coulomb level per direction, Stribeck excess,
+ * viscous and load coefficients are each estimated within a box.
+ * `friction_parameter_adaptive_defaults` fills the defaults around a model.
+ */
+typedef struct {
+  /**
+   * The nominal model: its `fc` (both directions), `fs - fc` and `sigma2`
+   * start the estimates; `vd` is not used.
+   */
+  friction_lugre_params model;
+  /**
+   * Observer gain `k >= 0` (1/s).
+   */
+  double observer_gain;
+  /**
+   * Adaptation rate `>= 0` (1/s).
+   */
+  double rate;
+  /**
+   * Weight `>= 0` of the error's rate in the adaptation signal.
+   */
+  double derivative_weight;
+  /**
+   * Leakage toward the nominal values, `>= 0` (1/s).
+   */
+  double leakage;
+  /**
+   * Box factor `>= 1` of the projection.
+   */
+  double box_factor;
+  /**
+   * Dead zone `>= 0` on `|e|` (position units; e.g. one encoder count).
+   */
+  double dead_zone;
+  /**
+   * Adaptation only while `|v| >= min_speed >= 0`.
+   */
+  double min_speed;
+  /**
+   * Reference speed `> 0` of the viscous estimate (e.g. the peak speed).
+   */
+  double speed;
+  /**
+   * Nominal load coefficient `>= 0` (friction per unit of transmitted torque).
+   */
+  double load;
+  /**
+   * Upper bound `load_max >= load` of the load coefficient (0: no load term).
+   */
+  double load_max;
+} friction_parameter_adaptive_params;
+
+/**
+ * The supervisor (`friction_core::SupervisorParams`): it applies whichever
+ * of the adaptive observer, the static fallback and no compensation
+ * predicts the measured friction best, with hysteresis.
+ * `friction_supervisor_defaults` fills the defaults.
+ */
+typedef struct {
+  /**
+   * Evidence window `> 0` (s).
+   */
+  double window;
+  /**
+   * Memory of the mean-square prediction errors, in windows (`>= 1`).
+   */
+  double memory;
+  /**
+   * Switch when the best candidate's error is below `ratio` times the
+   * active one's (`0 < ratio <= 1`).
+   */
+  double ratio;
+  /**
+   * Windows before the first switch (`>= 0`).
+   */
+  double warm_up;
+  /**
+   * Windows in a fallback mode after which the adaptive observer is
+   * tried again (`>= 0`; 0: never).
+   */
+  double retry;
+  /**
+   * Prediction errors below this (force units) count as equal (`>= 0`).
+   */
+  double tolerance;
+} friction_supervisor_params;
+
+/**
+ * The estimates of the per-parameter adaptive observer, in `float`.
+ */
+typedef struct {
+  /**
+   * Coulomb level while the bristle leans forward (N).
+   */
+  float fc_pos;
+  /**
+   * Coulomb level while it leans backward (N, positive).
+   */
+  float fc_neg;
+  /**
+   * Stribeck excess `fs - fc` (N).
+   */
+  float stribeck;
+  /**
+   * Viscous coefficient `sigma2`.
+   */
+  float sigma2;
+  /**
+   * Load coefficient (friction per unit of transmitted torque).
+   */
+  float load;
+} friction_estimates_f32;
+
+/**
+ * [`friction_estimates_f32`] in `double`.
+ */
+typedef struct {
+  /**
+   * Coulomb level while the bristle leans forward (N).
+   */
+  double fc_pos;
+  /**
+   * Coulomb level while it leans backward (N, positive).
+   */
+  double fc_neg;
+  /**
+   * Stribeck excess `fs - fc` (N).
+   */
+  double stribeck;
+  /**
+   * Viscous coefficient `sigma2`.
+   */
+  double sigma2;
+  /**
+   * Load coefficient (friction per unit of transmitted torque).
+   */
+  double load;
+} friction_estimates_f64;
+
+/**
+ * The supervisor's state: the applied mode and how it got there.
+ */
+typedef struct {
+  /**
+   * The applied compensation.
+   */
+  friction_mode mode;
+  /**
+   * Switches so far.
+   */
+  uint32_t switches;
+  /**
+   * Completed evidence windows.
+   */
+  uint32_t windows;
+  /**
+   * Windows since the last switch.
+   */
+  uint32_t since_switch;
+} friction_supervisor_status;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -930,6 +1111,78 @@ friction_status friction_servo_theta_f32(friction_servo_f32 *servo, float *theta
  * [`friction_servo_theta_f32`] in `double`.
  */
 friction_status friction_servo_theta_f64(friction_servo_f64 *servo, double *theta);
+
+/**
+ * A servo axis in `float` with the per-parameter adaptive observer under
+ * its supervisor: the loop `params`, the observer `adaptive` (its
+ * fixed-step form, built for `params->h`), the supervisor `supervisor`
+ * and its static fallback `fallback` (Coulomb + viscous feed-forward on
+ * the measured velocity). The supervisor applies whichever of the
+ * observer, the fallback and no compensation predicts the measured
+ * friction best (`friction_servo_supervisor_f32`); the estimates are read
+ * with `friction_servo_estimates_f32`.
+ */
+friction_status friction_servo_parameter_adaptive_init_f32(friction_servo_f32 *out,
+                                                           const friction_servo_params *params,
+                                                           const friction_parameter_adaptive_params *adaptive,
+                                                           const friction_supervisor_params *supervisor,
+                                                           const friction_coulomb_viscous_params *fallback,
+                                                           friction_error *error);
+
+/**
+ * [`friction_servo_parameter_adaptive_init_f32`] in `double`.
+ */
+friction_status friction_servo_parameter_adaptive_init_f64(friction_servo_f64 *out,
+                                                           const friction_servo_params *params,
+                                                           const friction_parameter_adaptive_params *adaptive,
+                                                           const friction_supervisor_params *supervisor,
+                                                           const friction_coulomb_viscous_params *fallback,
+                                                           friction_error *error);
+
+/**
+ * The defaults of the per-parameter adaptive observer around the nominal
+ * `model` with observer gain `gain` (1/s): rate 4 1/s, derivative weight
+ * 1, no leakage, box factor 5, no dead zone, no speed threshold,
+ * reference speed 1, no load term. Nothing is checked until a
+ * constructor uses them.
+ */
+friction_status friction_parameter_adaptive_defaults(const friction_lugre_params *model,
+                                                     double gain,
+                                                     friction_parameter_adaptive_params *out);
+
+/**
+ * The supervisor's defaults: windows of 0.1 s, a memory of 10 windows,
+ * ratio 0.7, warm-up 10 windows, a retry after 100 windows, no tolerance
+ * (set one: a few per cent of the Coulomb level).
+ */
+friction_status friction_supervisor_defaults(friction_supervisor_params *out);
+
+/**
+ * The per-parameter adaptive servo's estimates (the nominal values before
+ * its first tick); `FRICTION_NOT_SUPPORTED` for other compensations.
+ */
+friction_status friction_servo_estimates_f32(friction_servo_f32 *servo,
+                                             friction_estimates_f32 *out);
+
+/**
+ * [`friction_servo_estimates_f32`] in `double`.
+ */
+friction_status friction_servo_estimates_f64(friction_servo_f64 *servo,
+                                             friction_estimates_f64 *out);
+
+/**
+ * The per-parameter adaptive servo's supervisor: the applied mode, the
+ * switches and windows so far; `FRICTION_NOT_SUPPORTED` for other
+ * compensations.
+ */
+friction_status friction_servo_supervisor_f32(friction_servo_f32 *servo,
+                                              friction_supervisor_status *out);
+
+/**
+ * [`friction_servo_supervisor_f32`] in `double`.
+ */
+friction_status friction_servo_supervisor_f64(friction_servo_f64 *servo,
+                                              friction_supervisor_status *out);
 
 /**
  * A short English description of `status` (a static NUL-terminated

@@ -4,8 +4,9 @@
 
 use friction_core::{
     AdaptiveParams, BristleParams, CompensatorParams, CoulombViscousParams, DahlParams,
-    ElastoPlasticParams, GmsElement, GmsParams, LeuvenParams, LuGreParams, ResetIntegratorParams,
-    StribeckMapParams, StribeckParams, XiongElement, XiongParams,
+    ElastoPlasticParams, GmsElement, GmsParams, LeuvenParams, LuGreParams, ParameterAdaptiveParams,
+    ResetIntegratorParams, StribeckMapParams, StribeckParams, SupervisorParams, XiongElement,
+    XiongParams,
 };
 
 /// Element count of the GMS and Xiong models in this ABI.
@@ -379,6 +380,105 @@ impl From<&friction_adaptive_params> for AdaptiveParams {
             theta0: p.theta0,
             theta_min: p.theta_min,
             theta_max: p.theta_max,
+        }
+    }
+}
+
+/// The per-parameter adaptive observer (`friction_core::ParameterAdaptiveParams`):
+/// a LuGre observer whose Coulomb level per direction, Stribeck excess,
+/// viscous and load coefficients are each estimated within a box.
+/// `friction_parameter_adaptive_defaults` fills the defaults around a model.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct friction_parameter_adaptive_params {
+    /// The nominal model: its `fc` (both directions), `fs - fc` and `sigma2`
+    /// start the estimates; `vd` is not used.
+    pub model: friction_lugre_params,
+    /// Observer gain `k >= 0` (1/s).
+    pub observer_gain: f64,
+    /// Adaptation rate `>= 0` (1/s).
+    pub rate: f64,
+    /// Weight `>= 0` of the error's rate in the adaptation signal.
+    pub derivative_weight: f64,
+    /// Leakage toward the nominal values, `>= 0` (1/s).
+    pub leakage: f64,
+    /// Box factor `>= 1` of the projection.
+    pub box_factor: f64,
+    /// Dead zone `>= 0` on `|e|` (position units; e.g. one encoder count).
+    pub dead_zone: f64,
+    /// Adaptation only while `|v| >= min_speed >= 0`.
+    pub min_speed: f64,
+    /// Reference speed `> 0` of the viscous estimate (e.g. the peak speed).
+    pub speed: f64,
+    /// Nominal load coefficient `>= 0` (friction per unit of transmitted torque).
+    pub load: f64,
+    /// Upper bound `load_max >= load` of the load coefficient (0: no load term).
+    pub load_max: f64,
+}
+
+impl From<&friction_parameter_adaptive_params> for ParameterAdaptiveParams {
+    fn from(p: &friction_parameter_adaptive_params) -> Self {
+        Self {
+            model: (&p.model).into(),
+            observer_gain: p.observer_gain,
+            rate: p.rate,
+            derivative_weight: p.derivative_weight,
+            leakage: p.leakage,
+            box_factor: p.box_factor,
+            dead_zone: p.dead_zone,
+            min_speed: p.min_speed,
+            speed: p.speed,
+            load: p.load,
+            load_max: p.load_max,
+        }
+    }
+}
+
+/// The supervisor (`friction_core::SupervisorParams`): it applies whichever
+/// of the adaptive observer, the static fallback and no compensation
+/// predicts the measured friction best, with hysteresis.
+/// `friction_supervisor_defaults` fills the defaults.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct friction_supervisor_params {
+    /// Evidence window `> 0` (s).
+    pub window: f64,
+    /// Memory of the mean-square prediction errors, in windows (`>= 1`).
+    pub memory: f64,
+    /// Switch when the best candidate's error is below `ratio` times the
+    /// active one's (`0 < ratio <= 1`).
+    pub ratio: f64,
+    /// Windows before the first switch (`>= 0`).
+    pub warm_up: f64,
+    /// Windows in a fallback mode after which the adaptive observer is
+    /// tried again (`>= 0`; 0: never).
+    pub retry: f64,
+    /// Prediction errors below this (force units) count as equal (`>= 0`).
+    pub tolerance: f64,
+}
+
+impl From<&friction_supervisor_params> for SupervisorParams {
+    fn from(p: &friction_supervisor_params) -> Self {
+        Self {
+            window: p.window,
+            memory: p.memory,
+            ratio: p.ratio,
+            warm_up: p.warm_up,
+            retry: p.retry,
+            tolerance: p.tolerance,
+        }
+    }
+}
+
+impl From<SupervisorParams> for friction_supervisor_params {
+    fn from(p: SupervisorParams) -> Self {
+        Self {
+            window: p.window,
+            memory: p.memory,
+            ratio: p.ratio,
+            warm_up: p.warm_up,
+            retry: p.retry,
+            tolerance: p.tolerance,
         }
     }
 }

@@ -1,15 +1,21 @@
 //! The compensated servo tick: the core's `Compensator` (PID, acceleration
 //! feed-forward, command limit) with no compensation, a static
-//! feed-forward, an observer, or the theta-adaptive observer.
+//! feed-forward, an observer, the theta-adaptive observer, or the
+//! per-parameter adaptive observer under its supervisor.
 
 use crate::any::{Fixed, FixedState, StaticMap, Variable, VariableState};
 use crate::model::{friction_model_f32, friction_model_f64, Model};
-use crate::params::{friction_adaptive_params, friction_servo_params};
+use crate::params::{
+    friction_adaptive_params, friction_coulomb_viscous_params, friction_parameter_adaptive_params,
+    friction_servo_params, friction_supervisor_params,
+};
 use crate::slot::{self, opaque, Built};
 use crate::status::{friction_error, friction_status, report, Refusal};
 use friction_core::{
     AdaptiveObserver, AdaptiveParams, AdaptiveState, AtPeriod, Compensation, Compensator,
-    CompensatorParams, CompensatorState, FeedForward, NoCompensation, Observer, Scalar, Setpoint,
+    CompensatorParams, CompensatorState, CoulombViscous, CoulombViscousParams, FeedForward,
+    LuGreParams, Mode, NoCompensation, Observer, ParameterAdaptiveAt, ParameterAdaptiveParams,
+    Scalar, Setpoint, Supervised, SupervisorParams,
 };
 
 /// Words (8 bytes each) of a `float` servo object, room for the largest
@@ -81,6 +87,10 @@ pub struct friction_tick_f64 {
 
 type AdaptiveAt<S> = AtPeriod<AdaptiveObserver<Fixed<S>, S>>;
 
+/// The per-parameter adaptive observer (fixed-step form) under its
+/// supervisor, with a Coulomb + viscous fallback.
+type ParameterLaw<S> = Supervised<ParameterAdaptiveAt<S>, CoulombViscous<S>, S>;
+
 /// A compensator with its state, one variant per kind of compensation, as
 /// `build` makes it; stored as a kind and a union ([`Stored`]).
 #[derive(Clone, Copy, Debug)]
@@ -106,6 +116,10 @@ pub(crate) enum Servo<S: Scalar> {
         Compensator<S, AdaptiveAt<S>>,
         CompensatorState<S, AdaptiveState<FixedState<S>, S>>,
     ),
+    ParameterAdaptive(
+        Compensator<S, ParameterLaw<S>>,
+        CompensatorState<S, <ParameterLaw<S> as Compensation<S>>::State>,
+    ),
 }
 
 /// The kinds of compensation, added to the object's tag (`slot::put_kind`):
@@ -118,6 +132,7 @@ mod kind {
     pub(super) const OBSERVER_AT: u32 = 4;
     pub(super) const ADAPTIVE: u32 = 5;
     pub(super) const ADAPTIVE_AT: u32 = 6;
+    pub(super) const PARAMETER_ADAPTIVE: u32 = 7;
 }
 
 /// A servo as an object stores it: the union field its kind names. The
@@ -134,6 +149,7 @@ pub(crate) union Stored<S: Scalar> {
     observer_at: Axis<S, AtPeriod<Observer<Fixed<S>, S>>>,
     adaptive: Axis<S, AdaptiveObserver<Variable<S>, S>>,
     adaptive_at: Axis<S, AdaptiveAt<S>>,
+    parameter_adaptive: Axis<S, ParameterLaw<S>>,
 }
 
 /// A compensator and its state.
@@ -170,6 +186,12 @@ impl<S: Scalar> slot::Built for Servo<S> {
                 kind::ADAPTIVE_AT,
                 Stored {
                     adaptive_at: (c, s),
+                },
+            ),
+            Self::ParameterAdaptive(c, s) => (
+                kind::PARAMETER_ADAPTIVE,
+                Stored {
+                    parameter_adaptive: (c, s),
                 },
             ),
         }
@@ -209,6 +231,10 @@ macro_rules! each_servo {
             }
             kind::ADAPTIVE_AT => {
                 let ($c, $s) = unsafe { &mut servo.adaptive_at };
+                $body
+            }
+            kind::PARAMETER_ADAPTIVE => {
+                let ($c, $s) = unsafe { &mut servo.parameter_adaptive };
                 $body
             }
             _ => $other,
@@ -349,9 +375,11 @@ where
             let (c, s) = unsafe { &servo.adaptive_at };
             c.compensation().0.theta(s.friction())
         }
-        kind::NONE | kind::FEED_FORWARD | kind::OBSERVER | kind::OBSERVER_AT => {
-            return friction_status::FRICTION_NOT_SUPPORTED
-        }
+        kind::NONE
+        | kind::FEED_FORWARD
+        | kind::OBSERVER
+        | kind::OBSERVER_AT
+        | kind::PARAMETER_ADAPTIVE => return friction_status::FRICTION_NOT_SUPPORTED,
         _ => return friction_status::FRICTION_NOT_INITIALISED,
     };
     *out = theta;
@@ -488,4 +516,324 @@ pub extern "C" fn friction_servo_theta_f64(
     theta: Option<&mut f64>,
 ) -> friction_status {
     read_theta(servo, theta)
+}
+
+/// The estimates of the per-parameter adaptive observer, in `float`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct friction_estimates_f32 {
+    /// Coulomb level while the bristle leans forward (N).
+    pub fc_pos: f32,
+    /// Coulomb level while it leans backward (N, positive).
+    pub fc_neg: f32,
+    /// Stribeck excess `fs - fc` (N).
+    pub stribeck: f32,
+    /// Viscous coefficient `sigma2`.
+    pub sigma2: f32,
+    /// Load coefficient (friction per unit of transmitted torque).
+    pub load: f32,
+}
+
+/// [`friction_estimates_f32`] in `double`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct friction_estimates_f64 {
+    /// Coulomb level while the bristle leans forward (N).
+    pub fc_pos: f64,
+    /// Coulomb level while it leans backward (N, positive).
+    pub fc_neg: f64,
+    /// Stribeck excess `fs - fc` (N).
+    pub stribeck: f64,
+    /// Viscous coefficient `sigma2`.
+    pub sigma2: f64,
+    /// Load coefficient (friction per unit of transmitted torque).
+    pub load: f64,
+}
+
+/// Which compensation the supervisor applies.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum friction_mode {
+    /// The adaptive observer.
+    FRICTION_MODE_PRIMARY = 0,
+    /// The static fallback (Coulomb + viscous feed-forward).
+    FRICTION_MODE_FALLBACK = 1,
+    /// No compensation.
+    FRICTION_MODE_OFF = 2,
+}
+
+/// The supervisor's state: the applied mode and how it got there.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct friction_supervisor_status {
+    /// The applied compensation.
+    pub mode: friction_mode,
+    /// Switches so far.
+    pub switches: u32,
+    /// Completed evidence windows.
+    pub windows: u32,
+    /// Windows since the last switch.
+    pub since_switch: u32,
+}
+
+/// The per-parameter kind's compensator and state, or the status for an
+/// object of another kind (`FRICTION_NOT_SUPPORTED`) or none
+/// (`FRICTION_NOT_INITIALISED`).
+fn parameter_axis<O, S>(servo: &mut O) -> Result<&mut Axis<S, ParameterLaw<S>>, friction_status>
+where
+    O: slot::Opaque<Value = Stored<S>>,
+    S: Scalar,
+{
+    let (kind, servo) = slot::get_kind(servo);
+    match kind {
+        // SAFETY: as in `each_servo`.
+        kind::PARAMETER_ADAPTIVE => Ok(unsafe { &mut servo.parameter_adaptive }),
+        kind::NONE
+        | kind::FEED_FORWARD
+        | kind::OBSERVER
+        | kind::OBSERVER_AT
+        | kind::ADAPTIVE
+        | kind::ADAPTIVE_AT => Err(friction_status::FRICTION_NOT_SUPPORTED),
+        _ => Err(friction_status::FRICTION_NOT_INITIALISED),
+    }
+}
+
+fn new_parameter_adaptive<O, S>(
+    out: Option<&mut O>,
+    params: Option<&friction_servo_params>,
+    adaptive: Option<&friction_parameter_adaptive_params>,
+    supervisor: Option<&friction_supervisor_params>,
+    fallback: Option<&friction_coulomb_viscous_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status
+where
+    O: slot::Opaque<Value = Stored<S>>,
+    S: Scalar,
+{
+    let (Some(out), Some(params), Some(adaptive), Some(supervisor), Some(fallback)) =
+        (out, params, adaptive, supervisor, fallback)
+    else {
+        let which = match (params, adaptive, supervisor, fallback) {
+            (None, ..) => "params",
+            (_, None, ..) => "adaptive",
+            (_, _, None, _) => "supervisor",
+            (.., None) => "fallback",
+            _ => "out",
+        };
+        return report(
+            error,
+            Refusal::new(friction_status::FRICTION_NULL_POINTER, which),
+        );
+    };
+    let p = CompensatorParams::from(params);
+    let built = (|| {
+        let law = ParameterAdaptiveParams::from(adaptive).build_at::<S>(&p)?;
+        let map = CoulombViscousParams::from(fallback).build::<S>()?;
+        let supervised = SupervisorParams::from(supervisor).build(law, map, p.h)?;
+        p.build(supervised)
+    })();
+    match built {
+        Ok(c) => {
+            let (kind, stored) = Servo::ParameterAdaptive(c, CompensatorState::default()).stored();
+            slot::put_kind(out, kind, stored);
+            report(error, Refusal::OK)
+        }
+        Err(e) => report(error, Refusal::param(e)),
+    }
+}
+
+/// A servo axis in `float` with the per-parameter adaptive observer under
+/// its supervisor: the loop `params`, the observer `adaptive` (its
+/// fixed-step form, built for `params->h`), the supervisor `supervisor`
+/// and its static fallback `fallback` (Coulomb + viscous feed-forward on
+/// the measured velocity). The supervisor applies whichever of the
+/// observer, the fallback and no compensation predicts the measured
+/// friction best (`friction_servo_supervisor_f32`); the estimates are read
+/// with `friction_servo_estimates_f32`.
+#[no_mangle]
+pub extern "C" fn friction_servo_parameter_adaptive_init_f32(
+    out: Option<&mut friction_servo_f32>,
+    params: Option<&friction_servo_params>,
+    adaptive: Option<&friction_parameter_adaptive_params>,
+    supervisor: Option<&friction_supervisor_params>,
+    fallback: Option<&friction_coulomb_viscous_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    new_parameter_adaptive(out, params, adaptive, supervisor, fallback, error)
+}
+
+/// [`friction_servo_parameter_adaptive_init_f32`] in `double`.
+#[no_mangle]
+pub extern "C" fn friction_servo_parameter_adaptive_init_f64(
+    out: Option<&mut friction_servo_f64>,
+    params: Option<&friction_servo_params>,
+    adaptive: Option<&friction_parameter_adaptive_params>,
+    supervisor: Option<&friction_supervisor_params>,
+    fallback: Option<&friction_coulomb_viscous_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    new_parameter_adaptive(out, params, adaptive, supervisor, fallback, error)
+}
+
+/// The defaults of the per-parameter adaptive observer around the nominal
+/// `model` with observer gain `gain` (1/s): rate 4 1/s, derivative weight
+/// 1, no leakage, box factor 5, no dead zone, no speed threshold,
+/// reference speed 1, no load term. Nothing is checked until a
+/// constructor uses them.
+#[no_mangle]
+pub extern "C" fn friction_parameter_adaptive_defaults(
+    model: Option<&crate::params::friction_lugre_params>,
+    gain: f64,
+    out: Option<&mut friction_parameter_adaptive_params>,
+) -> friction_status {
+    let (Some(model), Some(out)) = (model, out) else {
+        return friction_status::FRICTION_NULL_POINTER;
+    };
+    let d = ParameterAdaptiveParams::new(LuGreParams::from(model), gain);
+    *out = friction_parameter_adaptive_params {
+        model: *model,
+        observer_gain: d.observer_gain,
+        rate: d.rate,
+        derivative_weight: d.derivative_weight,
+        leakage: d.leakage,
+        box_factor: d.box_factor,
+        dead_zone: d.dead_zone,
+        min_speed: d.min_speed,
+        speed: d.speed,
+        load: d.load,
+        load_max: d.load_max,
+    };
+    friction_status::FRICTION_OK
+}
+
+/// The supervisor's defaults: windows of 0.1 s, a memory of 10 windows,
+/// ratio 0.7, warm-up 10 windows, a retry after 100 windows, no tolerance
+/// (set one: a few per cent of the Coulomb level).
+#[no_mangle]
+pub extern "C" fn friction_supervisor_defaults(
+    out: Option<&mut friction_supervisor_params>,
+) -> friction_status {
+    let Some(out) = out else {
+        return friction_status::FRICTION_NULL_POINTER;
+    };
+    *out = SupervisorParams::DEFAULT.into();
+    friction_status::FRICTION_OK
+}
+
+fn read_estimates<O, S, T>(
+    servo: Option<&mut O>,
+    out: Option<&mut T>,
+    convert: impl FnOnce([S; friction_core::parameter_adaptive::ESTIMATES]) -> T,
+) -> friction_status
+where
+    O: slot::Opaque<Value = Stored<S>>,
+    S: Scalar,
+{
+    let (Some(servo), Some(out)) = (servo, out) else {
+        return friction_status::FRICTION_NULL_POINTER;
+    };
+    match parameter_axis(servo) {
+        Ok((c, s)) => {
+            let law = c.compensation().primary();
+            // a state before its first tick reads the nominal values
+            let state = s.friction().primary;
+            let state = if state == Default::default() {
+                law.initial()
+            } else {
+                state
+            };
+            *out = convert(law.estimates(&state));
+            friction_status::FRICTION_OK
+        }
+        Err(status) => status,
+    }
+}
+
+fn read_status<O, S>(
+    servo: Option<&mut O>,
+    out: Option<&mut friction_supervisor_status>,
+) -> friction_status
+where
+    O: slot::Opaque<Value = Stored<S>>,
+    S: Scalar,
+{
+    let (Some(servo), Some(out)) = (servo, out) else {
+        return friction_status::FRICTION_NULL_POINTER;
+    };
+    match parameter_axis(servo) {
+        Ok((c, s)) => {
+            let st = c.compensation().status(s.friction());
+            *out = friction_supervisor_status {
+                mode: match st.mode {
+                    Mode::Primary => friction_mode::FRICTION_MODE_PRIMARY,
+                    Mode::Fallback => friction_mode::FRICTION_MODE_FALLBACK,
+                    Mode::Off => friction_mode::FRICTION_MODE_OFF,
+                },
+                switches: st.switches,
+                windows: st.windows,
+                since_switch: st.since_switch,
+            };
+            friction_status::FRICTION_OK
+        }
+        Err(status) => status,
+    }
+}
+
+/// The per-parameter adaptive servo's estimates (the nominal values before
+/// its first tick); `FRICTION_NOT_SUPPORTED` for other compensations.
+#[no_mangle]
+pub extern "C" fn friction_servo_estimates_f32(
+    servo: Option<&mut friction_servo_f32>,
+    out: Option<&mut friction_estimates_f32>,
+) -> friction_status {
+    read_estimates(
+        servo,
+        out,
+        |[fc_pos, fc_neg, stribeck, sigma2, load]: [f32; 5]| friction_estimates_f32 {
+            fc_pos,
+            fc_neg,
+            stribeck,
+            sigma2,
+            load,
+        },
+    )
+}
+
+/// [`friction_servo_estimates_f32`] in `double`.
+#[no_mangle]
+pub extern "C" fn friction_servo_estimates_f64(
+    servo: Option<&mut friction_servo_f64>,
+    out: Option<&mut friction_estimates_f64>,
+) -> friction_status {
+    read_estimates(
+        servo,
+        out,
+        |[fc_pos, fc_neg, stribeck, sigma2, load]: [f64; 5]| friction_estimates_f64 {
+            fc_pos,
+            fc_neg,
+            stribeck,
+            sigma2,
+            load,
+        },
+    )
+}
+
+/// The per-parameter adaptive servo's supervisor: the applied mode, the
+/// switches and windows so far; `FRICTION_NOT_SUPPORTED` for other
+/// compensations.
+#[no_mangle]
+pub extern "C" fn friction_servo_supervisor_f32(
+    servo: Option<&mut friction_servo_f32>,
+    out: Option<&mut friction_supervisor_status>,
+) -> friction_status {
+    read_status(servo, out)
+}
+
+/// [`friction_servo_supervisor_f32`] in `double`.
+#[no_mangle]
+pub extern "C" fn friction_servo_supervisor_f64(
+    servo: Option<&mut friction_servo_f64>,
+    out: Option<&mut friction_supervisor_status>,
+) -> friction_status {
+    read_status(servo, out)
 }

@@ -6,8 +6,9 @@
 #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
 
 use friction_core::{
-    AdaptiveParams, AtPeriod, CompensatorParams, FixedStepModel, FrictionModel, LuGreAtState,
-    LuGreParams, LuGreServo, LuGreState, Observer, Setpoint,
+    AdaptiveParams, AtPeriod, CompensatorParams, CoulombViscousParams, FixedStepModel,
+    FrictionModel, LuGreAtState, LuGreParams, LuGreServo, LuGreState, Mode, Observer,
+    ParameterAdaptiveParams, ParameterAdaptiveServo, Scalar, Setpoint, SupervisorParams,
 };
 use friction_ffi::*;
 use friction_status::*;
@@ -828,6 +829,456 @@ fn servo_tick_matches_the_core() {
         FRICTION_OK
     );
     let _ = FixedStepModel::period(&olsson.build_at::<f32>(1e-3).unwrap());
+}
+
+/// Olsson's model as the ABI takes it.
+fn olsson_abi() -> friction_lugre_params {
+    let o = LuGreParams::OLSSON_1998;
+    friction_lugre_params {
+        curve: friction_stribeck {
+            fc: o.curve.fc,
+            fs: o.curve.fs,
+            vs: o.curve.vs,
+            exponent: o.curve.exponent,
+        },
+        sigma0: o.sigma0,
+        sigma1: o.sigma1,
+        sigma2: o.sigma2,
+        vd: 0.0,
+    }
+}
+
+/// The per-parameter law of the ABI test: Olsson's model with its levels
+/// 1.5x a plant's, a load term, the supervisor's defaults with a tolerance.
+fn parameter_abi() -> (
+    friction_parameter_adaptive_params,
+    friction_supervisor_params,
+    friction_coulomb_viscous_params,
+) {
+    let mut model = olsson_abi();
+    model.curve.fc *= 1.5;
+    model.curve.fs *= 1.5;
+    let mut p = friction_parameter_adaptive_params {
+        model,
+        observer_gain: f64::NAN,
+        rate: f64::NAN,
+        derivative_weight: f64::NAN,
+        leakage: f64::NAN,
+        box_factor: f64::NAN,
+        dead_zone: f64::NAN,
+        min_speed: f64::NAN,
+        speed: f64::NAN,
+        load: f64::NAN,
+        load_max: f64::NAN,
+    };
+    assert_eq!(
+        friction_parameter_adaptive_defaults(Some(&model), 20.0, Some(&mut p)),
+        FRICTION_OK
+    );
+    p.rate = 16.0;
+    p.speed = 0.63;
+    p.load_max = 0.05;
+    let mut sup = friction_supervisor_params {
+        window: 0.0,
+        memory: 0.0,
+        ratio: 0.0,
+        warm_up: 0.0,
+        retry: 0.0,
+        tolerance: 0.0,
+    };
+    assert_eq!(friction_supervisor_defaults(Some(&mut sup)), FRICTION_OK);
+    sup.tolerance = 0.0028;
+    let fallback = friction_coulomb_viscous_params {
+        fc: 0.42,
+        sigma2: 0.0176,
+    };
+    (p, sup, fallback)
+}
+
+/// The core's supervised per-parameter servo with the same settings.
+fn parameter_core<S: Scalar>(sp: &friction_servo_params) -> ParameterAdaptiveServo<S> {
+    let (p, sup, fb) = parameter_abi();
+    let servo = core_servo_params(sp);
+    let law = ParameterAdaptiveParams::from(&p)
+        .build_at::<S>(&servo)
+        .unwrap();
+    let map = CoulombViscousParams::from(&fb).build::<S>().unwrap();
+    let supervised = SupervisorParams::from(&sup)
+        .build(law, map, servo.h)
+        .unwrap();
+    servo.build(supervised).unwrap()
+}
+
+/// A plant with Coulomb + viscous friction (the levels of the law's model
+/// over 1.5, 1.2x forward, 0.8x backward) and the 1 kHz loop: `tick` gives
+/// the command from the measured position and the setpoint.
+fn asymmetric_plant(seconds: usize, mut tick: impl FnMut(usize, f64, Setpoint<f64>) -> f64) {
+    let (mut x, mut v) = (0.0f64, 0.0f64);
+    let w = 2.0 * std::f64::consts::PI * 0.2;
+    for k in 0..seconds * 1000 {
+        let t = k as f64 * 1e-3;
+        let r = Setpoint {
+            x: 0.5 * (w * t).sin(),
+            v: 0.5 * w * (w * t).cos(),
+            a: -0.5 * w * w * (w * t).sin(),
+        };
+        let u = tick(k, x, r);
+        for _ in 0..100 {
+            let side = if v >= 0.0 { 1.2 } else { 0.8 };
+            let f = side * 0.28 * (v / 1e-3).tanh() + 0.0176 * v;
+            v += 1e-5 * (1.02 * u - f) / 0.0023;
+            x += 1e-5 * v;
+        }
+    }
+}
+
+/// The per-parameter adaptive servo under its supervisor through the ABI,
+/// in `float` and `double`: bit for bit the core's
+/// `ParameterAdaptiveServo` on a closed-loop run against an asymmetric
+/// plant; the estimates and the supervisor's status as the core reads
+/// them; the forward and backward Coulomb levels learnt apart.
+#[test]
+fn parameter_adaptive_servo_matches_the_core() {
+    let sp = friction_servo_params {
+        torque_constant: 1.02,
+        limit: 10.0,
+        ki: 200.0,
+        kp: 60.0,
+        kd: 1.2,
+        ..servo_params()
+    };
+    let (p, sup, fb) = parameter_abi();
+    let mut err = no_error();
+    // f32
+    let mut s = friction_servo_f32 {
+        opaque: [0; FRICTION_SERVO_F32_WORDS],
+    };
+    assert_eq!(
+        friction_servo_parameter_adaptive_init_f32(
+            Some(&mut s),
+            Some(&sp),
+            Some(&p),
+            Some(&sup),
+            Some(&fb),
+            Some(&mut err)
+        ),
+        FRICTION_OK
+    );
+    let core = parameter_core::<f32>(&sp);
+    let mut state = Default::default();
+    let mut e = friction_estimates_f32 {
+        fc_pos: 0.0,
+        fc_neg: 0.0,
+        stribeck: 0.0,
+        sigma2: 0.0,
+        load: 0.0,
+    };
+    // before the first tick: the nominal values
+    assert_eq!(
+        friction_servo_estimates_f32(Some(&mut s), Some(&mut e)),
+        FRICTION_OK
+    );
+    assert_eq!((e.fc_pos, e.fc_neg), (0.42, 0.42));
+    asymmetric_plant(runs(20), |k, x, r| {
+        let mut t = friction_tick_f32 {
+            command: 0.0,
+            friction: 0.0,
+        };
+        let (xf, rf) = (
+            x as f32,
+            friction_setpoint_f32 {
+                x: r.x as f32,
+                v: r.v as f32,
+                a: r.a as f32,
+            },
+        );
+        assert_eq!(
+            friction_servo_tick_f32(Some(&mut s), xf, rf, Some(&mut t)),
+            FRICTION_OK
+        );
+        let want = core.tick(
+            &mut state,
+            xf,
+            Setpoint {
+                x: rf.x,
+                v: rf.v,
+                a: rf.a,
+            },
+        );
+        assert_eq!(
+            (t.command.to_bits(), t.friction.to_bits()),
+            (want.command.to_bits(), want.friction.to_bits()),
+            "tick {k}"
+        );
+        f64::from(t.command)
+    });
+    assert_eq!(
+        friction_servo_estimates_f32(Some(&mut s), Some(&mut e)),
+        FRICTION_OK
+    );
+    let want = core
+        .compensation()
+        .primary()
+        .estimates(&state.friction().primary);
+    assert_eq!(
+        [e.fc_pos, e.fc_neg, e.stribeck, e.sigma2, e.load],
+        want,
+        "the ABI reads the core's estimates"
+    );
+    let mut st = friction_supervisor_status {
+        mode: friction_mode::FRICTION_MODE_OFF,
+        switches: 99,
+        windows: 0,
+        since_switch: 0,
+    };
+    assert_eq!(
+        friction_servo_supervisor_f32(Some(&mut s), Some(&mut st)),
+        FRICTION_OK
+    );
+    let status = core.compensation().status(state.friction());
+    assert_eq!(
+        (st.mode as u8, st.switches, st.windows, st.since_switch),
+        (
+            status.mode.code(),
+            status.switches,
+            status.windows,
+            status.since_switch
+        )
+    );
+    if runs(20) == 20 {
+        // 20 s of 0.1 s windows; the law predicts best and stays applied
+        assert_eq!(st.windows, 199);
+        assert_eq!(status.mode, Mode::Primary);
+        // the forward level learnt above the backward one (plant 0.336 and 0.224)
+        assert!(
+            e.fc_pos > e.fc_neg + 0.05 && e.fc_pos < 0.42 && e.fc_neg < 0.3,
+            "{e:?}"
+        );
+    }
+    // f64: the same run, bit for bit the core's
+    let mut s = friction_servo_f64 {
+        opaque: [0; FRICTION_SERVO_F64_WORDS],
+    };
+    assert_eq!(
+        friction_servo_parameter_adaptive_init_f64(
+            Some(&mut s),
+            Some(&sp),
+            Some(&p),
+            Some(&sup),
+            Some(&fb),
+            None
+        ),
+        FRICTION_OK
+    );
+    let core = parameter_core::<f64>(&sp);
+    let mut state = Default::default();
+    asymmetric_plant(runs(20), |k, x, r| {
+        let mut t = friction_tick_f64 {
+            command: 0.0,
+            friction: 0.0,
+        };
+        let rf = friction_setpoint_f64 {
+            x: r.x,
+            v: r.v,
+            a: r.a,
+        };
+        assert_eq!(
+            friction_servo_tick_f64(Some(&mut s), x, rf, Some(&mut t)),
+            FRICTION_OK
+        );
+        let want = core.tick(&mut state, x, r);
+        assert_eq!(
+            (t.command.to_bits(), t.friction.to_bits()),
+            (want.command.to_bits(), want.friction.to_bits()),
+            "tick {k}"
+        );
+        t.command
+    });
+    let mut e = friction_estimates_f64 {
+        fc_pos: 0.0,
+        fc_neg: 0.0,
+        stribeck: 0.0,
+        sigma2: 0.0,
+        load: 0.0,
+    };
+    assert_eq!(
+        friction_servo_estimates_f64(Some(&mut s), Some(&mut e)),
+        FRICTION_OK
+    );
+    assert_eq!(
+        [e.fc_pos, e.fc_neg, e.stribeck, e.sigma2, e.load],
+        core.compensation()
+            .primary()
+            .estimates(&state.friction().primary)
+    );
+    assert_eq!(
+        friction_servo_supervisor_f64(Some(&mut s), Some(&mut st)),
+        FRICTION_OK
+    );
+    assert_eq!(st.mode, friction_mode::FRICTION_MODE_PRIMARY);
+    // reset: before the first tick again, the nominal estimates
+    assert_eq!(friction_servo_reset_f64(Some(&mut s)), FRICTION_OK);
+    friction_servo_estimates_f64(Some(&mut s), Some(&mut e));
+    let fc = p.model.curve.fc;
+    assert_eq!((e.fc_pos, e.fc_neg), (fc, fc));
+    // the theta reader does not apply; the readers refuse other kinds
+    let mut theta = 0.0;
+    assert_eq!(
+        friction_servo_theta_f64(Some(&mut s), Some(&mut theta)),
+        FRICTION_NOT_SUPPORTED
+    );
+    let mut plain = friction_servo_f64 {
+        opaque: [0; FRICTION_SERVO_F64_WORDS],
+    };
+    assert_eq!(
+        friction_servo_estimates_f64(Some(&mut plain), Some(&mut e)),
+        FRICTION_NOT_INITIALISED
+    );
+    assert_eq!(
+        friction_servo_init_f64(Some(&mut plain), Some(&sp), None, 0.0, None, None),
+        FRICTION_OK
+    );
+    assert_eq!(
+        friction_servo_estimates_f64(Some(&mut plain), Some(&mut e)),
+        FRICTION_NOT_SUPPORTED
+    );
+    assert_eq!(
+        friction_servo_supervisor_f64(Some(&mut plain), Some(&mut st)),
+        FRICTION_NOT_SUPPORTED
+    );
+    assert_eq!(
+        friction_servo_supervisor_f64(Some(&mut plain), None),
+        FRICTION_NULL_POINTER
+    );
+    assert_eq!(
+        friction_servo_estimates_f64(None, Some(&mut e)),
+        FRICTION_NULL_POINTER
+    );
+}
+
+/// Invalid settings are named, NULLs are refused by name, and a refused
+/// constructor leaves its object as it was.
+#[test]
+fn parameter_adaptive_servo_refuses_invalid_settings() {
+    let sp = servo_params();
+    let (p, sup, fb) = parameter_abi();
+    let mut s = friction_servo_f32 {
+        opaque: [0; FRICTION_SERVO_F32_WORDS],
+    };
+    assert_eq!(
+        friction_servo_init_f32(Some(&mut s), Some(&sp), None, 0.0, None, None),
+        FRICTION_OK
+    );
+    let before = s.opaque;
+    let mut err = no_error();
+    let mut refuse = |p: friction_parameter_adaptive_params,
+                      sup: friction_supervisor_params,
+                      fb: friction_coulomb_viscous_params,
+                      status: friction_status,
+                      parameter: &str| {
+        assert_eq!(
+            friction_servo_parameter_adaptive_init_f32(
+                Some(&mut s),
+                Some(&sp),
+                Some(&p),
+                Some(&sup),
+                Some(&fb),
+                Some(&mut err)
+            ),
+            status,
+            "{parameter}"
+        );
+        assert_eq!(name(&err), parameter);
+        assert_eq!(s.opaque, before);
+    };
+    refuse(
+        friction_parameter_adaptive_params { rate: -1.0, ..p },
+        sup,
+        fb,
+        FRICTION_NEGATIVE,
+        "rate",
+    );
+    refuse(
+        friction_parameter_adaptive_params {
+            box_factor: 0.5,
+            ..p
+        },
+        sup,
+        fb,
+        FRICTION_BELOW_ONE,
+        "box_factor",
+    );
+    refuse(
+        friction_parameter_adaptive_params {
+            load: 1.0,
+            load_max: 0.5,
+            ..p
+        },
+        sup,
+        fb,
+        FRICTION_NOT_BELOW,
+        "load",
+    );
+    refuse(
+        p,
+        friction_supervisor_params { ratio: 1.5, ..sup },
+        fb,
+        FRICTION_NOT_BELOW,
+        "ratio",
+    );
+    refuse(
+        p,
+        friction_supervisor_params {
+            window: f64::NAN,
+            ..sup
+        },
+        fb,
+        FRICTION_NOT_FINITE,
+        "window",
+    );
+    refuse(
+        p,
+        sup,
+        friction_coulomb_viscous_params { fc: -1.0, ..fb },
+        FRICTION_NOT_POSITIVE,
+        "fc",
+    );
+    for (which, status) in [
+        ("params", FRICTION_NULL_POINTER),
+        ("adaptive", FRICTION_NULL_POINTER),
+        ("supervisor", FRICTION_NULL_POINTER),
+        ("fallback", FRICTION_NULL_POINTER),
+    ] {
+        let got = friction_servo_parameter_adaptive_init_f64(
+            Some(&mut friction_servo_f64 {
+                opaque: [0; FRICTION_SERVO_F64_WORDS],
+            }),
+            (which != "params").then_some(&sp),
+            (which != "adaptive").then_some(&p),
+            (which != "supervisor").then_some(&sup),
+            (which != "fallback").then_some(&fb),
+            Some(&mut err),
+        );
+        assert_eq!(got, status);
+        assert_eq!(name(&err), which);
+    }
+    assert_eq!(
+        friction_servo_parameter_adaptive_init_f64(
+            None,
+            Some(&sp),
+            Some(&p),
+            Some(&sup),
+            Some(&fb),
+            Some(&mut err)
+        ),
+        FRICTION_NULL_POINTER
+    );
+    assert_eq!(name(&err), "out");
+    assert_eq!(
+        friction_parameter_adaptive_defaults(None, 1.0, None),
+        FRICTION_NULL_POINTER
+    );
+    assert_eq!(friction_supervisor_defaults(None), FRICTION_NULL_POINTER);
 }
 
 #[test]

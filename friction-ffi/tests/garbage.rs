@@ -80,6 +80,47 @@ const ADAPTIVE: friction_adaptive_params = friction_adaptive_params {
     theta_max: 2.0,
 };
 
+/// The per-parameter adaptive observer around [`lugre`], its supervisor
+/// and fallback: what the per-parameter servo constructor takes.
+fn parameter_adaptive() -> friction_parameter_adaptive_params {
+    let mut p = friction_parameter_adaptive_params {
+        model: lugre(),
+        observer_gain: 0.0,
+        rate: 0.0,
+        derivative_weight: 0.0,
+        leakage: 0.0,
+        box_factor: 0.0,
+        dead_zone: 0.0,
+        min_speed: 0.0,
+        speed: 0.0,
+        load: 0.0,
+        load_max: 0.0,
+    };
+    assert_eq!(
+        friction_parameter_adaptive_defaults(Some(&lugre()), 20.0, Some(&mut p)),
+        FRICTION_OK
+    );
+    p
+}
+
+fn supervisor() -> friction_supervisor_params {
+    let mut p = friction_supervisor_params {
+        window: 0.0,
+        memory: 0.0,
+        ratio: 0.0,
+        warm_up: 0.0,
+        retry: 0.0,
+        tolerance: 0.0,
+    };
+    assert_eq!(friction_supervisor_defaults(Some(&mut p)), FRICTION_OK);
+    p
+}
+
+const FALLBACK: friction_coulomb_viscous_params = friction_coulomb_viscous_params {
+    fc: 1.0,
+    sigma2: 0.4,
+};
+
 /// A valid model in `$m`, built in place: an initialised object holds the
 /// value's padding, which is not data, so it is never moved as a value
 /// (Miri: a copy of a `u64` with an uninitialised byte is undefined behaviour).
@@ -252,8 +293,57 @@ macro_rules! observer_calls {
 
 macro_rules! servo_calls {
     ($ty:ident, $words:expr, $tag:expr, $scalar:ty, $tick:ident, $setpoint:ident,
-     $out:ident, $reset:ident, $theta:ident) => {
+     $out:ident, $reset:ident, $theta:ident, $estimates:ident, $estimates_ty:ident,
+     $supervisor:ident, $parameter_init:ident) => {
         [
+            Call {
+                name: stringify!($estimates),
+                bytes: 8 * $words,
+                tag: $tag,
+                run: |b| {
+                    let mut e = $estimates_ty {
+                        fc_pos: 0.0,
+                        fc_neg: 0.0,
+                        stribeck: 0.0,
+                        sigma2: 0.0,
+                        load: 0.0,
+                    };
+                    $estimates(Some(&mut $ty { opaque: words(b) }), Some(&mut e))
+                },
+                writes_only: false,
+            },
+            Call {
+                name: stringify!($supervisor),
+                bytes: 8 * $words,
+                tag: $tag,
+                run: |b| {
+                    let mut st = friction_supervisor_status {
+                        mode: friction_mode::FRICTION_MODE_OFF,
+                        switches: 0,
+                        windows: 0,
+                        since_switch: 0,
+                    };
+                    $supervisor(Some(&mut $ty { opaque: words(b) }), Some(&mut st))
+                },
+                writes_only: false,
+            },
+            Call {
+                name: concat!(stringify!($parameter_init), " (out)"),
+                bytes: 8 * $words,
+                tag: $tag,
+                run: |b| {
+                    let mut s = $ty { opaque: words(b) };
+                    $parameter_init(
+                        Some(&mut s),
+                        Some(&servo_params()),
+                        Some(&parameter_adaptive()),
+                        Some(&supervisor()),
+                        Some(&FALLBACK),
+                        None,
+                    )
+                },
+                writes_only: true,
+            },
             Call {
                 name: stringify!($tick),
                 bytes: 8 * $words,
@@ -352,7 +442,11 @@ fn calls() -> Vec<Call> {
         friction_setpoint_f32,
         friction_tick_f32,
         friction_servo_reset_f32,
-        friction_servo_theta_f32
+        friction_servo_theta_f32,
+        friction_servo_estimates_f32,
+        friction_estimates_f32,
+        friction_servo_supervisor_f32,
+        friction_servo_parameter_adaptive_init_f32
     ));
     all.extend(servo_calls!(
         friction_servo_f64,
@@ -363,7 +457,11 @@ fn calls() -> Vec<Call> {
         friction_setpoint_f64,
         friction_tick_f64,
         friction_servo_reset_f64,
-        friction_servo_theta_f64
+        friction_servo_theta_f64,
+        friction_servo_estimates_f64,
+        friction_estimates_f64,
+        friction_servo_supervisor_f64,
+        friction_servo_parameter_adaptive_init_f64
     ));
     all
 }
@@ -392,11 +490,11 @@ fn pattern(i: u64, tag: u32, bytes: &mut [u8]) {
     if i >= FILLS + RANDOM {
         // the tag word (friction-ffi's slot.rs: the first 32 bits, the tag
         // plus the kind of value, from 1): the bare tag (kind 0) or a kind
-        // past every type's (7 or more)
+        // past every type's (8 or more: the servo's go to 7)
         let kind = if i % 2 == 0 {
             0
         } else {
-            7 + (state >> 32) as u32 % 1000
+            8 + (state >> 32) as u32 % 1000
         };
         bytes[..4].copy_from_slice(&tag.wrapping_add(kind).to_ne_bytes());
     }

@@ -18,7 +18,9 @@ pub trait Encoder {
 
 /// The mechanics: `J dv/dt = tau - F_friction`, integrated at `substeps`
 /// per control tick with the core's step of the friction model `M` (LuGre
-/// by default; semi-implicit Euler).
+/// by default; semi-implicit Euler). A real transmission's friction is
+/// `F (1 ± asymmetry) (1 + load |tau|)`: larger one way than the other
+/// (`+` moving forward) and growing with the torque it carries.
 pub struct Plant<M: FrictionModel<f32> = LuGre<f32>> {
     pub inertia: f32,
     pub friction: M,
@@ -27,6 +29,10 @@ pub struct Plant<M: FrictionModel<f32> = LuGre<f32>> {
     pub v: f32,
     /// Motor torque (N m) commanded through the drive.
     pub torque: f32,
+    /// Direction factor `|asymmetry| < 1` (0: symmetric).
+    pub asymmetry: f32,
+    /// Load coefficient `>= 0` (1/N m; 0: no load dependence).
+    pub load: f32,
 }
 
 impl<M: FrictionModel<f32>> Plant<M> {
@@ -34,7 +40,14 @@ impl<M: FrictionModel<f32>> Plant<M> {
     pub fn advance(&mut self, h: f32, substeps: u32) {
         let hs = h / substeps as f32;
         for _ in 0..substeps {
-            let f = self.friction.step(&mut self.z, self.v, hs);
+            let side = if self.v >= 0.0 {
+                1.0 + self.asymmetry
+            } else {
+                1.0 - self.asymmetry
+            };
+            let f = self.friction.step(&mut self.z, self.v, hs)
+                * side
+                * (1.0 + self.load * libm::fabsf(self.torque));
             self.v += hs * (self.torque - f) / self.inertia;
             self.x += hs * self.v;
         }

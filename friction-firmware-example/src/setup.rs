@@ -2,7 +2,10 @@
 //! the controller's friction model, its loop and its gains, so that the
 //! cost table measures the servo the example runs.
 
-use friction_core::{AdaptiveParams, CompensatorParams, LeuvenParams, LuGreParams};
+use friction_core::{
+    AdaptiveParams, CompensatorParams, CoulombViscousParams, LeuvenParams, LuGreParams,
+    ParameterAdaptiveParams, SupervisorParams,
+};
 
 /// Olsson et al. 1998, Table 2: the controller's model of the friction (N m, rad).
 pub const NOMINAL: LuGreParams = LuGreParams::OLSSON_1998;
@@ -52,5 +55,37 @@ pub fn adaptation() -> AdaptiveParams {
         gamma,
         gamma_derivative: gamma * p.kd / p.kp,
         ..AdaptiveParams::DEFAULT
+    }
+}
+
+/// The per-parameter adaptive observer for [`controller`] around the
+/// nominal model: the command line's default rate (16 1/s), the
+/// trajectory's peak speed (0.2 rad at 0.5 Hz) as the viscous estimate's
+/// reference, a load coefficient of up to 0.2 N m per N m transmitted. No
+/// dead zone: the 20-bit encoder's count is below Q16.16's last place.
+pub fn parameter_adaptation() -> ParameterAdaptiveParams {
+    ParameterAdaptiveParams {
+        rate: 16.0,
+        speed: 0.2 * 2.0 * core::f64::consts::PI * 0.5,
+        load_max: 0.2,
+        ..ParameterAdaptiveParams::new(NOMINAL, OBSERVER_GAIN)
+    }
+}
+
+/// The supervisor of the per-parameter law: the defaults, prediction
+/// errors below 1 % of the nominal Coulomb level counted as equal.
+pub fn supervisor() -> SupervisorParams {
+    SupervisorParams {
+        tolerance: 0.01 * NOMINAL.curve.fc,
+        ..SupervisorParams::DEFAULT
+    }
+}
+
+/// The supervisor's static fallback: Coulomb + viscous feed-forward from
+/// the nominal model.
+pub fn fallback() -> CoulombViscousParams {
+    CoulombViscousParams {
+        fc: NOMINAL.curve.fc,
+        sigma2: NOMINAL.sigma2,
     }
 }

@@ -5,9 +5,12 @@
 //! `friction_host::sim::Simulation`, `servo` runs `servo::benchmark`,
 //! `identify` runs `identify::identify`.
 
-use friction_core::{AdaptiveParams, CompensatorParams, Setpoint};
+use friction_core::{
+    AdaptiveParams, CompensatorParams, Mode, ParameterAdaptive, ParameterAdaptiveParams,
+    ParameterAdaptiveState, Setpoint, Supervised, SupervisedState, SupervisorParams,
+};
 use friction_host::checks::{self, Refusal, SignalError};
-use friction_host::control::{Controller, Loop, ObserverRequest};
+use friction_host::control::{controller_reading, Controller, Loop, ObserverRequest};
 use friction_host::identify as fit;
 use friction_host::params::ParamFile;
 use friction_host::sim::{PeriodRefused, SimScalar, Simulation};
@@ -220,14 +223,23 @@ impl Model {
     }
 
     /// compensator(h, kp, kd, inertia, ki=0, torque_constant=1, limit=1e3,
-    /// gain=200, adaptive=None, velocity_filter=None) -> Compensator.
+    /// gain=200, adaptive=None, velocity_filter=None, parameter_adaptive=None,
+    /// supervisor=None) -> Compensator.
     ///
     /// The servo tick of `friction servo`: PID with acceleration
     /// feed-forward around the model's observer (gain `gain`, 1/s), or the
     /// theta-adaptive observer when `adaptive` is a dict of its parameters
     /// (`gamma`, `gamma_derivative`, `leakage`, `theta0`, `theta_min`,
-    /// `theta_max`; missing keys take the defaults).
-    #[pyo3(signature = (h, kp, kd, inertia, ki = 0.0, torque_constant = 1.0, limit = 1e3, gain = 200.0, adaptive = None, velocity_filter = None))]
+    /// `theta_max`; missing keys take the defaults), or the per-parameter
+    /// adaptive observer (the `adaptive` rows of `friction servo`) when
+    /// `parameter_adaptive` is True or a dict of its settings (`rate`,
+    /// `derivative_weight`, `leakage`, `box_factor`, `dead_zone`,
+    /// `min_speed`, `speed`, `load`, `load_max`). The per-parameter observer
+    /// runs under its supervisor (fallback: the Coulomb + viscous
+    /// feed-forward of the model's levels) unless `supervisor=False`; a dict
+    /// sets the supervisor's `window`, `memory`, `ratio`, `warm_up`, `retry`,
+    /// `tolerance` (default 1 % of the Coulomb level).
+    #[pyo3(signature = (h, kp, kd, inertia, ki = 0.0, torque_constant = 1.0, limit = 1e3, gain = 200.0, adaptive = None, velocity_filter = None, parameter_adaptive = None, supervisor = None))]
     #[allow(clippy::too_many_arguments)]
     fn compensator(
         &self,
@@ -241,6 +253,8 @@ impl Model {
         gain: f64,
         adaptive: Option<&Bound<'_, PyDict>>,
         velocity_filter: Option<f64>,
+        parameter_adaptive: Option<&Bound<'_, PyAny>>,
+        supervisor: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Compensator> {
         let params = CompensatorParams {
             h,
@@ -270,10 +284,155 @@ impl Model {
             velocity_filter,
             velocity_observer: None,
         };
+        let parameter = parameter_adaptive
+            .map(|p| option_dict("parameter_adaptive", p))
+            .transpose()?
+            .flatten();
+        let supervisor = supervisor
+            .map(|p| option_dict("supervisor", p))
+            .transpose()?;
+        if parameter.is_some() && adaptive.is_some() {
+            return Err(PyValueError::new_err(
+                "adaptive= and parameter_adaptive= are two laws: give one",
+            ));
+        }
+        if let Some(table) = parameter {
+            let axis = self.parameter_controller(&setup, gain, &table, supervisor)?;
+            return Ok(Compensator { axis });
+        }
+        if supervisor.is_some() {
+            return Err(PyValueError::new_err(
+                "supervisor= guards the per-parameter law: give parameter_adaptive= too",
+            ));
+        }
         let adaptive = adaptive.map(adaptive_params).transpose()?;
         let axis = self.controller(&setup, gain, true, adaptive)?;
         Ok(Compensator { axis })
     }
+}
+
+/// `True` (the defaults: an empty table), `False` or `None` (off: `None`),
+/// or a dict of numbers.
+fn option_dict(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Option<Vec<(String, f64)>>> {
+    if obj.is_none() {
+        return Ok(None);
+    }
+    if obj.is_instance_of::<PyBool>() {
+        return Ok(obj.extract::<bool>()?.then(Vec::new));
+    }
+    let Ok(d) = obj.downcast::<PyDict>() else {
+        return Err(PyTypeError::new_err(format!(
+            "{name}: expected True, False or a dict, got {}",
+            obj.get_type()
+                .name()
+                .map_or_else(|_| "?".into(), |n| n.to_string())
+        )));
+    };
+    let mut out = Vec::new();
+    for (k, v) in d.iter() {
+        let key: String = k
+            .extract()
+            .map_err(|_| PyTypeError::new_err(format!("{name}: keys are strings")))?;
+        let x: f64 = v.extract().map_err(|_| {
+            PyTypeError::new_err(format!(
+                "{name}[{key:?}]: expected a number, got {}",
+                v.get_type()
+                    .name()
+                    .map_or_else(|_| "?".into(), |n| n.to_string())
+            ))
+        })?;
+        out.push((key, x));
+    }
+    Ok(Some(out))
+}
+
+/// The per-parameter adaptation around `model` with observer gain `gain`,
+/// from a table of `(key, value)`.
+fn parameter_params(
+    model: friction_core::LuGreParams,
+    gain: f64,
+    table: &[(String, f64)],
+) -> PyResult<ParameterAdaptiveParams> {
+    const KEYS: &str =
+        "rate, derivative_weight, leakage, box_factor, dead_zone, min_speed, speed, load, load_max";
+    let mut p = ParameterAdaptiveParams::new(model, gain);
+    for (key, x) in table {
+        let slot = match key.as_str() {
+            "rate" => &mut p.rate,
+            "derivative_weight" => &mut p.derivative_weight,
+            "leakage" => &mut p.leakage,
+            "box_factor" => &mut p.box_factor,
+            "dead_zone" => &mut p.dead_zone,
+            "min_speed" => &mut p.min_speed,
+            "speed" => &mut p.speed,
+            "load" => &mut p.load,
+            "load_max" => &mut p.load_max,
+            _ => {
+                return Err(PyTypeError::new_err(format!(
+                    "parameter_adaptive: unknown key {key:?} (one of {KEYS})"
+                )))
+            }
+        };
+        *slot = *x;
+    }
+    p.validate()
+        .map_err(|e| PyValueError::new_err(format!("parameter_adaptive: {e}")))?;
+    Ok(p)
+}
+
+/// The supervisor from a table of `(key, value)`, its tolerance defaulting
+/// to 1 % of the Coulomb level `fc`.
+fn supervisor_params(table: &[(String, f64)], fc: f64) -> PyResult<SupervisorParams> {
+    const KEYS: &str = "window, memory, ratio, warm_up, retry, tolerance";
+    let mut p = SupervisorParams {
+        tolerance: 0.01 * fc,
+        ..SupervisorParams::DEFAULT
+    };
+    for (key, x) in table {
+        let slot = match key.as_str() {
+            "window" => &mut p.window,
+            "memory" => &mut p.memory,
+            "ratio" => &mut p.ratio,
+            "warm_up" => &mut p.warm_up,
+            "retry" => &mut p.retry,
+            "tolerance" => &mut p.tolerance,
+            _ => {
+                return Err(PyTypeError::new_err(format!(
+                    "supervisor: unknown key {key:?} (one of {KEYS})"
+                )))
+            }
+        };
+        *slot = *x;
+    }
+    p.validate()
+        .map_err(|e| PyValueError::new_err(format!("supervisor: {e}")))?;
+    Ok(p)
+}
+
+/// The per-parameter law's estimates without a supervisor (the host's
+/// names less `mode`).
+const ESTIMATE_NAMES: [&str; 5] = ["fc_pos", "fc_neg", "stribeck", "sigma2", "load"];
+
+/// The estimates of a per-parameter state: the nominal values before its
+/// first tick (a `Default` state reads 0 until then).
+fn estimates(law: &ParameterAdaptive<f64>, s: &ParameterAdaptiveState<f64>) -> Vec<f64> {
+    let s = if *s == ParameterAdaptiveState::default() {
+        law.initial()
+    } else {
+        *s
+    };
+    s.estimates().to_vec()
+}
+
+/// [`estimates`], then the supervisor's mode code.
+fn estimates_and_mode(
+    law: &ParameterAdaptive<f64>,
+    s: &ParameterAdaptiveState<f64>,
+    mode: Mode,
+) -> Vec<f64> {
+    let mut v = estimates(law, s);
+    v.push(f64::from(mode.code()));
+    v
 }
 
 fn adaptive_params(d: &Bound<'_, PyDict>) -> PyResult<AdaptiveParams> {
@@ -321,7 +480,63 @@ fn adaptive_params(d: &Bound<'_, PyDict>) -> PyResult<AdaptiveParams> {
     Ok(p)
 }
 
+type SupervisedLaw = Supervised<ParameterAdaptive<f64>, friction_core::CoulombViscous<f64>, f64>;
+
 impl Model {
+    /// The per-parameter adaptive observer on the model's LuGre form (as
+    /// the `adaptive` rows of `friction servo` build it), supervised unless
+    /// `supervisor` is `Some(None)` (`supervisor=False`).
+    fn parameter_controller(
+        &self,
+        setup: &Loop,
+        gain: f64,
+        table: &[(String, f64)],
+        supervisor: Option<Option<Vec<(String, f64)>>>,
+    ) -> PyResult<Axis> {
+        let spec = &self.file.model;
+        if !spec.has_state() {
+            return Err(PyValueError::new_err(format!(
+                "model `{}` has no observer (it has no state)",
+                self.name()
+            )));
+        }
+        let nominal = friction_host::servo::lugre_nominal(spec, 1.0, 1.0);
+        let p = parameter_params(nominal, gain, table)?;
+        let value = |e: friction_core::ParamError| PyValueError::new_err(e.to_string());
+        let law = p.build::<f64>(&setup.params).map_err(value)?;
+        let built = match supervisor {
+            Some(None) => controller_reading(setup, law, &ESTIMATE_NAMES, estimates),
+            Some(Some(table)) => self.supervised(setup, law, &table)?,
+            None => self.supervised(setup, law, &[])?,
+        };
+        built
+            .map(std::sync::Mutex::new)
+            .map_err(|e| PyValueError::new_err(e.to_string()))
+    }
+
+    /// `law` under its supervisor (settings from `table`), falling back to
+    /// the static map of the model's levels.
+    fn supervised(
+        &self,
+        setup: &Loop,
+        law: ParameterAdaptive<f64>,
+        table: &[(String, f64)],
+    ) -> PyResult<Result<Box<dyn Controller>, friction_core::ParamError>> {
+        let map = friction_host::servo::static_map(&self.file.model, 1.0);
+        let sp = supervisor_params(table, map.fc)?;
+        let value = |e: friction_core::ParamError| PyValueError::new_err(e.to_string());
+        let fallback = map.build::<f64>().map_err(value)?;
+        let supervised: SupervisedLaw = sp.build(law, fallback, setup.params.h).map_err(value)?;
+        Ok(controller_reading(
+            setup,
+            supervised,
+            &friction_host::servo::PARAMETER_NAMES,
+            |c, s: &SupervisedState<ParameterAdaptiveState<f64>, f64>| {
+                estimates_and_mode(c.primary(), &s.primary, c.status(s).mode)
+            },
+        ))
+    }
+
     fn controller(
         &self,
         setup: &Loop,
@@ -454,8 +669,25 @@ impl Compensator {
         Ok((u.into_pyarray(py), f.into_pyarray(py)))
     }
 
+    /// The supervisor's mode after the last tick: "primary" (the adaptive
+    /// observer applied), "fallback" (the static feed-forward) or "off" (no
+    /// compensation); None without a supervisor.
+    #[getter]
+    fn mode(&self) -> Option<&'static str> {
+        let axis = lock(&self.axis);
+        let at = axis.adapted_names().iter().position(|n| *n == "mode")?;
+        match axis.adapted().get(at).copied() {
+            Some(0.0) => Some("primary"),
+            Some(1.0) => Some("fallback"),
+            Some(2.0) => Some("off"),
+            _ => None,
+        }
+    }
+
     /// The adapted quantities after the last tick (`theta` for the
-    /// adaptive observer), as a dict.
+    /// adaptive observer; `fc_pos`, `fc_neg`, `stribeck`, `sigma2`, `load`
+    /// and, supervised, the `mode` code 0 / 1 / 2 for the per-parameter
+    /// one), as a dict.
     fn adapted<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let axis = lock(&self.axis);
         let d = PyDict::new(py);

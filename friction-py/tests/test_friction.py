@@ -152,6 +152,90 @@ def test_compensator_tick_and_adaptation():
         m.compensator(h=1e-3, kp=1.0, kd=-1.0, inertia=0.0)
 
 
+def closed_loop(c, seconds, factor=1.0, asymmetry=0.0):
+    """Olsson's loop (J = 0.0023, kc = 1.02) on a Coulomb + viscous plant
+    whose Coulomb level is `factor` times 0.28 N m, `1 + asymmetry` times
+    forward and `1 - asymmetry` times backward, tracking 0.5 sin(2 pi 0.2 t)
+    rad; returns the tracking errors and the modes after each second."""
+    x = v = 0.0
+    w = 2 * np.pi * 0.2
+    errors, modes = [], []
+    for k in range(int(seconds * 1000)):
+        t = k * 1e-3
+        r = 0.5 * np.sin(w * t)
+        u, _ = c.tick(x, r, 0.5 * w * np.cos(w * t), -0.5 * w * w * np.sin(w * t))
+        for _ in range(10):
+            side = 1 + asymmetry if v >= 0 else 1 - asymmetry
+            f = factor * side * 0.28 * np.tanh(v / 1e-3) + 0.0176 * v
+            v += 1e-4 * (1.02 * u - f) / 0.0023
+            x += 1e-4 * v
+        errors.append(x - r)
+        if k % 1000 == 999:
+            modes.append(c.mode)
+    return np.array(errors), modes
+
+
+def test_parameter_adaptive_compensator_and_its_supervisor():
+    """The per-parameter law learns a plant whose Coulomb level differs by
+    direction and stays applied; under a supervisor the mode is readable;
+    bad settings are named."""
+    m = friction.load(PARAMS / "olsson1998-servo.toml")
+    loop = dict(h=1e-3, kp=60.0, ki=200.0, kd=1.2, inertia=0.0023,
+                torque_constant=1.02, limit=10.0, gain=20.0)
+    c = m.compensator(parameter_adaptive={"rate": 16.0, "speed": 0.63}, **loop)
+    assert c.mode == "primary"
+    a = c.adapted()
+    assert set(a) == {"fc_pos", "fc_neg", "stribeck", "sigma2", "load", "mode"}
+    assert a["fc_pos"] == a["fc_neg"] == pytest.approx(0.28, rel=1e-9)
+    assert a["mode"] == 0.0
+    e, modes = closed_loop(c, 20, asymmetry=0.2)
+    a = c.adapted()
+    # forward 0.336, backward 0.224 N m: learnt apart
+    assert a["fc_pos"] > a["fc_neg"] + 0.05, a
+    assert modes[-1] == "primary", modes
+    none = m.compensator(**loop)
+    assert c.mode in ("primary", "fallback", "off")
+    # better than the fixed observer on the asymmetric plant, over the last half
+    e_obs, _ = closed_loop(none, 20, asymmetry=0.2)
+    half = len(e) // 2
+    assert np.sqrt(np.mean(e[half:] ** 2)) < np.sqrt(np.mean(e_obs[half:] ** 2))
+    # without a supervisor: no mode
+    bare = m.compensator(parameter_adaptive=True, supervisor=False, **loop)
+    assert bare.mode is None and "mode" not in bare.adapted()
+    # a supervisor dict
+    s = m.compensator(parameter_adaptive=True, supervisor={"window": 0.05, "ratio": 0.5}, **loop)
+    assert s.mode == "primary"
+    with pytest.raises(TypeError, match="unknown key"):
+        m.compensator(parameter_adaptive={"rte": 1.0}, **loop)
+    with pytest.raises(TypeError, match="unknown key"):
+        m.compensator(parameter_adaptive=True, supervisor={"windw": 1.0}, **loop)
+    with pytest.raises(ValueError, match="box_factor"):
+        m.compensator(parameter_adaptive={"box_factor": 0.5}, **loop)
+    with pytest.raises(ValueError, match="ratio"):
+        m.compensator(parameter_adaptive=True, supervisor={"ratio": 2.0}, **loop)
+    with pytest.raises(ValueError, match="two laws"):
+        m.compensator(parameter_adaptive=True, adaptive={"gamma": 1.0}, **loop)
+    with pytest.raises(ValueError, match="parameter_adaptive"):
+        m.compensator(supervisor=True, **loop)
+    with pytest.raises(ValueError, match="no observer"):
+        friction.Model("coulomb", fc=1.0).compensator(parameter_adaptive=True, **loop)
+
+
+def test_the_supervisor_falls_back_from_a_law_that_cannot_learn():
+    """A law frozen (rate 0) at four times the plant's Coulomb level (and
+    a fallback map of the same wrong level) predicts the measured friction
+    worse than no compensation: the supervisor leaves it after the
+    warm-up, and the mode says so."""
+    m = friction.Model("lugre", fc=0.56, fs=0.66, vs=0.01, sigma0=260.0,
+                       sigma1=0.6, sigma2=0.0176)
+    loop = dict(h=1e-3, kp=60.0, ki=200.0, kd=1.2, inertia=0.0023,
+                torque_constant=1.02, limit=10.0, gain=20.0)
+    c = m.compensator(parameter_adaptive={"rate": 0.0}, supervisor={"tolerance": 0.003}, **loop)
+    _, modes = closed_loop(c, 10, factor=0.5)
+    assert modes[0] == "primary"  # the warm-up
+    assert "primary" != modes[-1], modes
+
+
 def test_servo_is_the_cli(cli, tmp_path):
     ours = friction.servo()
     out = subprocess.run([str(cli), "servo", "--output", str(tmp_path / "servo")],

@@ -6,7 +6,9 @@
  *    the rotary servo's set; the firmware example's gains) tracks a sine on
  *    a simulated inertia whose friction is the same LuGre model stepped at
  *    10 kHz. The run fails (exit 1) unless the observer cuts the RMS
- *    tracking error at least tenfold against the same loop without it.
+ *    tracking error at least tenfold against the same loop without it, and
+ *    so does the per-parameter adaptive observer under its supervisor
+ *    started from friction levels 1.5x the plant's.
  * 2. The cost of `friction_servo_tick_f32` in instructions (SysTick under
  *    `-icount shift=0`), on the cost benchmark's inputs (the sweep and the
  *    stress sequence of friction-firmware-example/src/bin/cost.rs), printed
@@ -107,12 +109,10 @@ static float sqrt_f(float x) {
 
 /* ---- 1. the compensated loop ---- */
 
-/* RMS tracking error (rad) of 3 s tracking 0.05 sin(2 pi 0.5 t) rad,
-   with the observer (`gain` > 0) or without (`gain` == 0: no model) */
-static int track(double gain, float *rms, float *peak) {
-    friction_model_f32 plant, model;
-    friction_servo_f32 servo;
-    friction_servo_params p = servo_params();
+/* RMS tracking error (rad) of 3 s tracking 0.05 sin(2 pi 0.5 t) rad with
+   `servo` (built by the caller) */
+static int track(friction_servo_f32 *servo, float *rms, float *peak) {
+    friction_model_f32 plant;
     friction_tick_f32 out = {0.0f, 0.0f};
     friction_error err;
     float x = 0.0f, v = 0.0f, sum = 0.0f, worst = 0.0f;
@@ -120,10 +120,6 @@ static int track(double gain, float *rms, float *peak) {
     int k, j, n = 3000;
 
     if (check(friction_lugre_init_f32(&plant, &OLSSON, 0.0, &err), "plant")) return 1;
-    if (check(friction_lugre_init_f32(&model, &OLSSON, H, &err), "model")) return 1;
-    if (check(friction_servo_init_f32(&servo, &p, gain > 0.0 ? &model : 0, gain, 0, &err),
-              "servo"))
-        return 1;
     for (k = 0; k < n; k++) {
         float t = (float)k * (float)H;
         friction_setpoint_f32 r;
@@ -135,7 +131,7 @@ static int track(double gain, float *rms, float *peak) {
         sum += e * e;
         if (e < 0.0f) e = -e;
         if (e > worst) worst = e;
-        if (check(friction_servo_tick_f32(&servo, x, r, &out), "tick")) return 1;
+        if (check(friction_servo_tick_f32(servo, x, r, &out), "tick")) return 1;
         for (j = 0; j < PLANT_STEPS; j++) {
             float f;
             if (check(friction_model_step_f32(&plant, v, dh, &f), "plant step")) return 1;
@@ -146,6 +142,41 @@ static int track(double gain, float *rms, float *peak) {
     *rms = sqrt_f(sum / (float)n);
     *peak = worst;
     return 0;
+}
+
+/* the servo with the observer (`gain` > 0) or without (`gain` == 0: no model) */
+static int observer_servo(friction_servo_f32 *servo, double gain) {
+    friction_model_f32 model;
+    friction_servo_params p = servo_params();
+    friction_error err;
+    if (check(friction_lugre_init_f32(&model, &OLSSON, H, &err), "model")) return 1;
+    return check(friction_servo_init_f32(servo, &p, gain > 0.0 ? &model : 0, gain, 0, &err),
+                 "servo");
+}
+
+/* the servo with the per-parameter adaptive observer under its supervisor,
+   from a model whose friction levels are 1.5x the plant's (and a static
+   fallback with the same wrong Coulomb level) */
+static int parameter_servo(friction_servo_f32 *servo) {
+    friction_lugre_params wrong = OLSSON;
+    friction_parameter_adaptive_params adaptive;
+    friction_supervisor_params supervisor;
+    friction_coulomb_viscous_params fallback;
+    friction_servo_params p = servo_params();
+    friction_error err;
+    wrong.curve.fc *= 1.5;
+    wrong.curve.fs *= 1.5;
+    if (check(friction_parameter_adaptive_defaults(&wrong, GAIN, &adaptive), "defaults"))
+        return 1;
+    adaptive.rate = 16.0;  /* the command line's default rate (1/s) */
+    adaptive.speed = 0.16; /* the trajectory's peak speed (rad/s) */
+    if (check(friction_supervisor_defaults(&supervisor), "defaults")) return 1;
+    supervisor.tolerance = 0.01 * OLSSON.curve.fc;
+    fallback.fc = wrong.curve.fc;
+    fallback.sigma2 = wrong.sigma2;
+    return check(friction_servo_parameter_adaptive_init_f32(servo, &p, &adaptive, &supervisor,
+                                                            &fallback, &err),
+                 "per-parameter servo");
 }
 
 /* ---- 2. the cost of a tick ---- */
@@ -309,9 +340,17 @@ static int cost(void) {
 }
 
 int main(void) {
-    float rms_none, peak_none, rms_obs, peak_obs;
+    float rms_none, peak_none, rms_obs, peak_obs, rms_par, peak_par;
+    static friction_servo_f32 servo;
+    friction_estimates_f32 est;
+    friction_supervisor_status status;
     board_puts("friction C ABI on Cortex-M4F: LuGre observer servo at 1 kHz\n");
-    if (track(0.0, &rms_none, &peak_none) || track(GAIN, &rms_obs, &peak_obs)) return 1;
+    if (observer_servo(&servo, 0.0) || track(&servo, &rms_none, &peak_none)) return 1;
+    if (observer_servo(&servo, GAIN) || track(&servo, &rms_obs, &peak_obs)) return 1;
+    if (parameter_servo(&servo) || track(&servo, &rms_par, &peak_par)) return 1;
+    if (check(friction_servo_estimates_f32(&servo, &est), "estimates") ||
+        check(friction_servo_supervisor_f32(&servo, &status), "supervisor"))
+        return 1;
     board_puts("tracking error RMS / max (mrad): no compensation ");
     put_fixed(rms_none * 1e3f, 3);
     board_puts(" / ");
@@ -320,9 +359,25 @@ int main(void) {
     put_fixed(rms_obs * 1e3f, 3);
     board_puts(" / ");
     put_fixed(peak_obs * 1e3f, 3);
+    board_puts(", per-parameter adaptive from 1.5x levels ");
+    put_fixed(rms_par * 1e3f, 3);
+    board_puts(" / ");
+    put_fixed(peak_par * 1e3f, 3);
+    board_puts("\nper-parameter estimates (N m): fc+ ");
+    put_fixed(est.fc_pos, 4);
+    board_puts(", fc- ");
+    put_fixed(est.fc_neg, 4);
+    board_puts("; supervisor mode ");
+    put_int(status.mode);
+    board_puts(", switches ");
+    put_int(status.switches);
     board_puts("\n");
     if (!(rms_obs * 10.0f < rms_none)) {
         board_puts("FAIL: the observer does not cut the RMS error tenfold\n");
+        return 1;
+    }
+    if (!(rms_par * 10.0f < rms_none)) {
+        board_puts("FAIL: the per-parameter servo does not cut the RMS error tenfold\n");
         return 1;
     }
     if (cost()) return 1;

@@ -56,12 +56,18 @@ use friction_core::{
     ResetIntegratorParams, ResetIntegratorState, Scalar, Setpoint, StribeckMap, StribeckMapParams,
     Xiong, XiongElement, XiongParams, XiongState,
 };
+use friction_core::{
+    ParameterAdaptiveAt, ParameterAdaptiveAtState, ParameterAdaptiveServo, SupervisedState,
+};
 
 // the servo's model, loop period (the variable-step rows pass `H` through
 // `black_box`), observer gain and gains, shared with `main.rs`
 #[path = "../setup.rs"]
 mod setup;
-use setup::{adaptation, controller, leuven_nominal, H, NOMINAL, OBSERVER_GAIN};
+use setup::{
+    adaptation, controller, fallback, leuven_nominal, parameter_adaptation, supervisor, H, NOMINAL,
+    OBSERVER_GAIN,
+};
 // the sweep, the stress sequence and the GMS / Xiong elements, shared with
 // the profile (`profile.rs`)
 #[path = "../inputs.rs"]
@@ -498,6 +504,47 @@ type ServoAdaptiveStateQ16 =
     CompensatorState<Fixed32, AdaptiveState<LuGreAtState<Fixed32>, Fixed32>>;
 step_fn!(step_servo_adaptive_at_q16, ServoAdaptiveQ16, ServoAdaptiveStateQ16,
     (Fixed32, Setpoint<Fixed32>) => Fixed32, |m, s, input| m.tick(s, input.0, input.1).command);
+// the per-parameter adaptive observer's fixed-step form under its supervisor
+// (issue 32: within the servo tick + 200 on the M4F, + 400 in Q16.16 on the M0)
+type ServoParameterState<S> = CompensatorState<S, SupervisedState<ParameterAdaptiveAtState<S>, S>>;
+step_fn!(step_servo_parameter_adaptive_f32, ParameterAdaptiveServo<f32>,
+    ServoParameterState<f32>, (f32, Setpoint<f32>) => f32,
+    |m, s, input| m.tick(s, input.0, input.1).command);
+step_fn!(step_servo_parameter_adaptive_q16, ParameterAdaptiveServo<Fixed32>,
+    ServoParameterState<Fixed32>, (Fixed32, Setpoint<Fixed32>) => Fixed32,
+    |m, s, input| m.tick(s, input.0, input.1).command);
+
+// the same law without its supervisor: what the supervisor costs
+type ServoParameterBare<S> = Compensator<S, ParameterAdaptiveAt<S>>;
+type ServoParameterBareState<S> = CompensatorState<S, ParameterAdaptiveAtState<S>>;
+step_fn!(step_servo_parameter_bare_f32, ServoParameterBare<f32>,
+    ServoParameterBareState<f32>, (f32, Setpoint<f32>) => f32,
+    |m, s, input| m.tick(s, input.0, input.1).command);
+step_fn!(step_servo_parameter_bare_q16, ServoParameterBare<Fixed32>,
+    ServoParameterBareState<Fixed32>, (Fixed32, Setpoint<Fixed32>) => Fixed32,
+    |m, s, input| m.tick(s, input.0, input.1).command);
+
+/// The per-parameter servo without its supervisor, in scalar `S`.
+fn parameter_servo_bare<S: Scalar>(label: &str) -> ServoParameterBare<S> {
+    let p = controller();
+    let law = parameter_adaptation()
+        .build_at::<S>(&p)
+        .unwrap_or_else(|_| fail(label));
+    p.build(law).unwrap_or_else(|_| fail(label))
+}
+
+/// The supervised per-parameter servo of the firmware's `main.rs` in scalar `S`.
+fn parameter_servo<S: Scalar>(label: &str) -> ParameterAdaptiveServo<S> {
+    let p = controller();
+    let law = parameter_adaptation()
+        .build_at::<S>(&p)
+        .unwrap_or_else(|_| fail(label));
+    let map = fallback().build::<S>().unwrap_or_else(|_| fail(label));
+    let supervised = supervisor()
+        .build(law, map, p.h)
+        .unwrap_or_else(|_| fail(label));
+    p.build(supervised).unwrap_or_else(|_| fail(label))
+}
 
 /// One row per fixed-step form in scalar `$S` (label `$label`).
 macro_rules! fixed_step_rows {
@@ -973,7 +1020,34 @@ fn main() -> ! {
     if !(tick_adaptive.avg > 0.0 && tick_adaptive.worst >= tick_adaptive.avg) {
         fail("implausible adaptive servo tick count");
     }
-    // the same two ticks in Q16.16
+    let tick_parameter = row(
+        pt,
+        "servo-parameter-adaptive",
+        "step_servo_parameter_adaptive_f32",
+        "f32",
+        Form::Fixed,
+        &parameter_servo::<f32>("per-parameter servo"),
+        step_servo_parameter_adaptive_f32,
+        servo_sweep,
+        servo_stress,
+        STRESS_LEN,
+    );
+    if !(tick_parameter.avg > 0.0 && tick_parameter.worst >= tick_parameter.avg) {
+        fail("implausible per-parameter servo tick count");
+    }
+    row(
+        pt,
+        "servo-parameter-bare",
+        "step_servo_parameter_bare_f32",
+        "f32",
+        Form::Fixed,
+        &parameter_servo_bare::<f32>("per-parameter servo"),
+        step_servo_parameter_bare_f32,
+        servo_sweep,
+        servo_stress,
+        STRESS_LEN,
+    );
+    // the same ticks in Q16.16
     let lugre_q16 = NOMINAL
         .build_at::<Fixed32>(f64::from(H))
         .unwrap_or_else(|_| fail("fixed-step LuGre parameters in Q16.16"));
@@ -1009,6 +1083,30 @@ fn main() -> ! {
         Form::Fixed,
         &servo_adaptive_q16,
         step_servo_adaptive_at_q16,
+        |k| q16(servo_sweep(k)),
+        |k| q16(servo_stress(k)),
+        STRESS_LEN,
+    );
+    row(
+        pt,
+        "servo-parameter-adaptive",
+        "step_servo_parameter_adaptive_q16",
+        "fixed",
+        Form::Fixed,
+        &parameter_servo::<Fixed32>("per-parameter servo in Q16.16"),
+        step_servo_parameter_adaptive_q16,
+        |k| q16(servo_sweep(k)),
+        |k| q16(servo_stress(k)),
+        STRESS_LEN,
+    );
+    row(
+        pt,
+        "servo-parameter-bare",
+        "step_servo_parameter_bare_q16",
+        "fixed",
+        Form::Fixed,
+        &parameter_servo_bare::<Fixed32>("per-parameter servo in Q16.16"),
+        step_servo_parameter_bare_q16,
         |k| q16(servo_sweep(k)),
         |k| q16(servo_stress(k)),
         STRESS_LEN,

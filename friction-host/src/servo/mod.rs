@@ -263,8 +263,9 @@ pub fn adaptation(cfg: &ServoConfig, static_force: f64) -> AdaptiveParams {
     }
 }
 
-/// The static feed-forward of a row at `scale`: `scale Fc sign(v) + sigma2 v`.
-fn static_map(spec: &ModelSpec, scale: f64) -> CoulombViscousParams {
+/// The static feed-forward of a row at `scale`: `scale Fc sign(v) + sigma2 v`
+/// (also the Python package's supervisor fallback).
+pub fn static_map(spec: &ModelSpec, scale: f64) -> CoulombViscousParams {
     CoulombViscousParams {
         fc: scale * spec.host().coulomb_level(),
         sigma2: spec.sigma2(),
