@@ -430,6 +430,8 @@ impl From<&friction_parameter_adaptive_params> for ParameterAdaptiveParams {
             speed: p.speed,
             load: p.load,
             load_max: p.load_max,
+            // the fixed-step form the C servo runs has no prediction law
+            prediction_rate: 0.0,
         }
     }
 }

@@ -32,6 +32,7 @@
 //! Q16.16 the tests compare a servo run under the supervisor with `f64`.
 
 use super::{Estimate, ParameterAdaptive, ParameterAdaptiveParams, ESTIMATES, SIGNAL_LIMIT};
+use crate::bits::Flag;
 use crate::compensator::{Compensation, CompensatorParams};
 use crate::gain::Gain;
 use crate::model::{check_force, convert, ParamError};
@@ -66,8 +67,8 @@ pub struct ParameterAdaptiveAtState<S> {
     /// The transmitted torque `kc u - τ_ext` (torque units, not scaled).
     torque: S,
     external: S,
-    started: bool,
-    primed: bool,
+    started: Flag,
+    primed: Flag,
 }
 
 /// The built fixed-step per-parameter adaptive observer (see the [module
@@ -132,7 +133,9 @@ impl ParameterAdaptiveParams {
     /// for a compensator with `servo`'s period, gains and torque constant.
     /// Besides [`build`](Self::build)'s checks, rejects what the scalar
     /// cannot carry: the largest force the boxes allow at the velocity
-    /// limit (times 4, for sums), each scaled gain and box.
+    /// limit (times 4, for sums), each scaled gain and box; and a
+    /// `prediction_rate` other than 0 (the prediction-error law is the
+    /// variable form's).
     ///
     /// ```
     /// # #[cfg(feature = "fixed")] {
@@ -149,6 +152,14 @@ impl ParameterAdaptiveParams {
         &self,
         servo: &CompensatorParams,
     ) -> Result<ParameterAdaptiveAt<S>, ParamError> {
+        // the prediction-error law (for listening beside another
+        // controller) is the variable form's only
+        if self.prediction_rate != 0.0 {
+            return Err(ParamError::NotBelow {
+                name: "prediction_rate",
+                limit: "0 in the fixed-step form",
+            });
+        }
         // the gains and boxes of the variable form, in f64 (which holds h)
         let reference: ParameterAdaptive<f64> = self.build(servo)?;
         let h = servo.h;
@@ -265,16 +276,16 @@ impl<S: Scalar> ParameterAdaptiveAt<S> {
     pub fn initial(&self) -> ParameterAdaptiveAtState<S> {
         ParameterAdaptiveAtState {
             estimates: self.per.map(|k| k.nominal),
-            started: true,
+            started: Flag::new(true),
             ..Default::default()
         }
     }
 
     #[inline]
     fn start(&self, state: &mut ParameterAdaptiveAtState<S>) {
-        if !state.started {
+        if !state.started.get() {
             state.estimates = self.per.map(|k| k.nominal);
-            state.started = true;
+            state.started = Flag::new(true);
         }
     }
 
@@ -356,13 +367,13 @@ impl<S: Scalar> ParameterAdaptiveAt<S> {
         } else {
             -g
         };
-        let de = if state.primed {
+        let de = if state.primed.get() {
             (e - state.last_error).sat(self.signal_limit)
         } else {
             S::ZERO
         };
         state.last_error = e;
-        state.primed = true;
+        state.primed = Flag::new(true);
         let adapting = e.abs() > self.dead_zone && v.abs() >= self.min_speed;
         if adapting || !self.leakage_h.is_zero() {
             let limit = self.signal_limit;
@@ -737,6 +748,19 @@ mod tests {
 
     #[test]
     fn scaled_settings_that_do_not_fit_are_named() {
+        // the prediction-error law is the variable form's only
+        assert_eq!(
+            ParameterAdaptiveParams {
+                prediction_rate: 1.0,
+                ..law(1.0)
+            }
+            .build_at::<f32>(&servo())
+            .err(),
+            Some(ParamError::NotBelow {
+                name: "prediction_rate",
+                limit: "0 in the fixed-step form",
+            })
+        );
         // the variable form's checks come first
         assert_eq!(
             ParameterAdaptiveParams {
