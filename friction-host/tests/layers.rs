@@ -13,7 +13,7 @@ const LAYERS: &[&[&str]] = &[
     &["params"],
     &["sim"],
     &["experiments", "servo", "identify"],
-    &["validate", "fuzzing"],
+    &["validate", "fuzzing", "online"],
 ];
 
 /// The crate's exported macros (`crate::outln!`) and the module defining each.
