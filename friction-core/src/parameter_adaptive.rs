@@ -497,12 +497,18 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// with `ζ = sign v`) against the measured force,
     ///
     /// ```text
-    /// ε   = force - φᵀ θ^
-    /// θ^ += Γp φ ε,  then projection onto the boxes
+    /// ε       = force - φᵀ θ^
+    /// Δsigma2 = γp3 (v - c sign v) ε                the viscous term centred at c
+    /// ΔFc±    = γp φ± ε - c |φ±| Δsigma2             each level as the friction at c
+    /// ΔDs, Δmu = γp φ ε,  then projection onto the boxes
     /// ```
     ///
-    /// with `Γp` the prediction rate times `h`, scaled per estimate as the
-    /// tracking law's `Γ`. A no-op when the rate is 0, for a sample slower
+    /// with `γp` the prediction rate times `h` over each regressor's size
+    /// squared (1 for the levels, the reference speed for `sigma2`, a
+    /// quarter of the largest command torque for `mu`) and `c` half the
+    /// reference speed: in one direction `sign v` and `v` are nearly
+    /// collinear, and a plain gradient on them crawls along their shared
+    /// direction. A no-op when the rate is 0, for a sample slower
     /// than `min_speed` (at rest the measured force is whatever holds the
     /// load, not the curve: set `min_speed` above the speeds of reversals)
     /// or a non-finite one. The [`Compensator`](crate::Compensator)
@@ -537,10 +543,8 @@ impl<S: Scalar> ParameterAdaptive<S> {
         }
         let error = (sample.force.sat(self.signal_limit) - predicted).sat(self.signal_limit);
         let lim = self.signal_limit;
-        // the viscous term on `v - c sign v` (c half the reference speed),
-        // and each level as the friction at `c`: in one direction `sign v`
-        // and `v` are nearly collinear and a plain gradient crawls along
-        // their shared direction; centred, the two are nearly independent
+        // centred at c (see above): the viscous step first, then each
+        // level's, less what the viscous step moved the friction at c
         let viscous = ((self.per[3].gamma_p * error).sat(lim) * (v - self.centre * sign)).sat(lim);
         let mut step = [S::ZERO; ESTIMATES];
         for ((d, p), k) in step.iter_mut().zip(phi).zip(&self.per) {
