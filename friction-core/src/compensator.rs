@@ -567,13 +567,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
     #[inline]
     pub fn tick(&self, state: &mut CompensatorState<S, C::State>, x: S, r: Setpoint<S>) -> Tick<S> {
         if !all_finite([x, r.x, r.v, r.a]) {
-            if state.since_last > 0 {
-                state.since_last = state.since_last.saturating_add(1);
-            }
-            if C::LEARNS {
-                // no friction sample spans the gap
-                state.run = 0;
-            }
+            Self::skip(state);
             return Tick {
                 command: S::ZERO,
                 friction: S::ZERO,
@@ -605,12 +599,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
         state.last_x = x;
         state.since_last = 1;
         let command = (base + state.integral).sat(self.limit);
-        self.compensation.commanded(&mut state.friction, command);
-        self.predict_acceleration(state, command, f);
-        if C::LEARNS {
-            state.command_before = state.command;
-            state.command = command;
-        }
+        self.issued(state, command, f);
         Tick {
             command,
             friction: f,
@@ -654,10 +643,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
         command: S,
     ) -> S {
         if !all_finite([x, r.x, command]) {
-            if state.since_last > 0 {
-                state.since_last = state.since_last.saturating_add(1);
-            }
-            state.run = 0;
+            Self::skip(state);
             return S::ZERO;
         }
         let v = self.velocity(state, x);
@@ -668,17 +654,36 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
         let f = self
             .compensation
             .estimate(&mut state.friction, v, e, self.h);
-        let command = command.sat(self.limit);
+        let f = if f.is_finite() { f } else { S::ZERO };
         state.last_x = x;
         state.since_last = 1;
+        self.issued(state, command.sat(self.limit), f);
+        f
+    }
+
+    /// A tick with a non-finite input: the gap counts toward the next
+    /// velocity, and no friction sample spans it.
+    #[inline]
+    fn skip(state: &mut CompensatorState<S, C::State>) {
+        if state.since_last > 0 {
+            state.since_last = state.since_last.saturating_add(1);
+        }
+        if C::LEARNS {
+            state.run = 0;
+        }
+    }
+
+    /// After an accepted tick: the compensation told the `command` issued,
+    /// the velocity observer's next acceleration from it and the friction
+    /// estimate `f`, and the command kept for the next friction sample.
+    #[inline]
+    fn issued(&self, state: &mut CompensatorState<S, C::State>, command: S, f: S) {
         self.compensation.commanded(&mut state.friction, command);
-        let f = if f.is_finite() { f } else { S::ZERO };
         self.predict_acceleration(state, command, f);
         if C::LEARNS {
             state.command_before = state.command;
             state.command = command;
         }
-        f
     }
 
     /// The measured velocity at position `x`: the backward difference over
