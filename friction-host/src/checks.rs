@@ -58,6 +58,46 @@ pub mod args {
         cli: "--duration",
         python: "duration",
     };
+    /// `online`: the mass of the drive's loop (command line only).
+    pub const MASS: Arg = Arg {
+        cli: "--mass",
+        python: "mass",
+    };
+    /// `online`: the starting Coulomb level (command line only).
+    pub const COULOMB: Arg = Arg {
+        cli: "--coulomb",
+        python: "coulomb",
+    };
+    /// `online`: the starting viscous coefficient (command line only).
+    pub const VISCOUS: Arg = Arg {
+        cli: "--viscous",
+        python: "viscous",
+    };
+    /// `online`: the viscous regressors' speed scale (command line only).
+    pub const SPEED: Arg = Arg {
+        cli: "--speed",
+        python: "speed",
+    };
+    /// `online`: the slowest sample learnt from (command line only).
+    pub const MIN_SPEED: Arg = Arg {
+        cli: "--min-speed",
+        python: "min_speed",
+    };
+    /// `online`: the per-parameter estimator's rate (command line only).
+    pub const RATE: Arg = Arg {
+        cli: "--rate",
+        python: "rate",
+    };
+    /// `online`: the least-squares forgetting factor (command line only).
+    pub const FORGETTING: Arg = Arg {
+        cli: "--forgetting",
+        python: "forgetting",
+    };
+    /// `online`: the estimates' box factor (command line only).
+    pub const BOX_FACTOR: Arg = Arg {
+        cli: "--box-factor",
+        python: "box_factor",
+    };
 }
 
 /// The documented ranges of the numeric options (inclusive).
@@ -76,6 +116,13 @@ pub mod ranges {
     /// The identification filter's order: beyond 16 the Butterworth
     /// sections' poles crowd the unit circle at low cut-offs.
     pub const FILTER_ORDER: (i64, i64) = (1, 16);
+    /// A physical quantity that must be positive: a model parameter's range
+    /// (`friction_core::PARAM_RANGE`).
+    pub const POSITIVE: (f64, f64) = friction_core::PARAM_RANGE;
+    /// A forgetting factor, `0 < f <= 1`.
+    pub const FORGETTING: (f64, f64) = (f64::MIN_POSITIVE, 1.0);
+    /// A box factor, at least 1.
+    pub const BOX_FACTOR: (f64, f64) = (1.0, friction_core::PARAM_RANGE.1);
 }
 
 /// An argument refused: which, its value, and the rule it breaks (written

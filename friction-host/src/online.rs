@@ -248,33 +248,22 @@ fn read_run(path: &Path, c: &identify::Columns) -> Result<Run> {
     Ok(Run { t, x, u })
 }
 
-/// Checks the options a user sets, naming each by its command-line flag.
+/// Checks the options a user sets, naming each by its command-line flag
+/// (the shared validation layer, [`crate::checks`]).
 pub fn check(o: &Options) -> Result<()> {
-    let positive = |flag: &str, x: f64| -> Result<()> {
-        if !(x.is_finite() && x > 0.0 && x <= friction_core::PARAM_RANGE.1) {
-            bail!("{flag} must be a finite number > 0 (at most 1e20), got {x}");
-        }
-        Ok(())
-    };
-    positive("--mass", o.mass)?;
-    positive("--coulomb", o.coulomb)?;
-    positive("--viscous", o.viscous)?;
+    use crate::checks::{args, ranges, within};
+    within(args::MASS, o.mass, ranges::POSITIVE)?;
+    within(args::COULOMB, o.coulomb, ranges::POSITIVE)?;
+    within(args::VISCOUS, o.viscous, ranges::POSITIVE)?;
     if let Some(x) = o.speed {
-        positive("--speed", x)?;
+        within(args::SPEED, x, ranges::POSITIVE)?;
     }
     if let Some(x) = o.min_speed {
-        positive("--min-speed", x)?;
+        within(args::MIN_SPEED, x, ranges::POSITIVE)?;
     }
-    positive("--rate", o.rate)?;
-    if !(o.forgetting > 0.0 && o.forgetting <= 1.0) {
-        bail!("--forgetting must be in (0, 1], got {}", o.forgetting);
-    }
-    if !(o.box_factor.is_finite() && o.box_factor >= 1.0) {
-        bail!(
-            "--box-factor must be a finite number >= 1, got {}",
-            o.box_factor
-        );
-    }
+    within(args::RATE, o.rate, ranges::POSITIVE)?;
+    within(args::FORGETTING, o.forgetting, ranges::FORGETTING)?;
+    within(args::BOX_FACTOR, o.box_factor, ranges::BOX_FACTOR)?;
     Ok(())
 }
 
