@@ -1187,6 +1187,19 @@ mod tests {
         }
     }
 
+    /// Each row's rms over the last half, its loop required stable.
+    fn stable_rms_half(rows: &[&'static str], cfg: &ServoConfig, model: &ModelSpec) -> Vec<f64> {
+        rows.par_iter()
+            .map(|&row| {
+                let r = simulate(row, cfg, model, Row::named(row).unwrap())
+                    .unwrap()
+                    .unwrap();
+                assert!(r.stable, "{row}");
+                r.rms_half
+            })
+            .collect()
+    }
+
     /// The EMPS axis (its published mass, loop, Coulomb and viscous
     /// figures, the measured offset as an asymmetry): the actuator targets
     /// of issue 32, `adaptive±50` at most 0.3x the better of `static` and
@@ -1198,16 +1211,7 @@ mod tests {
         let file = ParamFile::load(&path).unwrap();
         let cfg = file.servo.resolve(&path.display().to_string()).unwrap();
         let rows = ["static", "observer", "adaptive+50", "adaptive-50", "rls"];
-        let rms: Vec<f64> = rows
-            .par_iter()
-            .map(|&row| {
-                let r = simulate(row, &cfg, &file.model, Row::named(row).unwrap())
-                    .unwrap()
-                    .unwrap();
-                assert!(r.stable, "{row}");
-                r.rms_half
-            })
-            .collect();
+        let rms = stable_rms_half(&rows, &cfg, &file.model);
         let better = rms[0].min(rms[1]);
         for (row, r) in rows[2..4].iter().zip(&rms[2..4]) {
             assert!(*r <= 0.3 * better, "{row}: {r} against {better}");
@@ -1228,16 +1232,7 @@ mod tests {
             ParamFile::parse(&format!("{text}\nvelocity_observer = 50\n"), "d.toml").unwrap();
         let cfg = file.servo.resolve("d.toml").unwrap();
         let rows = ["static", "observer", "adaptive"];
-        let rms: Vec<f64> = rows
-            .par_iter()
-            .map(|&row| {
-                let r = simulate(row, &cfg, &file.model, Row::named(row).unwrap())
-                    .unwrap()
-                    .unwrap();
-                assert!(r.stable, "{row}");
-                r.rms_half
-            })
-            .collect();
+        let rms = stable_rms_half(&rows, &cfg, &file.model);
         let better = rms[0].min(rms[1]);
         assert!(
             rms[2] <= 0.4 * better,
