@@ -15,6 +15,7 @@ extern crate std;
 
 pub mod adaptive;
 mod bits;
+pub mod commissioning;
 pub mod compensator;
 #[cfg(feature = "fixed")]
 pub mod fixed_point;
@@ -36,6 +37,10 @@ mod test_rng;
 mod test_servo;
 
 pub use adaptive::{AdaptiveObserver, AdaptiveParams, AdaptiveState};
+pub use commissioning::{
+    Abort, CommissionError, Commissioned, Commissioning, CommissioningParams, CommissioningState,
+    CommissioningTick, Identified, Phase,
+};
 pub use compensator::{
     AtPeriod, Compensation, Compensator, CompensatorParams, CompensatorState, FeedForward,
     FrictionSample, NoCompensation, Setpoint, Tick,

@@ -1,0 +1,438 @@
+//! The fit at the end of a commissioning run, in `f64` (outside the
+//! control interrupt; on a core without a double-precision FPU it runs in
+//! software).
+//!
+//! **The steady curve.** Each plateau the loop held steadily gives a point
+//! `(v, F)`. Steady: the distances over blocks of 8 ticks vary by less than
+//! 30 % RMS of their mean beyond the variance `c^2 / 4` that the encoder's
+//! count adds (a steady slide's quantized distances take two adjacent
+//! values); `c`, the count as a fraction of a block's distance, must be at
+//! most 1/4, or the plateau is too slow for the encoder to judge. The point
+//! is `v` the distance over
+//! the time, `F = kc` times the mean command. A plateau in stick-slip (the
+//! loop's damping below the curve's falling slope) is left out. Per
+//! direction
+//!
+//! ```text
+//! F(v) = ±(Fc± + (Fs± - Fc±) exp(-|v / vs|^delta)) + sigma2 v
+//! ```
+//!
+//! is linear in `Fc+`, `Fc-`, `Fs+ - Fc+`, `Fs- - Fc-` and `sigma2` for a
+//! given `(vs, delta)`: least squares over a grid of `vs` (48 log-spaced
+//! values across the measured speeds) and `delta` (1 to 4 by 0.25), then a
+//! golden-section refinement of each around the best. A fit with a negative
+//! Stribeck excess is not physical and is skipped. The Stribeck terms count
+//! (`stribeck` identified) only where their excess is at least 2 % of `Fc`
+//! and they at least halve the RMS of the flat fit (`Fs = Fc`). The static
+//! levels are then the curve's where the slowest plateau has reached 90 %
+//! of the excess, else (an extrapolation) the break-away levels. Otherwise
+//! the curve is flat down to the slowest steady plateau `v_lo`, the static
+//! levels are the break-away levels, `delta = 2`, and `vs` is the largest
+//! value that leaves under 2 % of `Fc` of the excess at `v_lo`: `vs = v_lo /
+//! sqrt(ln((Fs - Fc) / (0.02 Fc)))`, an upper bound.
+//!
+//! **Stiffness.** At rest under a force `a` the LuGre bristle holds `z =
+//! a / sigma0`; reversing to `-a` slowly moves it along `dz/dx = 1 + sigma0
+//! z / Fs`, so the rest positions are `dx = (Fs / sigma0) ln((Fs + a) /
+//! (Fs - a))` apart, which gives `sigma0`. Where `dx` is under 8 encoder
+//! counts, or the axis slipped, `sigma0` is not identified and is set to
+//! `Fs / (8 counts)` (or `Fs / breakaway_travel` with an exact encoder),
+//! the softest stiffness the measurement cannot rule out.
+//!
+//! **Damping.** `sigma1 = 2 sqrt(sigma0 J)`, the bristle critically damped
+//! on the loop's inertia (Canudas de Wit et al. 1995's rule of thumb); never
+//! identified.
+
+use super::{Abort, CommissioningParams, CommissioningState, MAX_SPEEDS};
+use crate::model::ParamError;
+use crate::stribeck::StribeckParams;
+use crate::{LuGreParams, Scalar};
+
+/// Which parameters the run measured (the rest are documented fallbacks).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Identified {
+    /// `fc` (per direction).
+    pub coulomb: bool,
+    /// `fs`, `vs` and the exponent.
+    pub stribeck: bool,
+    /// `sigma2`.
+    pub viscous: bool,
+    /// `sigma0`.
+    pub stiffness: bool,
+}
+
+/// A commissioning run's result.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Commissioned {
+    /// The LuGre model (the levels the mean of the two directions).
+    pub model: LuGreParams,
+    /// Coulomb levels forward and backward (force units, both positive).
+    pub fc: [f64; 2],
+    /// Static levels forward and backward.
+    pub fs: [f64; 2],
+    /// Break-away levels of the ramps, forward and backward.
+    pub breakaway: [f64; 2],
+    /// What was measured.
+    pub identified: Identified,
+    /// RMS of the curve fit over the plateaus, relative to the mean `fc`.
+    pub residual: f64,
+    /// Slowest and fastest measured plateau speed.
+    pub speed_range: [f64; 2],
+    /// Plateaus measured.
+    pub plateaus: u8,
+}
+
+/// Why a run gave no parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CommissionError {
+    /// The routine has not finished.
+    NotFinished,
+    /// The routine stopped early.
+    Aborted(Abort),
+    /// Fewer than three usable plateaus in a direction.
+    TooFewPlateaus,
+    /// The curve fits the plateaus worse than 10 % of `fc` RMS (the
+    /// figure is the relative RMS).
+    PoorFit(f64),
+    /// The fitted Coulomb level is not positive.
+    NoFriction,
+    /// The fitted parameters do not build a LuGre model.
+    Invalid(ParamError),
+}
+
+/// Largest relative RMS of an accepted fit.
+const MAX_RESIDUAL: f64 = 0.1;
+/// A Stribeck fit counts only if it leaves at most this fraction of the
+/// flat fit's sum of squares (its RMS halved).
+const SIGNIFICANT: f64 = 0.25;
+/// Stribeck excess below this fraction of `fc`: no Stribeck effect.
+const MIN_EXCESS: f64 = 0.02;
+/// A plateau whose distance per block varies by more than 30 % RMS of its
+/// mean (beyond what the encoder's counts explain) was not sliding
+/// steadily.
+const STEADY: f64 = 0.09;
+/// The fitted static levels count where the slowest plateau has reached
+/// this fraction of the Stribeck excess; below, the break-away levels.
+const REACHED: f64 = 0.9;
+/// Presliding shorter than this many counts is not measured.
+const MIN_COUNTS: f64 = 8.0;
+
+#[derive(Clone, Copy, Default)]
+struct Point {
+    v: f64,
+    f: f64,
+}
+
+/// The coefficients `[Fc+, Fc-, dS+, dS-, sigma2]` and the sum of squares.
+type Linear = ([f64; 5], f64);
+
+pub(super) fn fit<S: Scalar>(
+    params: &CommissioningParams,
+    state: &CommissioningState<S>,
+) -> Result<Commissioned, CommissionError> {
+    let (points, n) = points(params, state);
+    let points = points.get(..n).unwrap_or(&[]);
+    let forward = points.iter().filter(|p| p.v > 0.0).count();
+    if forward < 3 || n - forward < 3 {
+        return Err(CommissionError::TooFewPlateaus);
+    }
+    let lo = points.iter().fold(f64::INFINITY, |m, p| m.min(p.v.abs()));
+    let hi = points.iter().fold(0.0f64, |m, p| m.max(p.v.abs()));
+
+    let flat = linear(points, |_| 0.0, false, true).ok_or(CommissionError::TooFewPlateaus)?;
+    let level = |c: &[f64; 5]| 0.5 * (c[0] + c[1]);
+    let curved = stribeck_search(points, lo, hi).filter(|((c, sse), _, _)| {
+        0.5 * (c[2] + c[3]) >= MIN_EXCESS * level(c) && *sse <= SIGNIFICANT * flat.1
+    });
+    let stribeck = curved.is_some();
+    let ((mut c, mut sse), vs, delta) = curved.unwrap_or((flat, lo, 2.0));
+    let mut viscous = true;
+    if c[4] < 0.0 {
+        // a falling curve at speed is not viscous friction: refit without
+        let g = |v: f64| stribeck_shape(v, vs, delta);
+        if let Some((refit, s)) = linear(points, g, stribeck, false) {
+            c = refit;
+            sse = s;
+        }
+        viscous = false;
+    }
+    let [fc_pos, fc_neg, ds_pos, ds_neg, sigma2] = c;
+    let fc = 0.5 * (fc_pos + fc_neg);
+    if !(fc > 0.0 && fc.is_finite()) {
+        return Err(CommissionError::NoFriction);
+    }
+    let residual = libm::sqrt(sse / n as f64) / fc;
+    if residual.is_nan() || residual > MAX_RESIDUAL {
+        return Err(CommissionError::PoorFit(residual));
+    }
+    let kc = params.servo.torque_constant;
+    let breakaway = state.breakaway.map(|b| kc * b.to_f64());
+    let [b_pos, b_neg] = breakaway;
+    let (fs_pos, fs_neg, vs) = if stribeck && stribeck_shape(lo, vs, delta) >= REACHED {
+        (fc_pos + ds_pos, fc_neg + ds_neg, vs)
+    } else if stribeck {
+        // the slowest plateau is still on the branch: its static end is an
+        // extrapolation, the break-away ramps measured it
+        (b_pos.max(fc_pos), b_neg.max(fc_neg), vs)
+    } else {
+        // flat down to the slowest plateau: the static levels from the
+        // break-away ramps, and the largest vs that leaves under 2 % of
+        // the excess at the slowest plateau (delta = 2)
+        let (fs_pos, fs_neg) = (b_pos.max(fc_pos), b_neg.max(fc_neg));
+        let excess = 0.5 * (fs_pos - fc_pos + fs_neg - fc_neg);
+        let ratio = excess / (MIN_EXCESS * fc);
+        let vs = if ratio > core::f64::consts::E {
+            lo / libm::sqrt(libm::log(ratio))
+        } else {
+            lo
+        };
+        (fs_pos, fs_neg, vs)
+    };
+    let fs = 0.5 * (fs_pos + fs_neg);
+    let (sigma0, stiffness) = stiffness(params, state, fs);
+    let model = LuGreParams {
+        curve: StribeckParams {
+            fc,
+            fs,
+            vs,
+            exponent: delta,
+        },
+        sigma0,
+        sigma1: 2.0 * libm::sqrt(sigma0 * params.servo.inertia),
+        sigma2: sigma2.max(0.0),
+        vd: None,
+    };
+    model.validate().map_err(CommissionError::Invalid)?;
+    Ok(Commissioned {
+        model,
+        fc: [fc_pos, fc_neg],
+        fs: [fs_pos, fs_neg],
+        breakaway,
+        identified: Identified {
+            coulomb: true,
+            stribeck,
+            viscous,
+            stiffness,
+        },
+        residual,
+        speed_range: [lo, hi],
+        plateaus: n as u8,
+    })
+}
+
+/// The usable plateaus as `(v, F)`.
+fn points<S: Scalar>(
+    params: &CommissioningParams,
+    state: &CommissioningState<S>,
+) -> ([Point; 2 * MAX_SPEEDS], usize) {
+    let mut out = [Point::default(); 2 * MAX_SPEEDS];
+    let mut n = 0;
+    let (h, kc) = (params.servo.h, params.servo.torque_constant);
+    let count = usize::from(params.speeds);
+    for (index, p) in state.plateaus.iter().enumerate() {
+        if p.ticks < 2 {
+            continue;
+        }
+        // the distance spans one period fewer than the commands summed
+        let periods = f64::from(p.ticks - 1);
+        let v = p.distance.to_f64() / (periods * h);
+        let f = kc * p.command_sum / f64::from(p.ticks);
+        let blocks = f64::from(p.blocks.max(1));
+        let mean = p.ratio_sum / blocks;
+        let variance = p.square_sum / blocks - mean * mean;
+        let step = 8.0 * params.speed(count.saturating_sub(1 + index / 2)) * h;
+        let counts = params.resolution / step;
+        // a steady slide's block distances differ by at most one count:
+        // their variance is at most c^2 / 4
+        let resolved = counts <= 0.25;
+        let steady = resolved && variance - 0.25 * counts * counts <= STEADY * mean * mean;
+        let usable = steady && v.is_finite() && f.is_finite() && v != 0.0;
+        if let (true, Some(slot)) = (usable, out.get_mut(n)) {
+            *slot = Point { v, f };
+            n += 1;
+        }
+    }
+    (out, n)
+}
+
+/// `exp(-|v / vs|^delta)`.
+fn stribeck_shape(v: f64, vs: f64, delta: f64) -> f64 {
+    libm::exp(-libm::pow(libm::fabs(v / vs), delta))
+}
+
+/// Least squares for the coefficients with shape `g`, with or without the
+/// Stribeck excesses and the viscous term; `None` if singular or if an
+/// excess comes out negative.
+fn linear(
+    points: &[Point],
+    g: impl Fn(f64) -> f64,
+    stribeck: bool,
+    viscous: bool,
+) -> Option<Linear> {
+    let used = [true, true, stribeck, stribeck, viscous];
+    let mut a = [[0.0f64; 5]; 5];
+    let mut b = [0.0f64; 5];
+    for p in points {
+        let s = g(p.v);
+        let mut phi = if p.v > 0.0 {
+            [1.0, 0.0, s, 0.0, p.v]
+        } else {
+            [0.0, -1.0, 0.0, -s, p.v]
+        };
+        for (x, on) in phi.iter_mut().zip(used) {
+            if !on {
+                *x = 0.0;
+            }
+        }
+        for ((row, bi), pi) in a.iter_mut().zip(b.iter_mut()).zip(phi) {
+            *bi += pi * p.f;
+            for (aij, pj) in row.iter_mut().zip(phi) {
+                *aij += pi * pj;
+            }
+        }
+    }
+    // an unused coefficient solves to 0
+    for (i, (row, on)) in a.iter_mut().zip(used).enumerate() {
+        if let (false, Some(d)) = (on, row.get_mut(i)) {
+            *d = 1.0;
+        }
+    }
+    let c = solve(a, b)?;
+    if stribeck && (c[2] < 0.0 || c[3] < 0.0) {
+        return None;
+    }
+    let sse = points
+        .iter()
+        .map(|p| {
+            let s = g(p.v);
+            let model = if p.v > 0.0 {
+                c[0] + c[2] * s
+            } else {
+                -(c[1] + c[3] * s)
+            } + c[4] * p.v;
+            (p.f - model) * (p.f - model)
+        })
+        .sum();
+    Some((c, sse))
+}
+
+/// Gaussian elimination with partial pivoting; `None` if a pivot is below
+/// `1e-12` of the largest diagonal.
+// every index runs below 5 on `[_; 5]`: the indexing cannot panic
+#[allow(clippy::indexing_slicing)]
+fn solve(mut a: [[f64; 5]; 5], mut b: [f64; 5]) -> Option<[f64; 5]> {
+    let scale = (0..5).fold(0.0f64, |m, i| m.max(libm::fabs(a[i][i])));
+    for col in 0..5 {
+        let pivot =
+            (col..5).max_by(|&i, &j| libm::fabs(a[i][col]).total_cmp(&libm::fabs(a[j][col])))?;
+        let size = libm::fabs(a[pivot][col]);
+        if size.is_nan() || size <= 1e-12 * scale {
+            return None;
+        }
+        a.swap(col, pivot);
+        b.swap(col, pivot);
+        let top = a[col];
+        for row in col + 1..5 {
+            let k = a[row][col] / top[col];
+            for (x, y) in a[row].iter_mut().zip(top).skip(col) {
+                *x -= k * y;
+            }
+            b[row] -= k * b[col];
+        }
+    }
+    let mut x = [0.0f64; 5];
+    for i in (0..5).rev() {
+        let tail: f64 = (i + 1..5).map(|j| a[i][j] * x[j]).sum();
+        x[i] = (b[i] - tail) / a[i][i];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+/// The best Stribeck fit over the grid of `vs` in `[lo, hi]` and `delta`
+/// in `[1, 4]`, refined by golden sections: `(coefficients, vs, delta)`.
+fn stribeck_search(points: &[Point], lo: f64, hi: f64) -> Option<(Linear, f64, f64)> {
+    const VS_GRID: usize = 48;
+    const DELTA_GRID: usize = 13;
+    let ratio = if hi > lo { hi / lo } else { 1.0 };
+    let step = libm::pow(ratio, 1.0 / (VS_GRID - 1) as f64);
+    let sse_at = |vs: f64, delta: f64| {
+        linear(points, |v| stribeck_shape(v, vs, delta), true, true).map(|(_, s)| s)
+    };
+    let mut best: Option<(f64, f64, f64)> = None;
+    for i in 0..VS_GRID {
+        let vs = lo * libm::pow(step, i as f64);
+        for j in 0..DELTA_GRID {
+            let delta = 1.0 + 0.25 * j as f64;
+            if let Some(sse) = sse_at(vs, delta) {
+                if best.is_none_or(|(b, _, _)| sse < b) {
+                    best = Some((sse, vs, delta));
+                }
+            }
+        }
+    }
+    let (_, vs, delta) = best?;
+    let penalised = |s: Option<f64>| s.unwrap_or(f64::INFINITY);
+    let log_vs = golden(libm::log(vs / step), libm::log(vs * step), |u| {
+        penalised(sse_at(libm::exp(u), delta))
+    });
+    let vs = libm::exp(log_vs).clamp(lo, hi.max(lo));
+    let delta = golden((delta - 0.25).max(1.0), delta + 0.25, |d| {
+        penalised(sse_at(vs, d))
+    });
+    let c = linear(points, |v| stribeck_shape(v, vs, delta), true, true)?;
+    Some((c, vs, delta))
+}
+
+/// The minimum of `f` on `[a, b]` by 40 golden sections.
+fn golden(mut a: f64, mut b: f64, f: impl Fn(f64) -> f64) -> f64 {
+    const INV_PHI: f64 = 0.618_033_988_749_894_8;
+    let mut c = b - INV_PHI * (b - a);
+    let mut d = a + INV_PHI * (b - a);
+    let (mut fc, mut fd) = (f(c), f(d));
+    for _ in 0..40 {
+        if fc < fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - INV_PHI * (b - a);
+            fc = f(c);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + INV_PHI * (b - a);
+            fd = f(d);
+        }
+    }
+    0.5 * (a + b)
+}
+
+/// `sigma0` from the presliding reversal and whether it was measured (see
+/// the [module docs](self)).
+fn stiffness<S: Scalar>(
+    params: &CommissioningParams,
+    state: &CommissioningState<S>,
+    fs: f64,
+) -> (f64, bool) {
+    let [plus, minus] = state.presliding;
+    let dx = plus.to_f64() - minus.to_f64();
+    let a = params.servo.torque_constant * state.presliding_level.to_f64();
+    let floor = if params.resolution > 0.0 {
+        MIN_COUNTS * params.resolution
+    } else {
+        params.breakaway_travel
+    };
+    let resolved = dx.is_finite() && dx > 0.0 && dx >= MIN_COUNTS * params.resolution;
+    if state.slipped.get() || !resolved {
+        return (fs / floor, false);
+    }
+    let sigma0 = if a < 0.95 * fs {
+        fs / dx * libm::log((fs + a) / (fs - a))
+    } else {
+        2.0 * a / dx
+    };
+    (sigma0, true)
+}
