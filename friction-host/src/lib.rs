@@ -2,6 +2,7 @@
 //! validation report and the `friction` command-line tool.
 
 pub mod checks;
+pub mod commission;
 pub mod control;
 pub mod experiments;
 pub mod fuzzing;

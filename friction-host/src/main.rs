@@ -102,6 +102,24 @@ enum Command {
         #[arg(long)]
         output: PathBuf,
     },
+    /// Commissioning: from a bare axis to LuGre parameters, on the file's plant.
+    ///
+    /// Runs the core's commissioning routine (break-away ramps, a presliding
+    /// reversal, velocity plateaus) against the simulated drive of the file's
+    /// `[servo]` table, within its `[commission]` window; writes
+    /// DIR/parameters.csv, DIR/commissioned.toml, the servo benchmark with the
+    /// commissioned model (DIR/trace.csv) and plots.
+    Commission {
+        /// Parameter file [default: the built-in params/olsson1998-servo.toml].
+        #[arg(long)]
+        params: Option<PathBuf>,
+        /// Output folder.
+        #[arg(long)]
+        output: PathBuf,
+        /// No progress lines.
+        #[arg(long)]
+        quiet: bool,
+    },
     /// Robustness map: the servo benchmark over a grid of parameter errors.
     ///
     /// Builds each compensation (none, static, observer, adaptive, rls) with
@@ -458,6 +476,11 @@ fn run(cli: Cli) -> Result<bool> {
             friction_host::online::run_and_print(&o)
         }
         Command::Servo { params, output } => friction_host::servo::run(params.as_deref(), &output),
+        Command::Commission {
+            params,
+            output,
+            quiet,
+        } => friction_host::commission::run(params.as_deref(), &output, !quiet),
         Command::Robustness {
             params,
             output,

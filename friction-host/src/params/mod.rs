@@ -93,6 +93,26 @@ pub struct ParamFile {
     pub plant: Plant,
     /// The `[servo]` table of `friction servo` (every key optional).
     pub servo: ServoTable,
+    /// The `[commission]` table of `friction commission` (every key optional).
+    pub commission: CommissionTable,
+}
+
+/// The `[commission]` table: the window and speeds of `friction commission`;
+/// every key optional (defaults in the command's docs), checked when the
+/// routine is built.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CommissionTable {
+    /// Largest excursion from the start (rad).
+    pub travel: Option<f64>,
+    /// Fastest plateau (rad/s).
+    pub max_speed: Option<f64>,
+    /// Slowest plateau (rad/s).
+    pub min_speed: Option<f64>,
+    /// Number of plateau speeds.
+    pub speeds: Option<u8>,
+    /// Longest run (s).
+    pub duration: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -104,6 +124,8 @@ struct Probe {
     plant: Plant,
     #[serde(default)]
     servo: ServoTable,
+    #[serde(default)]
+    commission: CommissionTable,
 }
 
 impl ParamFile {
@@ -122,6 +144,7 @@ impl ParamFile {
             rig: probe.rig,
             plant: probe.plant,
             servo: probe.servo,
+            commission: probe.commission,
         };
         file.model
             .validate()

@@ -549,27 +549,96 @@ impl BamPlant {
 /// A position far beyond any sensible error: the loop has diverged.
 const DIVERGED: f64 = 1e6;
 
-fn run_loop(
+/// The simulated drive: the plant's inertia and friction (with the drift,
+/// load, asymmetry and ripple factors), the external torque, the command's
+/// delay and the encoder, integrated at the plant rate.
+pub(crate) struct Drive<'a> {
+    cfg: &'a ServoConfig,
+    plant: Option<Plant>,
+    x: f64,
+    v: f64,
+    pending: VecDeque<f64>,
+    substeps: usize,
+    hp: f64,
+    count: f64,
+}
+
+impl<'a> Drive<'a> {
+    /// The drive of `cfg` at rest at 0, with the friction of `spec` (none
+    /// if `friction` is false).
+    pub(crate) fn new(cfg: &'a ServoConfig, spec: &ModelSpec, friction: bool) -> Result<Self> {
+        Ok(Self {
+            cfg,
+            plant: if friction {
+                Some(Plant::new(cfg, spec)?)
+            } else {
+                None
+            },
+            x: 0.0,
+            v: 0.0,
+            pending: std::iter::repeat_n(0.0, cfg.delay_ticks).collect(),
+            substeps: (cfg.plant_rate / cfg.rate).round() as usize,
+            hp: 1.0 / cfg.plant_rate,
+            count: if cfg.encoder_counts > 0.0 {
+                2.0 * std::f64::consts::PI / cfg.encoder_counts
+            } else {
+                0.0
+            },
+        })
+    }
+
+    /// The true position.
+    pub(crate) fn position(&self) -> f64 {
+        self.x
+    }
+
+    /// The position the encoder reads.
+    pub(crate) fn measured(&self) -> f64 {
+        if self.count > 0.0 {
+            (self.x / self.count).round() * self.count
+        } else {
+            self.x
+        }
+    }
+
+    /// Issues `command` at time `t` and runs one controller period (the
+    /// drive applies the command `delay_ticks` later); returns the
+    /// friction scale of the period (drift times load factor).
+    pub(crate) fn apply(&mut self, command: f64, t: f64) -> f64 {
+        let cfg = self.cfg;
+        self.pending.push_back(command);
+        let applied = self.pending.pop_front().unwrap_or(0.0);
+        let torque = cfg.torque_constant * applied;
+        let scale = cfg.drift(t) * (1.0 + cfg.load_friction * torque.abs());
+        for _ in 0..self.substeps {
+            let (x, v) = (self.x, self.v);
+            let external = cfg.external_torque(x);
+            let f = self
+                .plant
+                .as_mut()
+                .map_or(0.0, |p| p.step(v, torque, external, self.hp));
+            let f = scale * cfg.friction_factor(x, v) * f;
+            self.v += self.hp * (torque + external - f) / cfg.inertia;
+            self.x += self.hp * self.v;
+        }
+        scale
+    }
+
+    /// Whether the loop has diverged.
+    pub(crate) fn diverged(&self) -> bool {
+        !(self.x.abs() < DIVERGED && self.v.is_finite())
+    }
+}
+
+pub(crate) fn run_loop(
     name: &'static str,
     cfg: &ServoConfig,
     spec: &ModelSpec,
     row: Row,
     mut ctl: Box<dyn Controller>,
 ) -> Result<ServoRun> {
-    let mut plant = match row {
-        Row::NoFriction => None,
-        _ => Some(Plant::new(cfg, spec)?),
-    };
+    let mut axis = Drive::new(cfg, spec, row != Row::NoFriction)?;
     let n = ticks(cfg);
-    let substeps = (cfg.plant_rate / cfg.rate).round() as usize;
-    let hp = 1.0 / cfg.plant_rate;
-    let count = if cfg.encoder_counts > 0.0 {
-        2.0 * std::f64::consts::PI / cfg.encoder_counts
-    } else {
-        0.0
-    };
-    let (mut x, mut v) = (0.0f64, 0.0f64);
-    let mut pending: VecDeque<f64> = std::iter::repeat_n(0.0, cfg.delay_ticks).collect();
     let names = ctl.adapted_names();
     let mut adapted: Vec<Vec<f64>> = vec![Vec::with_capacity(n); names.len()];
     let (mut error, mut friction, mut plant_scale) = (
@@ -588,32 +657,14 @@ fn run_loop(
             adapted.iter_mut().for_each(|c| c.push(f64::NAN));
             continue;
         }
-        let measured = if count > 0.0 {
-            (x / count).round() * count
-        } else {
-            x
-        };
-        let tick = ctl.tick(measured, r);
-        error.push(x - r.x);
+        let tick = ctl.tick(axis.measured(), r);
+        error.push(axis.position() - r.x);
         friction.push(tick.friction);
         for (column, value) in adapted.iter_mut().zip(ctl.adapted()) {
             column.push(value);
         }
-        pending.push_back(tick.command);
-        let applied = pending.pop_front().unwrap_or(0.0);
-        let torque = cfg.torque_constant * applied;
-        let scale = cfg.drift(t) * (1.0 + cfg.load_friction * torque.abs());
-        plant_scale.push(scale);
-        for _ in 0..substeps {
-            let external = cfg.external_torque(x);
-            let f = plant
-                .as_mut()
-                .map_or(0.0, |p| p.step(v, torque, external, hp));
-            let f = scale * cfg.friction_factor(x, v) * f;
-            v += hp * (torque + external - f) / cfg.inertia;
-            x += hp * v;
-        }
-        if !(x.abs() < DIVERGED && v.is_finite()) {
+        plant_scale.push(axis.apply(tick.command, t));
+        if axis.diverged() {
             stable = false;
         }
     }
