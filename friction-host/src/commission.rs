@@ -140,7 +140,28 @@ pub fn commission(file: &ParamFile, origin: &str, progress: bool) -> Result<Comm
         eprintln!("commission: fitted; running the servo benchmark");
     }
     let reference = crate::servo::lugre_nominal(&file.model, 1.0, 1.0);
-    let commissioned = ModelSpec::LuGre(result.model);
+    let runs = compare(file, &cfg, result.model)?;
+    let n = runs.first().map_or(0, |r| r.error.len());
+    Ok(CommissionRun {
+        settings,
+        t,
+        command,
+        position,
+        result,
+        reference,
+        runs,
+        trace_t: (0..n).map(|k| k as f64 / cfg.rate).collect(),
+    })
+}
+
+/// The benchmark rows of [`ROWS`] on the file's plant, the last two with
+/// the `commissioned` model.
+pub fn compare(
+    file: &ParamFile,
+    cfg: &ServoConfig,
+    commissioned: LuGreParams,
+) -> Result<Vec<ServoRun>> {
+    let commissioned = ModelSpec::LuGre(commissioned);
     let rows: [(&ModelSpec, Row); 5] = [
         (&file.model, Row::None),
         (&file.model, Row::Static { scale: 1.0 }),
@@ -155,12 +176,11 @@ pub fn commission(file: &ParamFile, origin: &str, progress: bool) -> Result<Comm
             },
         ),
     ];
-    let runs = std::thread::scope(|scope| {
+    std::thread::scope(|scope| {
         let handles: Vec<_> = ROWS
             .iter()
             .zip(rows)
             .map(|(&name, (spec, row))| {
-                let cfg = &cfg;
                 let plant = &file.model;
                 scope.spawn(move || -> Result<ServoRun> {
                     let ctl = build_controller(cfg, spec, row)
@@ -174,17 +194,6 @@ pub fn commission(file: &ParamFile, origin: &str, progress: bool) -> Result<Comm
             .into_iter()
             .map(|h| h.join().map_err(|_| anyhow!("a benchmark row panicked"))?)
             .collect::<Result<Vec<_>>>()
-    })?;
-    let n = runs.first().map_or(0, |r| r.error.len());
-    Ok(CommissionRun {
-        settings,
-        t,
-        command,
-        position,
-        result,
-        reference,
-        runs,
-        trace_t: (0..n).map(|k| k as f64 / cfg.rate).collect(),
     })
 }
 
@@ -238,7 +247,11 @@ impl CommissionRun {
             "sigma0 identified",
             "sigma0 not identified (the encoder's lower bound)",
         ));
-        parts.push("sigma1 from the critical-damping rule");
+        parts.push(said(
+            i.damping,
+            "sigma1 identified",
+            "sigma1 not identified (the critical-damping rule)",
+        ));
         parts.join("; ")
     }
 

@@ -28,3 +28,23 @@ fn commissions_the_olsson_servo_and_compensates_with_the_result() {
     assert!(rms("commissioned") <= 0.2 * rms("static"));
     assert!(rms("commissioned-adaptive") <= 0.2 * rms("static"));
 }
+
+#[test]
+#[ignore]
+fn explore() {
+    let file = param_set("olsson1998-servo").unwrap();
+    let cfg = file.servo.resolve("x").unwrap();
+    let run = commission(&file, "x", false).unwrap();
+    let base = run.result.model;
+    let truth = run.reference;
+    let mut variants = vec![("commissioned", base)];
+    let mut m = base; m.curve.vs = truth.curve.vs; variants.push(("vs true", m));
+    let mut m = base; m.curve.fs = truth.curve.fs; variants.push(("fs true", m));
+    let mut m = base; m.sigma1 = truth.sigma1; variants.push(("sigma1 true", m));
+    let mut m = base; m.curve.fs = truth.curve.fs; m.curve.vs = truth.curve.vs; variants.push(("fs vs true", m));
+    variants.push(("truth", truth));
+    for (name, m) in variants {
+        let runs = friction_host::commission::compare(&file, &cfg, m).unwrap();
+        println!("{name}: observer {:.4} adaptive {:.4}", 1e3 * runs[3].rms_half, 1e3 * runs[4].rms_half);
+    }
+}

@@ -23,9 +23,11 @@
 //! golden-section refinement of each around the best. A fit with a negative
 //! Stribeck excess is not physical and is skipped. The Stribeck terms count
 //! (`stribeck` identified) only where their excess is at least 2 % of `Fc`
-//! and they at least halve the RMS of the flat fit (`Fs = Fc`). The static
-//! levels are then the curve's where the slowest plateau has reached 90 %
-//! of the excess, else (an extrapolation) the break-away levels. Otherwise
+//! and they at least halve the RMS of the flat fit (`Fs = Fc`). Where the
+//! slowest plateau has reached 90 % of the excess, the static levels, `vs`
+//! and `delta` are the curve's (identified); else the curve's `vs` and
+//! `delta` are an extrapolation (not identified) and the static levels are
+//! the break-away levels. Otherwise
 //! the curve is flat down to the slowest steady plateau `v_lo`, the static
 //! levels are the break-away levels, `delta = 2`, and `vs` is the largest
 //! value that leaves under 2 % of `Fc` of the excess at `v_lo`: `vs = v_lo /
@@ -39,9 +41,19 @@
 //! `Fs / (8 counts)` (or `Fs / breakaway_travel` with an exact encoder),
 //! the softest stiffness the measurement cannot rule out.
 //!
-//! **Damping.** `sigma1 = 2 sqrt(sigma0 J)`, the bristle critically damped
-//! on the loop's inertia (Canudas de Wit et al. 1995's rule of thumb); never
-//! identified.
+//! **Damping.** Stepping the force down from `+a` to `a / 2` in stick makes
+//! the inertia `J` ring on the bristle; the overshoot of the displacement
+//! (lowest position against the rest position after the hold, as a ratio
+//! of the step's displacement) falls as `sigma1` grows. `sigma1` is the
+//! value whose step, simulated on the fitted model (the core's LuGre step,
+//! 20 steps a period, over the routine's hold), has the measured ratio:
+//! from `4 sigma_c` (`sigma_c = 2 sqrt(sigma0 J)`) down a grid of 40 to
+//! `sigma_c / 100`, the first value whose overshoot reaches the measured
+//! one, then 30 bisections. Where
+//! the step moved less than 16 counts, its overshoot is under 2 counts (or
+//! absent: overdamped), or `sigma0` was not measured, `sigma1` is not
+//! identified and is Canudas de Wit et al. 1995's rule of thumb, the
+//! bristle critically damped on the inertia: `sigma_c`.
 
 use super::{Abort, CommissioningParams, CommissioningState, MAX_SPEEDS};
 use crate::model::ParamError;
@@ -60,6 +72,8 @@ pub struct Identified {
     pub viscous: bool,
     /// `sigma0`.
     pub stiffness: bool,
+    /// `sigma1`.
+    pub damping: bool,
 }
 
 /// A commissioning run's result.
@@ -171,11 +185,12 @@ pub(super) fn fit<S: Scalar>(
     let kc = params.servo.torque_constant;
     let breakaway = state.breakaway.map(|b| kc * b.to_f64());
     let [b_pos, b_neg] = breakaway;
-    let (fs_pos, fs_neg, vs) = if stribeck && stribeck_shape(lo, vs, delta) >= REACHED {
+    // the slowest plateau still on the branch: its static end (and its
+    // shape) is an extrapolation; the break-away ramps measured the end
+    let reached = stribeck_shape(lo, vs, delta) >= REACHED;
+    let (fs_pos, fs_neg, vs) = if stribeck && reached {
         (fc_pos + ds_pos, fc_neg + ds_neg, vs)
     } else if stribeck {
-        // the slowest plateau is still on the branch: its static end is an
-        // extrapolation, the break-away ramps measured it
         (b_pos.max(fc_pos), b_neg.max(fc_neg), vs)
     } else {
         // flat down to the slowest plateau: the static levels from the
@@ -193,17 +208,24 @@ pub(super) fn fit<S: Scalar>(
     };
     let fs = 0.5 * (fs_pos + fs_neg);
     let (sigma0, stiffness) = stiffness(params, state, fs);
-    let model = LuGreParams {
-        curve: StribeckParams {
-            fc,
-            fs,
-            vs,
-            exponent: delta,
-        },
+    let sigma2 = sigma2.max(0.0);
+    let curve = StribeckParams {
+        fc,
+        fs,
+        vs,
+        exponent: delta,
+    };
+    let undamped = LuGreParams {
+        curve,
         sigma0,
-        sigma1: 2.0 * libm::sqrt(sigma0 * params.servo.inertia),
-        sigma2: sigma2.max(0.0),
+        sigma1: 0.0,
+        sigma2,
         vd: None,
+    };
+    let (sigma1, damping) = damping(params, state, undamped, stiffness);
+    let model = LuGreParams {
+        sigma1,
+        ..undamped
     };
     model.validate().map_err(CommissionError::Invalid)?;
     Ok(Commissioned {
@@ -213,9 +235,10 @@ pub(super) fn fit<S: Scalar>(
         breakaway,
         identified: Identified {
             coulomb: true,
-            stribeck,
+            stribeck: stribeck && reached,
             viscous,
             stiffness,
+            damping,
         },
         residual,
         speed_range: [lo, hi],
@@ -435,4 +458,73 @@ fn stiffness<S: Scalar>(
         2.0 * a / dx
     };
     (sigma0, true)
+}
+
+/// `sigma1` from the step's overshoot and whether it was measured (see the
+/// [module docs](self)): the `sigma1` whose simulated step has the measured
+/// overshoot ratio, by bisection (the ratio falls as `sigma1` grows).
+fn damping<S: Scalar>(
+    params: &CommissioningParams,
+    state: &CommissioningState<S>,
+    model: LuGreParams,
+    measured: bool,
+) -> (f64, bool) {
+    let inertia = params.servo.inertia;
+    let critical = 2.0 * libm::sqrt(model.sigma0 * inertia);
+    let [before, lowest, last] = state.step_response.map(|x| x.to_f64());
+    let (drop, overshoot) = (before - last, last - lowest);
+    let count = params.resolution;
+    let seen = drop > 0.0 && drop >= 2.0 * MIN_COUNTS * count && overshoot > 2.0 * count;
+    let target = overshoot / drop;
+    if !(measured && seen && target > 0.0 && target < 1.0 && inertia > 0.0) {
+        return (critical, false);
+    }
+    let a = params.servo.torque_constant * state.presliding_level.to_f64();
+    let ratio = |sigma1: f64| step_overshoot(params, LuGreParams { sigma1, ..model }, a);
+    // from the heavily damped end down, the first value whose overshoot
+    // reaches the measured one brackets it (below some damping the hold
+    // ends mid-swing and the ratio is no longer monotonic)
+    const GRID: u32 = 40;
+    let at = |k: u32| 4.0 * critical * libm::pow(0.0025, f64::from(k) / f64::from(GRID));
+    let Some(k) = (0..=GRID).find(|&k| ratio(at(k)) >= target) else {
+        return (critical, false);
+    };
+    if k == 0 {
+        return (critical, false);
+    }
+    let (mut lo, mut hi) = (at(k), at(k - 1));
+    for _ in 0..30 {
+        let mid = 0.5 * (lo + hi);
+        if ratio(mid) > target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    (0.5 * (lo + hi), true)
+}
+
+/// The overshoot ratio of the presliding step simulated on `model` with
+/// the loop's inertia: from rest under `a` (`z = a / sigma0`), the force
+/// stepped to `a / 2` and held as the routine holds it, the position
+/// sampled at the loop's period (20 integration steps each).
+fn step_overshoot(params: &CommissioningParams, model: LuGreParams, a: f64) -> f64 {
+    const SUBSTEPS: u32 = 20;
+    let Ok(lugre) = model.build::<f64>() else {
+        return f64::NAN;
+    };
+    let h = params.servo.h / f64::from(SUBSTEPS);
+    let inertia = params.servo.inertia;
+    let mut z = crate::LuGreState { z: a / model.sigma0 };
+    let (mut x, mut v, mut lowest) = (0.0f64, 0.0f64, 0.0f64);
+    let periods = libm::ceil(super::PRESLIDING_HOLD / params.servo.h) as u32;
+    for _ in 0..periods {
+        for _ in 0..SUBSTEPS {
+            let f = crate::FrictionModel::step(&lugre, &mut z, v, h);
+            v += h * (0.5 * a - f) / inertia;
+            x += h * v;
+        }
+        lowest = lowest.min(x);
+    }
+    (x - lowest) / -x
 }

@@ -8,10 +8,11 @@
 //!    ramp `u = ±ramp_rate t` until the axis has moved `breakaway_travel`;
 //!    the command reached is the break-away level. The loop then brings the
 //!    axis back to where it started.
-//! 2. **Presliding**: an open-loop command of `+a`, held, then `-a`, held
-//!    (`a` a quarter of the smaller break-away level), the axis at rest in
-//!    between; the two rest positions give the stiffness of a reversal in
-//!    stick.
+//! 2. **Presliding**: an open-loop command of `+a`, held, a step down to
+//!    `a / 2`, held, then `-a`, held (`a` a quarter of the smaller
+//!    break-away level), the axis in stick throughout: the two rest
+//!    positions give the stiffness of a reversal, the step's overshoot the
+//!    damping.
 //! 3. **Plateaus**: at `speeds` log-spaced speeds from `min_speed` to
 //!    `max_speed`, a trapezoidal move forward then back through the
 //!    position loop (the [`Compensator`]'s PID without compensation, with
@@ -175,7 +176,7 @@ impl CommissioningParams {
     /// ramps half as long together): the holds, presliding and plateaus.
     pub fn scheduled_time(&self) -> f64 {
         let ramps = 2.0 * HOLD;
-        let presliding = 4.0 * PRESLIDING_HOLD + HOLD;
+        let presliding = 5.0 * PRESLIDING_HOLD + HOLD;
         let plateaus: f64 = (0..usize::from(self.speeds))
             .map(|k| {
                 let v = self.speed(k);
@@ -373,6 +374,9 @@ pub struct CommissioningState<S> {
     /// Rest positions under `+a` and `-a`, and `a`.
     pub(crate) presliding: [S; 2],
     pub(crate) presliding_level: S,
+    /// The step from `a` to `a / 2`: the position before it, the lowest
+    /// after it, and the last.
+    pub(crate) step_response: [S; 3],
     pub(crate) slipped: Flag,
     pub(crate) plateaus: [Plateau<S>; 2 * MAX_SPEEDS],
     measured: u8,
@@ -401,6 +405,7 @@ impl<S: Scalar> Default for CommissioningState<S> {
             breakaway: [S::ZERO; 2],
             presliding: [S::ZERO; 2],
             presliding_level: S::ZERO,
+            step_response: [S::ZERO; 3],
             slipped: Flag::new(false),
             plateaus: [Plateau::default(); 2 * MAX_SPEEDS],
             measured: 0,
@@ -631,13 +636,16 @@ impl<S: Scalar> Commissioning<S> {
         state.command = S::ZERO;
     }
 
-    /// Open loop: 0 ramps to `+a`, 1 holds, 2 ramps to `-a`, 3 holds, 4
-    /// ramps to 0; then the loop takes over.
+    /// Open loop: 0 ramps to `+a`, 1 holds (the rest position under `+a`),
+    /// 2 steps down to `a / 2` and holds (the overshoot of the step), 3
+    /// ramps to `-a`, 4 holds (the rest position under `-a`), 5 ramps to 0;
+    /// then the loop takes over.
     fn presliding(&self, state: &mut CommissioningState<S>, x: S) -> S {
         let a = state.presliding_level;
         if (x - state.x_start).abs() > self.breakaway_travel {
             state.slipped = Flag::new(true);
         }
+        let held = state.stage_ticks >= self.presliding_ticks;
         match state.step {
             0 => {
                 state.command = (state.command + self.ramp_step).min(a);
@@ -645,17 +653,30 @@ impl<S: Scalar> Commissioning<S> {
                     state.next_step();
                 }
             }
-            1 | 3 => {
-                if state.stage_ticks >= self.presliding_ticks {
-                    if let Some(p) = state.presliding.get_mut(usize::from(state.step == 3)) {
-                        *p = x;
-                    }
+            1 => {
+                if held {
+                    state.presliding[0] = x;
+                    state.step_response = [x, x, x];
+                    state.command = a * S::from_f64(0.5);
                     state.next_step();
                 }
             }
             2 => {
+                let [before, lowest, _] = state.step_response;
+                state.step_response = [before, lowest.min(x), x];
+                if held {
+                    state.next_step();
+                }
+            }
+            3 => {
                 state.command = (state.command - self.ramp_step).max(-a);
                 if state.command <= -a {
+                    state.next_step();
+                }
+            }
+            4 => {
+                if held {
+                    state.presliding[1] = x;
                     state.next_step();
                 }
             }
