@@ -39,7 +39,7 @@ mod test_servo;
 pub use adaptive::{AdaptiveObserver, AdaptiveParams, AdaptiveState};
 pub use commissioning::{
     Abort, CommissionError, Commissioned, Commissioning, CommissioningParams, CommissioningState,
-    CommissioningTick, Identified, Phase,
+    CommissioningTick, Identified, Phase, PlateauPoint,
 };
 pub use compensator::{
     AtPeriod, Compensation, Compensator, CompensatorParams, CompensatorState, FeedForward,

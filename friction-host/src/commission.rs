@@ -5,7 +5,8 @@
 //!
 //! The routine's window and speeds come from the file's `[commission]`
 //! table; unset keys default to a travel of twice the servo's amplitude, a
-//! top speed of three times its peak speed, the slowest plateau at a
+//! top speed of three times its peak speed (slower where a plateau at it
+//! would not fit the travel), the slowest plateau at a
 //! thousandth of it or where a block of 8 ticks spans 4 encoder counts
 //! (whichever is faster), 10 speeds and 30 s. The loop is the file's PID.
 //!
@@ -22,7 +23,8 @@ use crate::plot::{line_plot, Axis, Series};
 use crate::servo::{build_controller, run_loop, Drive, Law, Row, ServoRun};
 use anyhow::{anyhow, bail, Context, Result};
 use friction_core::{
-    Commissioned, Commissioning, CommissioningParams, CommissioningState, LuGreParams, Phase,
+    Commissioned, Commissioning, CommissioningParams, CommissioningState, LuGreParams, ParamError,
+    Phase, PlateauPoint,
 };
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -58,8 +60,10 @@ pub struct CommissionRun {
     pub command: Vec<f64>,
     /// The true positions.
     pub position: Vec<f64>,
-    /// The plateau points `(v, F)` the fit used or refused.
+    /// The fitted result.
     pub result: Commissioned,
+    /// The plateaus measured (the fit used the steady ones).
+    pub points: Vec<PlateauPoint>,
     /// The file's model as LuGre (the "true" column).
     pub reference: LuGreParams,
     /// The benchmark's rows, in the order of [`ROWS`].
@@ -79,16 +83,33 @@ pub fn settings(file: &ParamFile, cfg: &ServoConfig) -> CommissioningParams {
         0.0
     };
     let travel = table.travel.unwrap_or(2.0 * cfg.amplitude);
-    let max_speed = table.max_speed.unwrap_or(3.0 * cfg.peak_speed());
-    let mut p = CommissioningParams::new(cfg.controller(), travel, max_speed);
-    p.min_speed = table
-        .min_speed
-        .unwrap_or_else(|| (max_speed / 1000.0).max(count / (2.0 * h)).min(max_speed));
-    p.speeds = table.speeds.unwrap_or(p.speeds);
-    p.duration = table.duration.unwrap_or(p.duration);
-    p.resolution = count;
-    p.breakaway_travel = (travel / 100.0).max(8.0 * count).min(0.5 * travel);
-    p
+    let settings = |max_speed: f64| {
+        let mut p = CommissioningParams::new(cfg.controller(), travel, max_speed);
+        p.min_speed = table
+            .min_speed
+            .unwrap_or_else(|| (max_speed / 1000.0).max(count / (2.0 * h)).min(max_speed));
+        p.speeds = table.speeds.unwrap_or(p.speeds);
+        p.duration = table.duration.unwrap_or(p.duration);
+        p.resolution = count;
+        p.breakaway_travel = (travel / 100.0).max(8.0 * count).min(0.5 * travel);
+        p
+    };
+    if let Some(max_speed) = table.max_speed {
+        return settings(max_speed);
+    }
+    // three times the servo's peak speed, or slower until a plateau at the
+    // top speed fits the travel
+    let mut max_speed = 3.0 * cfg.peak_speed();
+    for _ in 0..40 {
+        let p = settings(max_speed);
+        match p.validate() {
+            Err(ParamError::NotBelow {
+                name: "max_speed", ..
+            }) => max_speed *= 0.8,
+            _ => return p,
+        }
+    }
+    settings(max_speed)
 }
 
 /// Runs the routine on the file's plant; `progress` prints each phase and
@@ -117,11 +138,25 @@ pub fn commission(file: &ParamFile, origin: &str, progress: bool) -> Result<Comm
             shown = (tick.phase, tick.plateaus);
             match tick.phase {
                 Phase::Presliding => eprintln!("commission: presliding reversal"),
-                Phase::Plateaus => eprintln!(
-                    "commission: plateaus, {} of {} measured",
-                    tick.plateaus,
-                    2 * settings.speeds
-                ),
+                Phase::Plateaus => {
+                    let last = usize::from(tick.plateaus).checked_sub(1);
+                    let point = last.and_then(|i| routine.plateau_points(&state).get(i).copied());
+                    match point.flatten() {
+                        Some(p) => eprintln!(
+                            "commission: plateau {} of {}: v {:.5}, friction {:.5}{}",
+                            tick.plateaus,
+                            2 * settings.speeds,
+                            p.speed,
+                            p.force,
+                            if p.steady {
+                                ""
+                            } else {
+                                " (not steady: left out)"
+                            }
+                        ),
+                        None => eprintln!("commission: plateaus"),
+                    }
+                }
                 _ => {}
             }
         }
@@ -130,6 +165,11 @@ pub fn commission(file: &ParamFile, origin: &str, progress: bool) -> Result<Comm
         }
         drive.apply(tick.command, now);
     }
+    let points: Vec<PlateauPoint> = routine
+        .plateau_points(&state)
+        .into_iter()
+        .flatten()
+        .collect();
     let result = routine.result(&state).map_err(|e| {
         anyhow!(
             "{origin}: commissioning failed after {:.1} s: {e:?}",
@@ -148,6 +188,7 @@ pub fn commission(file: &ParamFile, origin: &str, progress: bool) -> Result<Comm
         command,
         position,
         result,
+        points,
         reference,
         runs,
         trace_t: (0..n).map(|k| k as f64 / cfg.rate).collect(),
@@ -222,6 +263,8 @@ impl CommissionRun {
             ("fc_backward", nan, self.result.fc[1]),
             ("fs_forward", nan, self.result.fs[0]),
             ("fs_backward", nan, self.result.fs[1]),
+            ("sigma2_forward", nan, self.result.sigma2[0]),
+            ("sigma2_backward", nan, self.result.sigma2[1]),
             ("breakaway_forward", nan, self.result.breakaway[0]),
             ("breakaway_backward", nan, self.result.breakaway[1]),
         ]
@@ -235,7 +278,7 @@ impl CommissionRun {
     /// What the fit identified, as words.
     pub fn identified(&self) -> String {
         let i = self.result.identified;
-        let mut parts = vec!["fc, sigma2 per direction"];
+        let mut parts = vec!["fc, sigma2 identified (per direction)"];
         let said = |on: bool, yes: &'static str, no: &'static str| if on { yes } else { no };
         parts.push(said(
             i.stribeck,
@@ -431,7 +474,22 @@ impl CommissionRun {
             let c = m.curve;
             c.fc + (c.fs - c.fc) * (-(v / c.vs).abs().powf(c.exponent)).exp() + m.sigma2 * v
         };
+        let forward = |steady: bool| -> Vec<(f64, f64)> {
+            self.points
+                .iter()
+                .filter(|p| p.speed > 0.0 && p.steady == steady)
+                .map(|p| (p.speed, p.force))
+                .collect()
+        };
         vec![
+            Series {
+                label: "plateaus (steady)",
+                points: forward(true),
+            },
+            Series {
+                label: "plateaus (left out)",
+                points: forward(false),
+            },
             Series {
                 label: "file's model",
                 points: speeds

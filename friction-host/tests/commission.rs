@@ -38,13 +38,40 @@ fn explore() {
     let base = run.result.model;
     let truth = run.reference;
     let mut variants = vec![("commissioned", base)];
-    let mut m = base; m.curve.vs = truth.curve.vs; variants.push(("vs true", m));
-    let mut m = base; m.curve.fs = truth.curve.fs; variants.push(("fs true", m));
-    let mut m = base; m.sigma1 = truth.sigma1; variants.push(("sigma1 true", m));
-    let mut m = base; m.curve.fs = truth.curve.fs; m.curve.vs = truth.curve.vs; variants.push(("fs vs true", m));
+    let mut m = base;
+    m.curve.vs = truth.curve.vs;
+    variants.push(("vs true", m));
+    let mut m = base;
+    m.curve.fs = truth.curve.fs;
+    variants.push(("fs true", m));
+    let mut m = base;
+    m.sigma1 = truth.sigma1;
+    variants.push(("sigma1 true", m));
+    let mut m = base;
+    m.curve.fs = truth.curve.fs;
+    m.curve.vs = truth.curve.vs;
+    variants.push(("fs vs true", m));
     variants.push(("truth", truth));
     for (name, m) in variants {
         let runs = friction_host::commission::compare(&file, &cfg, m).unwrap();
-        println!("{name}: observer {:.4} adaptive {:.4}", 1e3 * runs[3].rms_half, 1e3 * runs[4].rms_half);
+        println!(
+            "{name}: observer {:.4} adaptive {:.4}",
+            1e3 * runs[3].rms_half,
+            1e3 * runs[4].rms_half
+        );
+    }
+}
+
+#[test]
+#[ignore]
+fn explore_file() {
+    let path = std::env::var("FILE").unwrap();
+    let file = friction_host::params::ParamFile::load(std::path::Path::new(&path)).unwrap();
+    let cfg = file.servo.resolve("x").unwrap();
+    let p = friction_host::commission::settings(&file, &cfg);
+    println!("{p:#?}");
+    match commission(&file, "x", true) {
+        Ok(run) => println!("{}", run.table()),
+        Err(e) => println!("{e:#}"),
     }
 }

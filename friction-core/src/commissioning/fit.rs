@@ -14,10 +14,11 @@
 //! direction
 //!
 //! ```text
-//! F(v) = ±(Fc± + (Fs± - Fc±) exp(-|v / vs|^delta)) + sigma2 v
+//! F(v) = ±(Fc± + (Fs± - Fc±) exp(-|v / vs|^delta)) + sigma2± v
 //! ```
 //!
-//! is linear in `Fc+`, `Fc-`, `Fs+ - Fc+`, `Fs- - Fc-` and `sigma2` for a
+//! is linear in `Fc+`, `Fc-`, `Fs+ - Fc+`, `Fs- - Fc-`, `sigma2+` and
+//! `sigma2-` (a viscous coefficient per direction) for a
 //! given `(vs, delta)`: least squares over a grid of `vs` (48 log-spaced
 //! values across the measured speeds) and `delta` (1 to 4 by 0.25), then a
 //! golden-section refinement of each around the best. A fit with a negative
@@ -80,12 +81,15 @@ pub struct Identified {
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Commissioned {
-    /// The LuGre model (the levels the mean of the two directions).
+    /// The LuGre model (levels and viscous coefficient the means of the
+    /// two directions).
     pub model: LuGreParams,
     /// Coulomb levels forward and backward (force units, both positive).
     pub fc: [f64; 2],
     /// Static levels forward and backward.
     pub fs: [f64; 2],
+    /// Viscous coefficients forward and backward.
+    pub sigma2: [f64; 2],
     /// Break-away levels of the ramps, forward and backward.
     pub breakaway: [f64; 2],
     /// What was measured.
@@ -140,8 +144,11 @@ struct Point {
     f: f64,
 }
 
-/// The coefficients `[Fc+, Fc-, dS+, dS-, sigma2]` and the sum of squares.
-type Linear = ([f64; 5], f64);
+/// The coefficients and the sum of squares.
+type Linear = ([f64; COEFFICIENTS], f64);
+
+/// `Fc+`, `Fc-`, `dS+`, `dS-`, `sigma2+`, `sigma2-`.
+const COEFFICIENTS: usize = 6;
 
 pub(super) fn fit<S: Scalar>(
     params: &CommissioningParams,
@@ -157,14 +164,14 @@ pub(super) fn fit<S: Scalar>(
     let hi = points.iter().fold(0.0f64, |m, p| m.max(p.v.abs()));
 
     let flat = linear(points, |_| 0.0, false, true).ok_or(CommissionError::TooFewPlateaus)?;
-    let level = |c: &[f64; 5]| 0.5 * (c[0] + c[1]);
+    let level = |c: &[f64; COEFFICIENTS]| 0.5 * (c[0] + c[1]);
     let curved = stribeck_search(points, lo, hi).filter(|((c, sse), _, _)| {
         0.5 * (c[2] + c[3]) >= MIN_EXCESS * level(c) && *sse <= SIGNIFICANT * flat.1
     });
     let stribeck = curved.is_some();
     let ((mut c, mut sse), vs, delta) = curved.unwrap_or((flat, lo, 2.0));
     let mut viscous = true;
-    if c[4] < 0.0 {
+    if c[4] < 0.0 || c[5] < 0.0 {
         // a falling curve at speed is not viscous friction: refit without
         let g = |v: f64| stribeck_shape(v, vs, delta);
         if let Some((refit, s)) = linear(points, g, stribeck, false) {
@@ -173,7 +180,8 @@ pub(super) fn fit<S: Scalar>(
         }
         viscous = false;
     }
-    let [fc_pos, fc_neg, ds_pos, ds_neg, sigma2] = c;
+    let [fc_pos, fc_neg, ds_pos, ds_neg, sigma2_pos, sigma2_neg] = c;
+    let sigma2 = 0.5 * (sigma2_pos + sigma2_neg);
     let fc = 0.5 * (fc_pos + fc_neg);
     if !(fc > 0.0 && fc.is_finite()) {
         return Err(CommissionError::NoFriction);
@@ -223,15 +231,13 @@ pub(super) fn fit<S: Scalar>(
         vd: None,
     };
     let (sigma1, damping) = damping(params, state, undamped, stiffness);
-    let model = LuGreParams {
-        sigma1,
-        ..undamped
-    };
+    let model = LuGreParams { sigma1, ..undamped };
     model.validate().map_err(CommissionError::Invalid)?;
     Ok(Commissioned {
         model,
         fc: [fc_pos, fc_neg],
         fs: [fs_pos, fs_neg],
+        sigma2: [sigma2_pos.max(0.0), sigma2_neg.max(0.0)],
         breakaway,
         identified: Identified {
             coulomb: true,
@@ -253,16 +259,47 @@ fn points<S: Scalar>(
 ) -> ([Point; 2 * MAX_SPEEDS], usize) {
     let mut out = [Point::default(); 2 * MAX_SPEEDS];
     let mut n = 0;
+    for p in measured(params, state).into_iter().flatten() {
+        if let (true, Some(slot)) = (p.steady, out.get_mut(n)) {
+            *slot = Point {
+                v: p.speed,
+                f: p.force,
+            };
+            n += 1;
+        }
+    }
+    (out, n)
+}
+
+/// One measured plateau.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct PlateauPoint {
+    /// Its mean speed (signed).
+    pub speed: f64,
+    /// Its mean friction (force units, signed).
+    pub force: f64,
+    /// Whether the loop held it steadily (only steady plateaus are fitted).
+    pub steady: bool,
+}
+
+/// Every measured plateau, in the order run (fastest first, forward
+/// first); `None` where none was measured.
+pub(super) fn measured<S: Scalar>(
+    params: &CommissioningParams,
+    state: &CommissioningState<S>,
+) -> [Option<PlateauPoint>; 2 * MAX_SPEEDS] {
+    let mut out = [None; 2 * MAX_SPEEDS];
     let (h, kc) = (params.servo.h, params.servo.torque_constant);
     let count = usize::from(params.speeds);
-    for (index, p) in state.plateaus.iter().enumerate() {
+    for (index, (p, slot)) in state.plateaus.iter().zip(out.iter_mut()).enumerate() {
         if p.ticks < 2 {
             continue;
         }
         // the distance spans one period fewer than the commands summed
         let periods = f64::from(p.ticks - 1);
-        let v = p.distance.to_f64() / (periods * h);
-        let f = kc * p.command_sum / f64::from(p.ticks);
+        let speed = p.distance.to_f64() / (periods * h);
+        let force = kc * p.command_sum / f64::from(p.ticks);
         let blocks = f64::from(p.blocks.max(1));
         let mean = p.ratio_sum / blocks;
         let variance = p.square_sum / blocks - mean * mean;
@@ -272,13 +309,16 @@ fn points<S: Scalar>(
         // their variance is at most c^2 / 4
         let resolved = counts <= 0.25;
         let steady = resolved && variance - 0.25 * counts * counts <= STEADY * mean * mean;
-        let usable = steady && v.is_finite() && f.is_finite() && v != 0.0;
-        if let (true, Some(slot)) = (usable, out.get_mut(n)) {
-            *slot = Point { v, f };
-            n += 1;
+        let finite = speed.is_finite() && force.is_finite() && speed != 0.0;
+        if finite {
+            *slot = Some(PlateauPoint {
+                speed,
+                force,
+                steady,
+            });
         }
     }
-    (out, n)
+    out
 }
 
 /// `exp(-|v / vs|^delta)`.
@@ -295,15 +335,15 @@ fn linear(
     stribeck: bool,
     viscous: bool,
 ) -> Option<Linear> {
-    let used = [true, true, stribeck, stribeck, viscous];
-    let mut a = [[0.0f64; 5]; 5];
-    let mut b = [0.0f64; 5];
+    let used = [true, true, stribeck, stribeck, viscous, viscous];
+    let mut a = [[0.0f64; COEFFICIENTS]; COEFFICIENTS];
+    let mut b = [0.0f64; COEFFICIENTS];
     for p in points {
         let s = g(p.v);
         let mut phi = if p.v > 0.0 {
-            [1.0, 0.0, s, 0.0, p.v]
+            [1.0, 0.0, s, 0.0, p.v, 0.0]
         } else {
-            [0.0, -1.0, 0.0, -s, p.v]
+            [0.0, -1.0, 0.0, -s, 0.0, p.v]
         };
         for (x, on) in phi.iter_mut().zip(used) {
             if !on {
@@ -332,10 +372,10 @@ fn linear(
         .map(|p| {
             let s = g(p.v);
             let model = if p.v > 0.0 {
-                c[0] + c[2] * s
+                c[0] + c[2] * s + c[4] * p.v
             } else {
-                -(c[1] + c[3] * s)
-            } + c[4] * p.v;
+                -(c[1] + c[3] * s) + c[5] * p.v
+            };
             (p.f - model) * (p.f - model)
         })
         .sum();
@@ -344,13 +384,13 @@ fn linear(
 
 /// Gaussian elimination with partial pivoting; `None` if a pivot is below
 /// `1e-12` of the largest diagonal.
-// every index runs below 5 on `[_; 5]`: the indexing cannot panic
+// every index runs below N on `[_; N]`: the indexing cannot panic
 #[allow(clippy::indexing_slicing)]
-fn solve(mut a: [[f64; 5]; 5], mut b: [f64; 5]) -> Option<[f64; 5]> {
-    let scale = (0..5).fold(0.0f64, |m, i| m.max(libm::fabs(a[i][i])));
-    for col in 0..5 {
+fn solve<const N: usize>(mut a: [[f64; N]; N], mut b: [f64; N]) -> Option<[f64; N]> {
+    let scale = (0..N).fold(0.0f64, |m, i| m.max(libm::fabs(a[i][i])));
+    for col in 0..N {
         let pivot =
-            (col..5).max_by(|&i, &j| libm::fabs(a[i][col]).total_cmp(&libm::fabs(a[j][col])))?;
+            (col..N).max_by(|&i, &j| libm::fabs(a[i][col]).total_cmp(&libm::fabs(a[j][col])))?;
         let size = libm::fabs(a[pivot][col]);
         if size.is_nan() || size <= 1e-12 * scale {
             return None;
@@ -358,7 +398,7 @@ fn solve(mut a: [[f64; 5]; 5], mut b: [f64; 5]) -> Option<[f64; 5]> {
         a.swap(col, pivot);
         b.swap(col, pivot);
         let top = a[col];
-        for row in col + 1..5 {
+        for row in col + 1..N {
             let k = a[row][col] / top[col];
             for (x, y) in a[row].iter_mut().zip(top).skip(col) {
                 *x -= k * y;
@@ -366,9 +406,9 @@ fn solve(mut a: [[f64; 5]; 5], mut b: [f64; 5]) -> Option<[f64; 5]> {
             b[row] -= k * b[col];
         }
     }
-    let mut x = [0.0f64; 5];
-    for i in (0..5).rev() {
-        let tail: f64 = (i + 1..5).map(|j| a[i][j] * x[j]).sum();
+    let mut x = [0.0f64; N];
+    for i in (0..N).rev() {
+        let tail: f64 = (i + 1..N).map(|j| a[i][j] * x[j]).sum();
         x[i] = (b[i] - tail) / a[i][i];
     }
     x.iter().all(|v| v.is_finite()).then_some(x)
@@ -515,7 +555,9 @@ fn step_overshoot(params: &CommissioningParams, model: LuGreParams, a: f64) -> f
     };
     let h = params.servo.h / f64::from(SUBSTEPS);
     let inertia = params.servo.inertia;
-    let mut z = crate::LuGreState { z: a / model.sigma0 };
+    let mut z = crate::LuGreState {
+        z: a / model.sigma0,
+    };
     let (mut x, mut v, mut lowest) = (0.0f64, 0.0f64, 0.0f64);
     let periods = libm::ceil(super::PRESLIDING_HOLD / params.servo.h) as u32;
     for _ in 0..periods {

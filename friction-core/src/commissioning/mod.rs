@@ -43,7 +43,7 @@ use crate::gain::Gain;
 use crate::model::{convert, magnitude, magnitude_or_zero, ParamError};
 use crate::Scalar;
 
-pub use fit::{CommissionError, Commissioned, Identified};
+pub use fit::{CommissionError, Commissioned, Identified, PlateauPoint};
 
 /// The most plateau speeds a routine can run (each in both directions).
 pub const MAX_SPEEDS: usize = 16;
@@ -88,10 +88,17 @@ pub struct CommissioningParams {
 impl CommissioningParams {
     /// Defaults for a loop `servo`, a travel window and a top speed: 30 s
     /// at most, 10 speeds down to `max_speed / 1000`, plateaus of 0.8 s
-    /// after 0.15 s of settling, the top speed reached in 0.1 s, command
-    /// ramps of a tenth of the limit per second, break-away at a hundredth
-    /// of the travel, an exact encoder.
+    /// after 0.15 s of settling, the top speed reached in 0.1 s (or slower,
+    /// so that accelerating the inertia takes at most a quarter of the
+    /// limit), command ramps of a tenth of the limit per second, break-away
+    /// at a hundredth of the travel, an exact encoder.
     pub fn new(servo: CompensatorParams, travel: f64, max_speed: f64) -> Self {
+        let force = servo.torque_constant * servo.limit;
+        let acceleration = if servo.inertia > 0.0 {
+            (10.0 * max_speed).min(0.25 * force / servo.inertia)
+        } else {
+            10.0 * max_speed
+        };
         Self {
             servo,
             travel,
@@ -101,7 +108,7 @@ impl CommissioningParams {
             speeds: 10,
             plateau: 0.8,
             settle: 0.15,
-            acceleration: 10.0 * max_speed,
+            acceleration,
             ramp_rate: servo.limit / 10.0,
             breakaway_travel: travel / 100.0,
             resolution: 0.0,
@@ -811,6 +818,15 @@ impl<S: Scalar> Commissioning<S> {
             state.v_ref = state.v_ref - self.speed_step;
             (-self.acceleration, false)
         }
+    }
+
+    /// The plateaus measured so far (fastest first, forward first), for
+    /// plots and logs.
+    pub fn plateau_points(
+        &self,
+        state: &CommissioningState<S>,
+    ) -> [Option<PlateauPoint>; 2 * MAX_SPEEDS] {
+        fit::measured(&self.params, state)
     }
 
     /// Fits the LuGre parameters to a finished routine (see [`fit`]); runs
