@@ -3,7 +3,8 @@
 //! the exact observer and the static feed-forward.
 
 use friction_host::commission::commission;
-use friction_host::params::param_set;
+use friction_host::params::{param_set, ParamFile};
+use std::path::Path;
 
 #[test]
 fn commissions_the_olsson_servo_and_compensates_with_the_result() {
@@ -23,55 +24,47 @@ fn commissions_the_olsson_servo_and_compensates_with_the_result() {
     let widest = run.position.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     assert!(widest <= run.settings.travel);
     let rms = |name: &str| run.run(name).unwrap().rms_half;
-    // measured: commissioned 5.2x the exact observer (the issue asks 2x:
-    // missed, reported); both far below static
-    assert!(rms("commissioned") <= 0.2 * rms("static"));
-    assert!(rms("commissioned-adaptive") <= 0.2 * rms("static"));
+    // the issue's target: the commissioned observer within 2x the exact one
+    assert!(rms("commissioned") <= 2.0 * rms("observer"));
+    assert!(rms("commissioned-adaptive") <= 0.3 * rms("static"));
 }
 
+/// Commissions a shipped actuator file; returns the run.
+fn actuator(name: &str) -> friction_host::commission::CommissionRun {
+    let path = format!("{}/../params/actuators/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+    let file = ParamFile::load(Path::new(&path)).unwrap();
+    let run = commission(&file, &path, false).unwrap();
+    println!("{name}:\n{}", run.table());
+    run
+}
+
+/// The issue's actuator target, `commissioned-adaptive` at most 0.3x
+/// `static`: met on EMPS (with its measured direction asymmetry) and on the
+/// eRob80 pendulum; on the MX-106 pendulum (12-bit encoder, gravity larger
+/// than the friction) it is missed and reported in the guide.
 #[test]
-#[ignore]
-fn explore() {
-    let file = param_set("olsson1998-servo").unwrap();
-    let cfg = file.servo.resolve("x").unwrap();
-    let run = commission(&file, "x", false).unwrap();
-    let base = run.result.model;
-    let truth = run.reference;
-    let mut variants = vec![("commissioned", base)];
-    let mut m = base;
-    m.curve.vs = truth.curve.vs;
-    variants.push(("vs true", m));
-    let mut m = base;
-    m.curve.fs = truth.curve.fs;
-    variants.push(("fs true", m));
-    let mut m = base;
-    m.sigma1 = truth.sigma1;
-    variants.push(("sigma1 true", m));
-    let mut m = base;
-    m.curve.fs = truth.curve.fs;
-    m.curve.vs = truth.curve.vs;
-    variants.push(("fs vs true", m));
-    variants.push(("truth", truth));
-    for (name, m) in variants {
-        let runs = friction_host::commission::compare(&file, &cfg, m).unwrap();
-        println!(
-            "{name}: observer {:.4} adaptive {:.4}",
-            1e3 * runs[3].rms_half,
-            1e3 * runs[4].rms_half
+fn commissioned_adaptation_beats_static_on_the_actuator_files() {
+    for name in ["emps", "erob80-pendulum"] {
+        let run = actuator(name);
+        let rms = |row: &str| run.run(row).unwrap().rms_half;
+        assert!(
+            rms("commissioned-adaptive") <= 0.3 * rms("static"),
+            "{name}: {:.3}x static",
+            rms("commissioned-adaptive") / rms("static")
         );
     }
 }
 
+/// EMPS's Coulomb and viscous levels (the means of its two directions)
+/// within 5 % of the file's published figures.
 #[test]
-#[ignore]
-fn explore_file() {
-    let path = std::env::var("FILE").unwrap();
-    let file = friction_host::params::ParamFile::load(std::path::Path::new(&path)).unwrap();
-    let cfg = file.servo.resolve("x").unwrap();
-    let p = friction_host::commission::settings(&file, &cfg);
-    println!("{p:#?}");
-    match commission(&file, "x", true) {
-        Ok(run) => println!("{}", run.table()),
-        Err(e) => println!("{e:#}"),
+fn commissions_the_emps_levels() {
+    let run = actuator("emps");
+    for (name, truth, value) in run.parameters() {
+        if matches!(name, "fc" | "sigma2") {
+            let error = (value - truth) / truth;
+            assert!(error.abs() <= 0.05, "{name}: {error:+.3}");
+        }
     }
 }
+
