@@ -57,12 +57,27 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
             .carry_over(&old.compensation, &mut state.friction);
     }
 
-    /// Swaps in `compensation` between two ticks of the axis `state`: the
-    /// command at the next tick differs from the one the old compensation
-    /// would give by at most the change of the friction estimate over `kc`
-    /// (see the [module documentation](self)). On an error (a compensation
-    /// built for another period: [`ParamError::PeriodMismatch`]) neither the
-    /// compensator nor the state is touched.
+    /// Swaps in `compensation` between two ticks of the axis `state`. The
+    /// loop and the axis's integral, last position and velocity estimate
+    /// are kept; the compensation's state is carried over
+    /// ([`Compensation::carry_over`]: an observer keeps the force its state
+    /// holds where the new model's bounds allow, an adaptive law restarts at
+    /// the new nominal values, a supervisor keeps its applied mode and
+    /// restarts its evidence). So at the next tick, against the same tick
+    /// without the swap,
+    ///
+    /// ```text
+    /// |u_swapped - u_kept| <= |F^_new - F^_old| / kc
+    /// ```
+    ///
+    /// with `F^_new`, `F^_old` the two compensations' estimates at that tick
+    /// (the term clamps and the command limit only shrink a difference);
+    /// on a tick where one of the two commands saturates, conditional
+    /// integration may add one integral step, at most `ki h |e|`.
+    ///
+    /// On an error (a compensation built for another period:
+    /// [`ParamError::PeriodMismatch`]) neither the compensator nor the
+    /// state is touched.
     ///
     /// A compensator shared by several axes is re-tuned with
     /// [`retuned`](Self::retuned) and [`carry_over`](Self::carry_over) on

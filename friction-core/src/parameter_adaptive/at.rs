@@ -426,7 +426,7 @@ impl<S: Scalar> Compensation<S> for ParameterAdaptiveAt<S> {
         state.torque = (self.torque_constant * command - state.external).sat(self.torque_limit);
     }
 
-    /// As [`ParameterAdaptive`](crate::ParameterAdaptive)'s: the estimates
+    /// As [`crate::ParameterAdaptive`]'s: the estimates
     /// restart at this law's nominal values; the elastic force `w` is kept
     /// (rescaled to this law's force scale) within the nominal `max(Fc+,
     /// Fc-) + Ds + mu |τ|`; the last error and the torques are kept.
