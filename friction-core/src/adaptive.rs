@@ -383,6 +383,14 @@ impl<S: Scalar, M: Observable<S>> Compensation<S> for AdaptiveObserver<M, S> {
     fn period(&self) -> Option<f64> {
         Some(self.period)
     }
+    /// The model's state carried over ([`Observable::carry_over`]), `θ^`
+    /// restarted at this law's `θ0`: the new model is the new nominal.
+    fn carry_over(&self, old: &Self, state: &mut Self::State) {
+        self.observer
+            .model()
+            .carry_over(old.observer.model(), &mut state.model);
+        state.offset = S::ZERO;
+    }
 }
 
 /// The adaptive observer on a fixed-step model as the compensation. Its
@@ -405,6 +413,15 @@ impl<S: Scalar, M: FixedStepObservable<S>> Compensation<S>
         } else {
             Some(-1.0)
         }
+    }
+    /// As the variable-step form's: the model's state carried over, `θ^`
+    /// restarted at `θ0`.
+    fn carry_over(&self, old: &Self, state: &mut Self::State) {
+        self.0
+            .observer
+            .model()
+            .carry_over(old.0.observer.model(), &mut state.model);
+        state.offset = S::ZERO;
     }
 }
 

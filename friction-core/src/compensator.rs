@@ -51,6 +51,8 @@ use crate::scalar::all_finite;
 use crate::Scalar;
 use core::fmt::Debug;
 
+mod retune;
+
 /// What the compensator adds for friction: an estimate `F^` (force units)
 /// from the measured velocity `v` and position error `e = x - x_ref`.
 pub trait Compensation<S: Scalar> {
@@ -91,6 +93,16 @@ pub trait Compensation<S: Scalar> {
     /// load input from it.
     #[inline]
     fn commanded(&self, _state: &mut Self::State, _command: S) {}
+
+    /// Makes `state`, a state of the compensation `old`, a state of this one,
+    /// between two ticks of a re-tuned drive ([`Compensator::retune`]). An
+    /// observer keeps the force its state holds where this model's bounds
+    /// allow ([`Observable::carry_over`]); an adaptive law restarts its
+    /// estimates from this one's nominal values. The default keeps the state
+    /// as it is (right for `()`, a static map's).
+    fn carry_over(&self, old: &Self, state: &mut Self::State) {
+        let _ = (old, state);
+    }
 }
 
 /// The friction the compensator measured over the last two periods, for
@@ -158,6 +170,9 @@ impl<S: Scalar, M: Observable<S>> Compensation<S> for Observer<M, S> {
     fn estimate(&self, state: &mut M::State, v: S, e: S, h: S) -> S {
         self.step(state, v, e, h)
     }
+    fn carry_over(&self, old: &Self, state: &mut M::State) {
+        self.model().carry_over(old.model(), state);
+    }
 }
 
 /// An [`Observer`] on a fixed-step model ([`crate::fixed_step`]) as the
@@ -192,6 +207,9 @@ impl<S: Scalar, M: FixedStepObservable<S>> Compensation<S> for AtPeriod<Observer
     }
     fn period(&self) -> Option<f64> {
         Some(self.0.model().period())
+    }
+    fn carry_over(&self, old: &Self, state: &mut M::State) {
+        self.0.model().carry_over(old.0.model(), state);
     }
 }
 
@@ -258,11 +276,7 @@ impl CompensatorParams {
         compensation: C,
     ) -> Result<Compensator<S, C>, ParamError> {
         self.validate()?;
-        if let Some(period) = compensation.period() {
-            if (period - self.h).abs() > 1e-9 * self.h {
-                return Err(ParamError::PeriodMismatch);
-            }
-        }
+        runs_at(&compensation, self.h)?;
         let limit = convert("limit", self.limit)?;
         convert::<S>("limit", 32.0 * self.limit)?;
         let h = if C::USES_H {
@@ -308,6 +322,15 @@ impl CompensatorParams {
             inv_inertia: zero,
             params: *self,
         })
+    }
+}
+
+/// Checks that `compensation` runs at the period `h` (s), if it has one
+/// ([`Compensation::period`]).
+fn runs_at<S: Scalar, C: Compensation<S>>(compensation: &C, h: f64) -> Result<(), ParamError> {
+    match compensation.period() {
+        Some(period) if (period - h).abs() > 1e-9 * h => Err(ParamError::PeriodMismatch),
+        _ => Ok(()),
     }
 }
 

@@ -53,6 +53,15 @@ pub trait FixedStepObservable<S: Scalar>: FixedStepModel<S> {
     /// The largest `|F|` the model can produce at velocity `v` from any state
     /// within its bounds.
     fn force_bound(&self, v: S) -> S;
+
+    /// [`Observable::carry_over`](crate::Observable::carry_over) for the
+    /// fixed-step form: makes `state`, an estimate of `old`, one of this
+    /// model. The default restarts it at rest; LuGre and Dahl keep their
+    /// force (rescaled to this model's force scale, within its bound).
+    fn carry_over(&self, old: &Self, state: &mut Self::State) {
+        let _ = old;
+        *state = Self::State::default();
+    }
 }
 
 /// Checks a design-time sample period: finite and `> 0`.
@@ -98,4 +107,24 @@ pub(crate) fn signed<S: Scalar>(v: S, x: S) -> S {
     } else {
         x.negated_if_negative(v)
     }
+}
+
+/// A force state carried from one model to another
+/// ([`FixedStepObservable::carry_over`]): `x ratio` (the ratio of the two
+/// force scales, or of two stiffnesses) within `±bound`, formed in `f64`
+/// (not on the hot path); 0 for a non-finite result.
+pub(crate) fn carried<S: Scalar>(x: S, ratio: f64, bound: S) -> S {
+    let b = bound.to_f64();
+    let y = x.to_f64() * ratio;
+    if y.is_finite() {
+        S::from_f64(y.max(-b).min(b)).sat(bound)
+    } else {
+        S::ZERO
+    }
+}
+
+/// The ratio `k_new / k_old` of two force scales given as their
+/// `log2(1 / k)`.
+pub(crate) fn scale_ratio(old_inv_exp: i8, new_inv_exp: i8) -> f64 {
+    libm::exp2(f64::from(old_inv_exp) - f64::from(new_inv_exp))
 }

@@ -57,6 +57,18 @@ pub trait Observable<S: Scalar>: FrictionModel<S> {
     /// state within its bounds (for LuGre `Fs + sigma1(v) |v| (1 + Fs/Fc) +
     /// sigma2 |v|`; `Fs` at rest).
     fn force_bound(&self, v: S) -> S;
+
+    /// Makes `state`, an estimate of the model `old`, an estimate of this
+    /// model (a re-tuned drive: [`Compensator::retune`](crate::Compensator::retune)).
+    /// The default restarts it at rest (`Default`): always within this
+    /// model's bounds, but the force the old state held is lost. A model
+    /// whose state is a force, or maps to one, overrides it to keep that
+    /// force where the new bounds allow (LuGre: `z = z_old sigma0_old /
+    /// sigma0`, within `±Fs/sigma0`).
+    fn carry_over(&self, old: &Self, state: &mut Self::State) {
+        let _ = old;
+        *state = Self::State::default();
+    }
 }
 
 /// An observer built around a model `M`.

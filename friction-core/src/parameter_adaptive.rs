@@ -64,6 +64,7 @@
 
 use crate::bits::Flag;
 use crate::compensator::{Compensation, CompensatorParams, FrictionSample};
+use crate::fixed_step::carried;
 use crate::model::{convert, non_negative, positive, ParamError};
 use crate::models::lugre::LuGreParams;
 use crate::Scalar;
@@ -587,6 +588,27 @@ impl<S: Scalar> Compensation<S> for ParameterAdaptive<S> {
     #[inline]
     fn commanded(&self, state: &mut Self::State, command: S) {
         state.torque = (self.torque_constant * command - state.external).sat(self.torque_limit);
+    }
+
+    /// The estimates restart at this law's nominal values (the new model is
+    /// the new nominal); the elastic force `sigma0 z` is kept (`z = z_old
+    /// sigma0_old / sigma0`) within the nominal `max(Fc+, Fc-) + Ds + mu
+    /// |τ|`; the last error and the torques are kept (within this law's
+    /// torque limit).
+    fn carry_over(&self, old: &Self, state: &mut Self::State) {
+        let torque = state.torque.sat(self.torque_limit);
+        let fresh = self.initial();
+        let [fc_pos, fc_neg, excess, _, load] = fresh.estimates;
+        let level = fc_pos.max(fc_neg) + excess + load * torque.abs();
+        let ratio = old.sigma0.to_f64() / self.sigma0.to_f64();
+        *state = ParameterAdaptiveState {
+            z: carried(state.z, ratio, level / self.sigma0),
+            torque,
+            external: state.external.sat(self.torque_limit),
+            last_error: state.last_error,
+            primed: state.primed,
+            ..fresh
+        };
     }
 }
 

@@ -304,4 +304,9 @@ impl<S: Scalar> Compensation<S> for RlsFeedForward<S> {
     fn learn(&self, state: &mut RlsState<S>, sample: FrictionSample<S>) {
         self.update(state, sample);
     }
+    /// Restarts the fit from this one's initial weights and covariance:
+    /// the old fit's confidence belongs to the old settings.
+    fn carry_over(&self, _old: &Self, state: &mut RlsState<S>) {
+        *state = RlsState::default();
+    }
 }

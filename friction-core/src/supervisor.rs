@@ -398,6 +398,24 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
     fn commanded(&self, state: &mut Self::State, command: S) {
         self.primary.commanded(&mut state.primary, command);
     }
+
+    /// The primary's state carried over ([`Compensation::carry_over`]; the
+    /// fallback is a static map, with nothing to carry). The applied mode is
+    /// kept, so the swap changes the command only by the change of the
+    /// applied estimate; the evidence is restarted (errors, window, warm-up:
+    /// it measured the old candidates, not these), and the switch count kept.
+    fn carry_over(&self, old: &Self, state: &mut Self::State) {
+        self.primary.carry_over(&old.primary, &mut state.primary);
+        let mode = state.status.mode();
+        let switches = state.status.switches;
+        state.status = StoredStatus::new(SupervisorStatus {
+            mode,
+            switches,
+            ..SupervisorStatus::default()
+        });
+        state.sums = [S::ZERO; 3];
+        state.count = 0;
+    }
 }
 
 #[cfg(test)]

@@ -102,7 +102,7 @@ macro_rules! observers {
 
 macro_rules! servos {
     ($bytes:expr, $ty:ident, $scalar:ty, $tick:ident, $setpoint:ident, $out:ident,
-     $reset:ident, $theta:ident) => {{
+     $reset:ident, $theta:ident, $retune:ident) => {{
         let mut s = $ty {
             opaque: words($bytes),
         };
@@ -120,6 +120,7 @@ macro_rules! servos {
             $tick(Some(&mut s), 0.0, r, Some(&mut t)),
             $tick(Some(&mut s), 1e-4, r, Some(&mut t)),
             $theta(Some(&mut s), Some(&mut theta)),
+            $retune(Some(&mut s), None, 200.0, None, None),
             $reset(Some(&mut s)),
         ]
     }};
@@ -190,7 +191,8 @@ pub fn run(data: &[u8]) {
                 friction_setpoint_f32,
                 friction_tick_f32,
                 friction_servo_reset_f32,
-                friction_servo_theta_f32
+                friction_servo_theta_f32,
+                friction_servo_retune_f32
             ),
         ),
         _ => (
@@ -203,7 +205,8 @@ pub fn run(data: &[u8]) {
                 friction_setpoint_f64,
                 friction_tick_f64,
                 friction_servo_reset_f64,
-                friction_servo_theta_f64
+                friction_servo_theta_f64,
+                friction_servo_retune_f64
             ),
         ),
     };

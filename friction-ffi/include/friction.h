@@ -1108,6 +1108,36 @@ friction_status friction_servo_reset_f64(friction_servo_f64 *servo);
 friction_status friction_servo_theta_f32(friction_servo_f32 *servo, float *theta);
 
 /**
+ * Re-tunes a running servo axis between two ticks: the compensation
+ * becomes the one `model`, `gain` and `adaptive` give (as
+ * [`friction_servo_init_f32`] builds it, with the axis's own loop
+ * parameters), of the same kind as the axis's (no model, a static map, a
+ * variable-step or a fixed-step state model, with or without `adaptive`;
+ * `FRICTION_NOT_SUPPORTED` naming `model` or `adaptive` otherwise, and for
+ * the per-parameter kind: [`friction_servo_parameter_adaptive_retune_f32`]).
+ * The integral, the last position and the velocity estimate are kept, the
+ * observer's state carried over (LuGre and Dahl keep their force; a model
+ * of another kind starts at rest), `theta` restarts at `theta0`; so the
+ * next command differs from the old compensation's by at most the change
+ * of the friction estimate over `kc`. A refusal (a fixed-step model built
+ * for another period: `FRICTION_PERIOD_MISMATCH`) leaves the axis as it was.
+ */
+friction_status friction_servo_retune_f32(friction_servo_f32 *servo,
+                                          const friction_model_f32 *model,
+                                          double gain,
+                                          const friction_adaptive_params *adaptive,
+                                          friction_error *error);
+
+/**
+ * [`friction_servo_retune_f32`] in `double`.
+ */
+friction_status friction_servo_retune_f64(friction_servo_f64 *servo,
+                                          const friction_model_f64 *model,
+                                          double gain,
+                                          const friction_adaptive_params *adaptive,
+                                          friction_error *error);
+
+/**
  * [`friction_servo_theta_f32`] in `double`.
  */
 friction_status friction_servo_theta_f64(friction_servo_f64 *servo, double *theta);
@@ -1138,6 +1168,31 @@ friction_status friction_servo_parameter_adaptive_init_f64(friction_servo_f64 *o
                                                            const friction_supervisor_params *supervisor,
                                                            const friction_coulomb_viscous_params *fallback,
                                                            friction_error *error);
+
+/**
+ * Re-tunes a running per-parameter adaptive servo axis between two ticks
+ * (see [`friction_servo_retune_f32`]): the observer, the supervisor and
+ * the fallback become those `adaptive`, `supervisor` and `fallback` give,
+ * built for the axis's own loop parameters. The estimates restart at the
+ * new model's values, the elastic force is carried over, the supervisor
+ * keeps the mode it applies and restarts its evidence (warm-up again). A
+ * refusal leaves the axis as it was; `FRICTION_NOT_SUPPORTED` for an axis
+ * of another kind.
+ */
+friction_status friction_servo_parameter_adaptive_retune_f32(friction_servo_f32 *servo,
+                                                             const friction_parameter_adaptive_params *adaptive,
+                                                             const friction_supervisor_params *supervisor,
+                                                             const friction_coulomb_viscous_params *fallback,
+                                                             friction_error *error);
+
+/**
+ * [`friction_servo_parameter_adaptive_retune_f32`] in `double`.
+ */
+friction_status friction_servo_parameter_adaptive_retune_f64(friction_servo_f64 *servo,
+                                                             const friction_parameter_adaptive_params *adaptive,
+                                                             const friction_supervisor_params *supervisor,
+                                                             const friction_coulomb_viscous_params *fallback,
+                                                             friction_error *error);
 
 /**
  * The defaults of the per-parameter adaptive observer around the nominal

@@ -207,6 +207,36 @@ macro_rules! each {
     }};
 }
 
+/// `$body` with `$m`, `$o` and `$s` bound to the model, the old model
+/// (`$old`, another model of the family) and the state, when the two models
+/// and the state are of one kind; otherwise the state is put back to
+/// `REST` (a change of model starts the new one at rest, as its first step
+/// would).
+macro_rules! each_pair {
+    ($kinds:ident, $self:expr, $old:expr, $st:expr, |$m:ident, $o:ident, $s:ident| $body:expr, [$($field:ident),*]) => {{
+        let (model, old, state) = ($self, $old, $st);
+        if old.kind != model.kind || state.kind != model.kind {
+            *state = Default::default();
+        } else {
+            match model.kind {
+                $(
+                    $kinds::$field => {
+                        // SAFETY: as in `each`: the three kinds are this
+                        // arm's, each written with the union field it names
+                        // (C's bytes in it read as it); `repair` reads the
+                        // state's bytes as bytes only.
+                        unsafe { Repair::repair(core::ptr::addr_of_mut!(state.u.$field)) };
+                        let ($m, $o, $s) =
+                            unsafe { (&model.u.$field, &old.u.$field, &mut state.u.$field) };
+                        $body
+                    }
+                )*
+                _ => *state = Default::default(),
+            }
+        }
+    }};
+}
+
 /// `$body` with `$m` bound to the model, for the model's kind (no state).
 macro_rules! each_model {
     ($kinds:ident, $self:expr, |$m:ident| $body:expr, $default:expr, [$($field:ident),*]) => {{
@@ -271,6 +301,25 @@ macro_rules! each_static {
 }
 
 macro_rules! each_variable {
+    ($self:expr, $old:expr, $st:expr, |$m:ident, $o:ident, $s:ident| $body:expr) => {
+        each_pair!(
+            variable_kind,
+            $self,
+            $old,
+            $st,
+            |$m, $o, $s| $body,
+            [
+                bristle,
+                reset_integrator,
+                dahl,
+                lugre,
+                elasto_plastic,
+                leuven,
+                gms,
+                xiong
+            ]
+        )
+    };
     ($self:expr, $st:expr, |$m:ident, $s:ident| $body:expr) => {
         each!(
             variable_kind,
@@ -310,6 +359,16 @@ macro_rules! each_variable {
 }
 
 macro_rules! each_fixed {
+    ($self:expr, $old:expr, $st:expr, |$m:ident, $o:ident, $s:ident| $body:expr) => {
+        each_pair!(
+            fixed_kind,
+            $self,
+            $old,
+            $st,
+            |$m, $o, $s| $body,
+            [dahl, lugre, elasto_plastic, gms, xiong]
+        )
+    };
     ($self:expr, $st:expr, |$m:ident, $s:ident| $body:expr) => {
         each!(
             fixed_kind,
@@ -371,6 +430,10 @@ impl<S: Scalar> Observable<S> for Variable<S> {
     fn force_bound(&self, v: S) -> S {
         each_variable!(self, |m| m.force_bound(v))
     }
+
+    fn carry_over(&self, old: &Self, state: &mut Self::State) {
+        each_variable!(self, old, state, |m, o, s| m.carry_over(o, s))
+    }
 }
 
 impl<S: Scalar> FixedStepModel<S> for Fixed<S> {
@@ -401,5 +464,9 @@ impl<S: Scalar> FixedStepObservable<S> for Fixed<S> {
 
     fn force_bound(&self, v: S) -> S {
         each_fixed!(self, |m| m.force_bound(v), S::ZERO)
+    }
+
+    fn carry_over(&self, old: &Self, state: &mut Self::State) {
+        each_fixed!(self, old, state, |m, o, s| m.carry_over(o, s))
     }
 }

@@ -386,6 +386,107 @@ where
     friction_status::FRICTION_OK
 }
 
+/// A compensation taken out of a freshly built [`Servo`] of its own kind
+/// (`None` for another kind): what a re-tune swaps in.
+trait Take<S: Scalar>: Sized {
+    fn take(servo: Servo<S>) -> Option<Self>;
+}
+
+macro_rules! take {
+    ($($variant:ident: $ty:ty),* $(,)?) => {
+        $(
+            impl<S: Scalar> Take<S> for $ty {
+                fn take(servo: Servo<S>) -> Option<Self> {
+                    match servo {
+                        Servo::$variant(c, _) => Some(*c.compensation()),
+                        _ => None,
+                    }
+                }
+            }
+        )*
+    };
+}
+
+take!(
+    None: NoCompensation,
+    FeedForward: FeedForward<StaticMap<S>>,
+    Observer: Observer<Variable<S>, S>,
+    ObserverAt: AtPeriod<Observer<Fixed<S>, S>>,
+    Adaptive: AdaptiveObserver<Variable<S>, S>,
+    AdaptiveAt: AdaptiveAt<S>,
+    ParameterAdaptive: ParameterLaw<S>,
+);
+
+/// Swaps `next` (built with the servo's own loop parameters) into the axis
+/// `c`, `s`: refused, touching nothing, when it is of another kind or
+/// another period.
+fn swap<S: Scalar, C: Compensation<S> + Take<S>>(
+    c: &mut Compensator<S, C>,
+    s: &mut CompensatorState<S, C::State>,
+    next: Result<Servo<S>, friction_core::ParamError>,
+    other_kind: &'static str,
+) -> Refusal {
+    match next.map(C::take) {
+        Ok(Some(next)) => match c.retune(s, next) {
+            Ok(()) => Refusal::OK,
+            Err(e) => Refusal::param(e),
+        },
+        Ok(None) => Refusal::new(friction_status::FRICTION_NOT_SUPPORTED, other_kind),
+        Err(e) => Refusal::param(e),
+    }
+}
+
+fn retune<O, M, S>(
+    servo: Option<&mut O>,
+    model: Option<&M>,
+    gain: f64,
+    adaptive: Option<&friction_adaptive_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status
+where
+    O: slot::Opaque<Value = Stored<S>>,
+    M: slot::Opaque<Value = crate::model::Stored<S>>,
+    S: Scalar,
+{
+    let Some(servo) = servo else {
+        return report(
+            error,
+            Refusal::new(friction_status::FRICTION_NULL_POINTER, "servo"),
+        );
+    };
+    let model = match model.map(|m| {
+        let (kind, stored) = slot::get_kind_ref(m);
+        Model::load(kind, stored)
+    }) {
+        None => None,
+        Some(Some(m)) => Some(m),
+        Some(None) => {
+            return report(
+                error,
+                Refusal::new(friction_status::FRICTION_NOT_INITIALISED, "model"),
+            )
+        }
+    };
+    let adaptive = adaptive.map(AdaptiveParams::from);
+    let (kind, servo) = slot::get_kind(servo);
+    // the servo's kind wants an adaptive law exactly when it is adaptive
+    let other_kind = if matches!(kind, kind::ADAPTIVE | kind::ADAPTIVE_AT) != adaptive.is_some() {
+        "adaptive"
+    } else {
+        "model"
+    };
+    let refusal = each_servo!(
+        kind,
+        servo,
+        |c, s| {
+            let next = build(c.params(), model.as_ref(), gain, adaptive.as_ref());
+            swap(c, s, next, other_kind)
+        },
+        Refusal::new(friction_status::FRICTION_NOT_INITIALISED, "servo")
+    );
+    report(error, refusal)
+}
+
 /// The status of a tick, writing the tick into `out`.
 fn finish<S: Copy, T>(
     result: Result<friction_core::Tick<S>, friction_status>,
@@ -507,6 +608,42 @@ pub extern "C" fn friction_servo_theta_f32(
     theta: Option<&mut f32>,
 ) -> friction_status {
     read_theta(servo, theta)
+}
+
+/// Re-tunes a running servo axis between two ticks: the compensation
+/// becomes the one `model`, `gain` and `adaptive` give (as
+/// [`friction_servo_init_f32`] builds it, with the axis's own loop
+/// parameters), of the same kind as the axis's (no model, a static map, a
+/// variable-step or a fixed-step state model, with or without `adaptive`;
+/// `FRICTION_NOT_SUPPORTED` naming `model` or `adaptive` otherwise, and for
+/// the per-parameter kind: [`friction_servo_parameter_adaptive_retune_f32`]).
+/// The integral, the last position and the velocity estimate are kept, the
+/// observer's state carried over (LuGre and Dahl keep their force; a model
+/// of another kind starts at rest), `theta` restarts at `theta0`; so the
+/// next command differs from the old compensation's by at most the change
+/// of the friction estimate over `kc`. A refusal (a fixed-step model built
+/// for another period: `FRICTION_PERIOD_MISMATCH`) leaves the axis as it was.
+#[no_mangle]
+pub extern "C" fn friction_servo_retune_f32(
+    servo: Option<&mut friction_servo_f32>,
+    model: Option<&friction_model_f32>,
+    gain: f64,
+    adaptive: Option<&friction_adaptive_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    retune(servo, model, gain, adaptive, error)
+}
+
+/// [`friction_servo_retune_f32`] in `double`.
+#[no_mangle]
+pub extern "C" fn friction_servo_retune_f64(
+    servo: Option<&mut friction_servo_f64>,
+    model: Option<&friction_model_f64>,
+    gain: f64,
+    adaptive: Option<&friction_adaptive_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    retune(servo, model, gain, adaptive, error)
 }
 
 /// [`friction_servo_theta_f32`] in `double`.
@@ -673,6 +810,79 @@ pub extern "C" fn friction_servo_parameter_adaptive_init_f64(
     error: Option<&mut friction_error>,
 ) -> friction_status {
     new_parameter_adaptive(out, params, adaptive, supervisor, fallback, error)
+}
+
+fn retune_parameter_adaptive<O, S>(
+    servo: Option<&mut O>,
+    adaptive: Option<&friction_parameter_adaptive_params>,
+    supervisor: Option<&friction_supervisor_params>,
+    fallback: Option<&friction_coulomb_viscous_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status
+where
+    O: slot::Opaque<Value = Stored<S>>,
+    S: Scalar,
+{
+    let (Some(servo), Some(adaptive), Some(supervisor), Some(fallback)) =
+        (servo, adaptive, supervisor, fallback)
+    else {
+        let which = match (adaptive, supervisor, fallback) {
+            (None, ..) => "adaptive",
+            (_, None, _) => "supervisor",
+            (.., None) => "fallback",
+            _ => "servo",
+        };
+        return report(
+            error,
+            Refusal::new(friction_status::FRICTION_NULL_POINTER, which),
+        );
+    };
+    let (c, s) = match parameter_axis(servo) {
+        Ok(axis) => axis,
+        Err(status) => return report(error, Refusal::new(status, "servo")),
+    };
+    let p = *c.params();
+    let built = (|| {
+        let law = ParameterAdaptiveParams::from(adaptive).build_at::<S>(&p)?;
+        let map = CoulombViscousParams::from(fallback).build::<S>()?;
+        SupervisorParams::from(supervisor).build(law, map, p.h)
+    })();
+    let refusal = match built.and_then(|next| c.retune(s, next)) {
+        Ok(()) => Refusal::OK,
+        Err(e) => Refusal::param(e),
+    };
+    report(error, refusal)
+}
+
+/// Re-tunes a running per-parameter adaptive servo axis between two ticks
+/// (see [`friction_servo_retune_f32`]): the observer, the supervisor and
+/// the fallback become those `adaptive`, `supervisor` and `fallback` give,
+/// built for the axis's own loop parameters. The estimates restart at the
+/// new model's values, the elastic force is carried over, the supervisor
+/// keeps the mode it applies and restarts its evidence (warm-up again). A
+/// refusal leaves the axis as it was; `FRICTION_NOT_SUPPORTED` for an axis
+/// of another kind.
+#[no_mangle]
+pub extern "C" fn friction_servo_parameter_adaptive_retune_f32(
+    servo: Option<&mut friction_servo_f32>,
+    adaptive: Option<&friction_parameter_adaptive_params>,
+    supervisor: Option<&friction_supervisor_params>,
+    fallback: Option<&friction_coulomb_viscous_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    retune_parameter_adaptive(servo, adaptive, supervisor, fallback, error)
+}
+
+/// [`friction_servo_parameter_adaptive_retune_f32`] in `double`.
+#[no_mangle]
+pub extern "C" fn friction_servo_parameter_adaptive_retune_f64(
+    servo: Option<&mut friction_servo_f64>,
+    adaptive: Option<&friction_parameter_adaptive_params>,
+    supervisor: Option<&friction_supervisor_params>,
+    fallback: Option<&friction_coulomb_viscous_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    retune_parameter_adaptive(servo, adaptive, supervisor, fallback, error)
 }
 
 /// The defaults of the per-parameter adaptive observer around the nominal

@@ -1515,3 +1515,251 @@ fn hostile_finite_parameters_and_inputs_never_give_a_non_finite_force() {
         "built {built}, refused {refused}"
     );
 }
+
+/// The measured model a re-tune swaps in: stiffer bristles, higher levels,
+/// more viscous friction than Olsson's.
+fn measured_abi() -> friction_lugre_params {
+    let mut p = olsson_abi();
+    p.curve.fc = 0.36;
+    p.curve.fs = 0.45;
+    p.sigma0 = 650.0;
+    p.sigma2 = 0.03;
+    p
+}
+
+/// Re-tuning a running servo through the ABI: bit for bit the core's
+/// `Compensator::retune` on the fixed-step LuGre servo in `float` and on
+/// the per-parameter servo in `double` (estimates at the new values after
+/// the swap); refusals (another period, another kind, NULL, an object
+/// never built) leave the object's words as they were.
+#[test]
+fn retune_through_the_abi_is_the_core_bit_for_bit() {
+    let sp = servo_params();
+    let mut old = model_f32();
+    let mut new = model_f32();
+    let mut other_period = model_f32();
+    let mut variable = model_f32();
+    for (m, p, h) in [
+        (&mut old, olsson_abi(), sp.h),
+        (&mut new, measured_abi(), sp.h),
+        (&mut other_period, measured_abi(), 5e-4),
+        (&mut variable, measured_abi(), 0.0),
+    ] {
+        assert_eq!(
+            friction_lugre_init_f32(Some(m), Some(&p), h, None),
+            FRICTION_OK
+        );
+    }
+    let mut s = friction_servo_f32 {
+        opaque: [0; FRICTION_SERVO_F32_WORDS],
+    };
+    assert_eq!(
+        friction_servo_init_f32(Some(&mut s), Some(&sp), Some(&old), 200.0, None, None),
+        FRICTION_OK
+    );
+    let observer = |p: &friction_lugre_params| {
+        AtPeriod(Observer::new(LuGreParams::from(p).build_at::<f32>(sp.h).unwrap(), 200.0).unwrap())
+    };
+    let mut core: LuGreServo<f32> = core_servo_params(&sp)
+        .build(observer(&olsson_abi()))
+        .unwrap();
+    let mut state = Default::default();
+    for k in 0..runs(2000) {
+        if k == runs(2000) / 2 {
+            let mut err = no_error();
+            assert_eq!(
+                friction_servo_retune_f32(Some(&mut s), Some(&new), 200.0, None, Some(&mut err)),
+                FRICTION_OK
+            );
+            assert_eq!(err.status, 0);
+            core.retune(&mut state, observer(&measured_abi())).unwrap();
+            // refusals touch nothing
+            let before = s.opaque;
+            let refused = [
+                (Some(&other_period), None, FRICTION_PERIOD_MISMATCH, "h"),
+                (Some(&variable), None, FRICTION_NOT_SUPPORTED, "model"),
+                (None, None, FRICTION_NOT_SUPPORTED, "model"),
+                (
+                    Some(&new),
+                    Some(&friction_adaptive_params {
+                        gamma: 50.0,
+                        gamma_derivative: 0.0,
+                        leakage: 0.0,
+                        theta0: 1.0,
+                        theta_min: 0.5,
+                        theta_max: 2.0,
+                    }),
+                    FRICTION_NOT_SUPPORTED,
+                    "adaptive",
+                ),
+            ];
+            for (m, a, status, which) in refused {
+                let mut err = no_error();
+                assert_eq!(
+                    friction_servo_retune_f32(Some(&mut s), m, 200.0, a, Some(&mut err)),
+                    status
+                );
+                assert_eq!(name(&err), which);
+                assert_eq!(s.opaque, before);
+            }
+        }
+        let x = 1e-3 * (k as f32 * 0.02).sin();
+        let r = Setpoint {
+            x: x + 1e-5,
+            v: 0.02 * (k as f32 * 0.02).cos(),
+            a: 0.0,
+        };
+        let mut t = friction_tick_f32 {
+            command: 0.0,
+            friction: 0.0,
+        };
+        let rs = friction_setpoint_f32 {
+            x: r.x,
+            v: r.v,
+            a: r.a,
+        };
+        assert_eq!(
+            friction_servo_tick_f32(Some(&mut s), x, rs, Some(&mut t)),
+            FRICTION_OK
+        );
+        let want = core.tick(&mut state, x, r);
+        assert_eq!(
+            (t.command.to_bits(), t.friction.to_bits()),
+            (want.command.to_bits(), want.friction.to_bits()),
+            "tick {k}"
+        );
+    }
+    // NULL and never-built objects
+    assert_eq!(
+        friction_servo_retune_f32(None, Some(&new), 200.0, None, None),
+        FRICTION_NULL_POINTER
+    );
+    let mut zero = friction_servo_f32 {
+        opaque: [0; FRICTION_SERVO_F32_WORDS],
+    };
+    assert_eq!(
+        friction_servo_retune_f32(Some(&mut zero), Some(&new), 200.0, None, None),
+        FRICTION_NOT_INITIALISED
+    );
+    let (p, sup, fb) = parameter_abi();
+    assert_eq!(
+        friction_servo_parameter_adaptive_retune_f32(
+            Some(&mut zero),
+            Some(&p),
+            Some(&sup),
+            Some(&fb),
+            None
+        ),
+        FRICTION_NOT_INITIALISED
+    );
+    // the LuGre servo is not of the per-parameter kind
+    assert_eq!(
+        friction_servo_parameter_adaptive_retune_f32(
+            Some(&mut s),
+            Some(&p),
+            Some(&sup),
+            Some(&fb),
+            None
+        ),
+        FRICTION_NOT_SUPPORTED
+    );
+
+    // the per-parameter servo in double
+    let mut s = friction_servo_f64 {
+        opaque: [0; FRICTION_SERVO_F64_WORDS],
+    };
+    assert_eq!(
+        friction_servo_parameter_adaptive_init_f64(
+            Some(&mut s),
+            Some(&sp),
+            Some(&p),
+            Some(&sup),
+            Some(&fb),
+            None
+        ),
+        FRICTION_OK
+    );
+    let mut core = parameter_core::<f64>(&sp);
+    let mut state = Default::default();
+    let mut p2 = p;
+    p2.model = measured_abi();
+    let fb2 = friction_coulomb_viscous_params {
+        fc: 0.36,
+        sigma2: 0.03,
+    };
+    let swap = runs(3000) / 2;
+    asymmetric_plant(runs(3000) / 1000 + 1, |k, x, r| {
+        if k == swap {
+            assert_eq!(
+                friction_servo_parameter_adaptive_retune_f64(
+                    Some(&mut s),
+                    Some(&p2),
+                    Some(&sup),
+                    Some(&fb2),
+                    None
+                ),
+                FRICTION_OK
+            );
+            let law = ParameterAdaptiveParams::from(&p2)
+                .build_at::<f64>(&core_servo_params(&sp))
+                .unwrap();
+            let map = CoulombViscousParams::from(&fb2).build::<f64>().unwrap();
+            let next = SupervisorParams::from(&sup).build(law, map, sp.h).unwrap();
+            core.retune(&mut state, next).unwrap();
+            let mut e = friction_estimates_f64 {
+                fc_pos: 0.0,
+                fc_neg: 0.0,
+                stribeck: 0.0,
+                sigma2: 0.0,
+                load: 0.0,
+            };
+            assert_eq!(
+                friction_servo_estimates_f64(Some(&mut s), Some(&mut e)),
+                FRICTION_OK
+            );
+            assert_eq!(
+                (e.fc_pos, e.fc_neg, e.sigma2),
+                (0.36, 0.36, 0.03),
+                "the estimates restart at the new model's"
+            );
+            assert!((e.stribeck - 0.09).abs() < 1e-15, "{e:?}");
+            // a refused setting leaves the object as it was
+            let before = s.opaque;
+            let mut err = no_error();
+            let mut bad = sup;
+            bad.ratio = 2.0;
+            assert_eq!(
+                friction_servo_parameter_adaptive_retune_f64(
+                    Some(&mut s),
+                    Some(&p2),
+                    Some(&bad),
+                    Some(&fb2),
+                    Some(&mut err)
+                ),
+                FRICTION_NOT_BELOW
+            );
+            assert_eq!(name(&err), "ratio");
+            assert_eq!(s.opaque, before);
+        }
+        let mut t = friction_tick_f64 {
+            command: 0.0,
+            friction: 0.0,
+        };
+        let rs = friction_setpoint_f64 {
+            x: r.x,
+            v: r.v,
+            a: r.a,
+        };
+        assert_eq!(
+            friction_servo_tick_f64(Some(&mut s), x, rs, Some(&mut t)),
+            FRICTION_OK
+        );
+        let want = core.tick(&mut state, x, r);
+        assert_eq!(
+            (t.command.to_bits(), t.friction.to_bits()),
+            (want.command.to_bits(), want.friction.to_bits()),
+            "tick {k}"
+        );
+        t.command
+    });
+}

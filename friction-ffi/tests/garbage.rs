@@ -294,8 +294,30 @@ macro_rules! observer_calls {
 macro_rules! servo_calls {
     ($ty:ident, $words:expr, $tag:expr, $scalar:ty, $tick:ident, $setpoint:ident,
      $out:ident, $reset:ident, $theta:ident, $estimates:ident, $estimates_ty:ident,
-     $supervisor:ident, $parameter_init:ident) => {
+     $supervisor:ident, $parameter_init:ident, $retune:ident, $parameter_retune:ident) => {
         [
+            Call {
+                name: stringify!($retune),
+                bytes: 8 * $words,
+                tag: $tag,
+                run: |b| $retune(Some(&mut $ty { opaque: words(b) }), None, 200.0, None, None),
+                writes_only: false,
+            },
+            Call {
+                name: stringify!($parameter_retune),
+                bytes: 8 * $words,
+                tag: $tag,
+                run: |b| {
+                    $parameter_retune(
+                        Some(&mut $ty { opaque: words(b) }),
+                        Some(&parameter_adaptive()),
+                        Some(&supervisor()),
+                        Some(&FALLBACK),
+                        None,
+                    )
+                },
+                writes_only: false,
+            },
             Call {
                 name: stringify!($estimates),
                 bytes: 8 * $words,
@@ -446,7 +468,9 @@ fn calls() -> Vec<Call> {
         friction_servo_estimates_f32,
         friction_estimates_f32,
         friction_servo_supervisor_f32,
-        friction_servo_parameter_adaptive_init_f32
+        friction_servo_parameter_adaptive_init_f32,
+        friction_servo_retune_f32,
+        friction_servo_parameter_adaptive_retune_f32
     ));
     all.extend(servo_calls!(
         friction_servo_f64,
@@ -461,7 +485,9 @@ fn calls() -> Vec<Call> {
         friction_servo_estimates_f64,
         friction_estimates_f64,
         friction_servo_supervisor_f64,
-        friction_servo_parameter_adaptive_init_f64
+        friction_servo_parameter_adaptive_init_f64,
+        friction_servo_retune_f64,
+        friction_servo_parameter_adaptive_retune_f64
     ));
     all
 }
@@ -895,7 +921,7 @@ macro_rules! object_types {
     ($scalar:ty, $model:ident, $observer:ident, $servo:ident, $model_step:ident,
      $model_reset:ident, $observer_init:ident, $servo_init:ident, $observer_step:ident,
      $observer_reset:ident, $tick:ident, $setpoint:ident, $out:ident, $servo_reset:ident,
-     $theta:ident) => {
+     $theta:ident, $retune:ident, $lugre_init:ident) => {
         impl Object for $model {
             fn zeroed() -> Self {
                 Self {
@@ -1057,6 +1083,31 @@ macro_rules! object_types {
                         |s| $servo_reset(Some(s)),
                         allowed::RESET,
                     ),
+                    (
+                        concat!(stringify!($retune), " (no model)"),
+                        |s| $retune(Some(s), None, 200.0, None, None),
+                        allowed::INIT,
+                    ),
+                    (
+                        concat!(stringify!($retune), " (fixed-step, variable-step LuGre)"),
+                        |s| {
+                            let (mut fixed, mut variable) = ($model::zeroed(), $model::zeroed());
+                            assert_eq!(
+                                $lugre_init(Some(&mut fixed), Some(&lugre()), 1e-3, None),
+                                FRICTION_OK
+                            );
+                            assert_eq!(
+                                $lugre_init(Some(&mut variable), Some(&lugre()), 0.0, None),
+                                FRICTION_OK
+                            );
+                            let first = $retune(Some(&mut *s), Some(&fixed), 200.0, None, None);
+                            match $retune(Some(s), Some(&variable), 200.0, Some(&ADAPTIVE), None) {
+                                FRICTION_OK => first,
+                                other => other,
+                            }
+                        },
+                        allowed::INIT,
+                    ),
                 ]
             }
         }
@@ -1078,7 +1129,9 @@ object_types!(
     friction_setpoint_f32,
     friction_tick_f32,
     friction_servo_reset_f32,
-    friction_servo_theta_f32
+    friction_servo_theta_f32,
+    friction_servo_retune_f32,
+    friction_lugre_init_f32
 );
 object_types!(
     f64,
@@ -1095,7 +1148,9 @@ object_types!(
     friction_setpoint_f64,
     friction_tick_f64,
     friction_servo_reset_f64,
-    friction_servo_theta_f64
+    friction_servo_theta_f64,
+    friction_servo_retune_f64,
+    friction_lugre_init_f64
 );
 
 /// Overwrites `object` but its first 32 bits (the tag word) with pattern

@@ -5,6 +5,8 @@
 //! controllers ([`crate::models::HostModel::observer_controller`]) through
 //! [`observer_controller`].
 
+use std::any::Any;
+
 use friction_core::{
     AdaptiveParams, Compensation, Compensator, CompensatorParams, CompensatorState,
     CoulombViscousParams, Observable, Observer, ParamError, Setpoint, SupervisorParams, Tick,
@@ -24,7 +26,39 @@ pub trait Controller: Send {
     fn adapted_names(&self) -> &'static [&'static str] {
         &[]
     }
+    /// Re-tunes the running axis between two ticks: its compensation
+    /// becomes `next`'s (an axis built the same way around the new model),
+    /// its loop and state carried on ([`Compensator::retune`]). Refused,
+    /// touching nothing, when `next` runs another kind of compensation
+    /// ([`Retune::OtherKind`]) or the core refuses it ([`Retune::Refused`]).
+    fn retune(&mut self, next: Box<dyn Controller>) -> Result<(), Retune>;
+    /// The axis as [`Any`], for [`Controller::retune`] to take its own kind back.
+    fn into_any(self: Box<Self>) -> Box<dyn Any>;
 }
+
+/// Why [`Controller::retune`] refused.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Retune {
+    /// The new axis runs another kind of compensation (another model
+    /// family, or another law).
+    OtherKind,
+    /// The core refused the swap.
+    Refused(ParamError),
+}
+
+impl core::fmt::Display for Retune {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::OtherKind => write!(
+                f,
+                "the new compensation is of another kind (model family or law) than the running one"
+            ),
+            Self::Refused(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for Retune {}
 
 /// Reads the adapted quantities of a compensation's state.
 pub type Reader<C> = fn(&C, &<C as Compensation<f64>>::State) -> Vec<f64>;
@@ -36,7 +70,7 @@ struct Axis<C: Compensation<f64>> {
     read: Reader<C>,
 }
 
-impl<C: Compensation<f64> + Send> Controller for Axis<C>
+impl<C: Compensation<f64> + Clone + Send + 'static> Controller for Axis<C>
 where
     C::State: Send,
 {
@@ -48,6 +82,20 @@ where
     }
     fn adapted_names(&self) -> &'static [&'static str] {
         self.names
+    }
+    fn retune(&mut self, next: Box<dyn Controller>) -> Result<(), Retune> {
+        let next = next
+            .into_any()
+            .downcast::<Self>()
+            .map_err(|_| Retune::OtherKind)?;
+        self.ctl
+            .retune(&mut self.state, next.ctl.compensation().clone())
+            .map_err(Retune::Refused)?;
+        (self.names, self.read) = (next.names, next.read);
+        Ok(())
+    }
+    fn into_any(self: Box<Self>) -> Box<dyn Any> {
+        self
     }
 }
 
@@ -65,7 +113,7 @@ pub struct Loop {
 /// Builds one axis around `compensation` with nothing to read.
 pub fn controller<C>(setup: &Loop, compensation: C) -> Result<Box<dyn Controller>, ParamError>
 where
-    C: Compensation<f64> + Send + 'static,
+    C: Compensation<f64> + Clone + Send + 'static,
     C::State: Send,
 {
     controller_reading(setup, compensation, &[], |_, _| Vec::new())
@@ -79,7 +127,7 @@ pub fn controller_reading<C>(
     read: Reader<C>,
 ) -> Result<Box<dyn Controller>, ParamError>
 where
-    C: Compensation<f64> + Send + 'static,
+    C: Compensation<f64> + Clone + Send + 'static,
     C::State: Send,
 {
     let mut ctl = setup.params.build::<f64, C>(compensation)?;
@@ -139,7 +187,7 @@ pub fn observer_controller<M>(
     build: impl Fn(f64, f64) -> Result<M, ParamError>,
 ) -> Result<Box<dyn Controller>, ParamError>
 where
-    M: Observable<f64> + Send + 'static,
+    M: Observable<f64> + Clone + Send + 'static,
     M::State: Send,
 {
     let model = build(request.scale, request.stiffness)?;
@@ -162,5 +210,61 @@ where
                 ]
             },
         ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use friction_core::{LuGreParams, NoCompensation};
+
+    /// A re-tune keeps the axis running (the next tick is the core's
+    /// retuned tick) and refuses another kind of compensation untouched.
+    #[test]
+    fn retune_swaps_the_same_kind_and_refuses_another() {
+        let setup = Loop {
+            params: CompensatorParams {
+                h: 1e-3,
+                kp: 60.0,
+                ki: 200.0,
+                kd: 1.2,
+                inertia: 0.0023,
+                torque_constant: 1.02,
+                limit: 10.0,
+            },
+            velocity_filter: Some(200.0),
+            velocity_observer: None,
+        };
+        let observer = |sigma0: f64| {
+            let p = LuGreParams {
+                sigma0,
+                ..LuGreParams::OLSSON_1998
+            };
+            Observer::new(p.build::<f64>().unwrap(), 20.0).unwrap()
+        };
+        let mut axis = controller(&setup, observer(260.0)).unwrap();
+        let mut core = setup
+            .params
+            .build(observer(260.0))
+            .unwrap()
+            .with_velocity_filter(200.0)
+            .unwrap();
+        let mut state = CompensatorState::default();
+        let r = Setpoint {
+            x: 0.0,
+            v: 0.1,
+            a: 0.0,
+        };
+        for k in 0..300 {
+            let x = 1e-4 * f64::from(k);
+            if k == 150 {
+                let other = controller(&setup, NoCompensation).unwrap();
+                assert_eq!(axis.retune(other).err(), Some(Retune::OtherKind));
+                axis.retune(controller(&setup, observer(650.0)).unwrap())
+                    .unwrap();
+                core.retune(&mut state, observer(650.0)).unwrap();
+            }
+            assert_eq!(axis.tick(x, r), core.tick(&mut state, x, r), "tick {k}");
+        }
     }
 }

@@ -284,6 +284,23 @@ impl Model {
             velocity_filter,
             velocity_observer: None,
         };
+        let axis = self.axis(&setup, gain, adaptive, parameter_adaptive, supervisor)?;
+        Ok(Compensator { axis, setup })
+    }
+}
+
+impl Model {
+    /// The axis `compensator` builds around the loop `setup` (see its
+    /// options): what a re-tune builds too.
+    fn axis(
+        &self,
+        setup: &Loop,
+        gain: f64,
+        adaptive: Option<&Bound<'_, PyDict>>,
+        parameter_adaptive: Option<&Bound<'_, PyAny>>,
+        supervisor: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Axis> {
+        let setup = *setup;
         let parameter = parameter_adaptive
             .map(|p| option_dict("parameter_adaptive", p))
             .transpose()?
@@ -297,8 +314,7 @@ impl Model {
             ));
         }
         if let Some(table) = parameter {
-            let axis = self.parameter_controller(&setup, gain, &table, supervisor)?;
-            return Ok(Compensator { axis });
+            return self.parameter_controller(&setup, gain, &table, supervisor);
         }
         if supervisor.is_some() {
             return Err(PyValueError::new_err(
@@ -306,8 +322,7 @@ impl Model {
             ));
         }
         let adaptive = adaptive.map(adaptive_params).transpose()?;
-        let axis = self.controller(&setup, gain, true, adaptive)?;
-        Ok(Compensator { axis })
+        self.controller(&setup, gain, true, adaptive)
     }
 }
 
@@ -616,6 +631,9 @@ type ArrayPair<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
 #[pyclass(module = "friction")]
 struct Compensator {
     axis: Axis,
+    /// The loop it was built with: a re-tune builds the new compensation
+    /// around it.
+    setup: Loop,
 }
 
 #[pymethods]
@@ -667,6 +685,36 @@ impl Compensator {
             f.push(t.friction);
         }
         Ok((u.into_pyarray(py), f.into_pyarray(py)))
+    }
+
+    /// retune(model, gain=200, adaptive=None, parameter_adaptive=None,
+    /// supervisor=None): re-tunes the running axis between two ticks. The
+    /// compensation becomes the one `model.compensator(...)` would build with
+    /// these options around this axis's loop; it must be of the same kind
+    /// (the same model family and law, else ValueError, the axis untouched).
+    /// The integral, the last position and the velocity estimate are kept;
+    /// the observer keeps the friction force its state holds (LuGre, Dahl;
+    /// other models restart at rest); adaptive estimates (`theta`, the
+    /// per-parameter levels) restart at the new model's values; a
+    /// supervisor keeps its mode and restarts its evidence. So the next
+    /// command differs from the old compensation's by at most the change of
+    /// the friction estimate over `torque_constant`.
+    #[pyo3(signature = (model, gain = 200.0, adaptive = None, parameter_adaptive = None, supervisor = None))]
+    fn retune(
+        &self,
+        model: &Model,
+        gain: f64,
+        adaptive: Option<&Bound<'_, PyDict>>,
+        parameter_adaptive: Option<&Bound<'_, PyAny>>,
+        supervisor: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let next = model.axis(&self.setup, gain, adaptive, parameter_adaptive, supervisor)?;
+        let next = next
+            .into_inner()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        lock(&self.axis)
+            .retune(next)
+            .map_err(|e| PyValueError::new_err(format!("retune: {e}")))
     }
 
     /// The supervisor's mode after the last tick: "primary" (the adaptive

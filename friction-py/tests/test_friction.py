@@ -271,3 +271,80 @@ def test_identify_recovers_a_known_axis():
         friction.identify(t, x, force, model="dahl")
     with pytest.raises(ValueError, match="samples"):
         friction.identify(t[:10], x[:10], force[:10])
+
+
+def test_retune_swaps_a_running_compensator_without_a_bump():
+    """A measured model swapped into a running axis: the command at the
+    swap differs from the unswapped one by at most the change of the
+    friction estimate over kc, tracking goes on as well as with the
+    measured model all along; a per-parameter law restarts at the measured
+    levels; another kind of compensation is refused, the axis untouched."""
+    lugre = dict(vs=0.01, sigma1=0.6)
+    old = friction.Model("lugre", fc=0.28, fs=0.33, sigma0=260.0, sigma2=0.0176, **lugre)
+    new = friction.Model("lugre", fc=0.36, fs=0.45, sigma0=650.0, sigma2=0.03, **lugre)
+    loop = dict(h=1e-3, kp=60.0, ki=200.0, kd=1.2, inertia=0.0023,
+                torque_constant=1.02, limit=10.0, gain=20.0)
+    w = 2 * np.pi * 0.2
+
+    def run(c, seconds, at=None, shadow=None):
+        """The closed loop on a Coulomb + viscous plant with the measured
+        levels; at tick `at` the compensator is re-tuned to `new`, and the
+        swap tick is compared with `shadow` (the same axis, not re-tuned)."""
+        x = v = 0.0
+        errors, swap = [], None
+        for k in range(int(seconds * 1000)):
+            t = k * 1e-3
+            r = (0.5 * np.sin(w * t), 0.5 * w * np.cos(w * t), -0.5 * w * w * np.sin(w * t))
+            if k == at:
+                c.retune(new, gain=20.0)
+                u, f = c.tick(x, *r)
+                u0, f0 = shadow.tick(x, *r)
+                swap = (abs(u - u0), abs(f - f0) / 1.02)
+            else:
+                u, _ = c.tick(x, *r)
+                if shadow is not None and (at is None or k < at):
+                    shadow.tick(x, *r)
+            for _ in range(10):
+                f = 0.36 * np.tanh(v / 1e-3) + 0.03 * v
+                v += 1e-4 * (1.02 * u - f) / 0.0023
+                x += 1e-4 * v
+            errors.append(x - r[0])
+        return np.array(errors), swap
+
+    c, shadow = old.compensator(**loop), old.compensator(**loop)
+    e, (bump, bound) = run(c, 5, at=2300, shadow=shadow)
+    assert bound > 0.01  # the estimate changed: the bound is not vacuous
+    assert bump <= bound + 1e-12, (bump, bound)
+    e_new, _ = run(new.compensator(**loop), 5)
+    rms = lambda a: np.sqrt(np.mean(a[-1000:] ** 2))  # noqa: E731
+    assert rms(e) <= 1.1 * rms(e_new), (rms(e), rms(e_new))
+
+    # the per-parameter law restarts at the measured levels, its mode kept
+    adaptive = {"rate": 16.0, "speed": 0.63}
+    p = old.compensator(parameter_adaptive=adaptive, **loop)
+    closed_loop(p, 2)
+    assert p.adapted()["fc_pos"] != pytest.approx(0.28, rel=1e-6)
+    mode = p.mode
+    p.retune(new, gain=20.0, parameter_adaptive=adaptive)
+    a = p.adapted()
+    assert a["fc_pos"] == a["fc_neg"] == pytest.approx(0.36, rel=1e-12)
+    assert a["stribeck"] == pytest.approx(0.09, rel=1e-12)
+    assert a["sigma2"] == pytest.approx(0.03, rel=1e-12)
+    assert p.mode == mode
+
+    # refusals leave the axis as it was: it ticks on as its twin does
+    c, twin = old.compensator(**loop), old.compensator(**loop)
+    for k in range(100):
+        assert c.tick(1e-5 * k, 1e-5 * k + 1e-4) == twin.tick(1e-5 * k, 1e-5 * k + 1e-4)
+    with pytest.raises(ValueError, match="another kind"):
+        c.retune(new, gain=20.0, adaptive={"gamma": 50.0})
+    with pytest.raises(ValueError, match="another kind"):
+        c.retune(new, gain=20.0, parameter_adaptive=True)
+    with pytest.raises(ValueError, match="another kind"):
+        c.retune(friction.load(PARAMS / "dahl1968.toml"), gain=20.0)
+    with pytest.raises(ValueError, match="gain"):
+        c.retune(new, gain=-1.0)
+    with pytest.raises(ValueError, match="no observer"):
+        c.retune(friction.Model("coulomb", fc=1.0))
+    for k in range(100, 200):
+        assert c.tick(1e-5 * k, 1e-5 * k + 1e-4) == twin.tick(1e-5 * k, 1e-5 * k + 1e-4)

@@ -20,7 +20,9 @@
 //! rounding. Exact in `x`, so rate independence holds to rounding at any
 //! step, and `|F| <= Fc` is kept.
 
-use crate::fixed_step::{checked_velocity, period, signed, FixedStepModel, FixedStepObservable};
+use crate::fixed_step::{
+    carried, checked_velocity, period, scale_ratio, signed, FixedStepModel, FixedStepObservable,
+};
 use crate::model::{
     check_force, checked_inputs, convert, convert_derived, magnitude, magnitude_or_zero,
     FrictionModel, ParamError,
@@ -210,6 +212,11 @@ impl<S: Scalar> Observable<S> for Dahl<S> {
     fn force_bound(&self, v: S) -> S {
         self.fc + self.sigma2 * v.abs()
     }
+
+    /// Keeps the hysteretic force `F` (the state), within `±Fc`.
+    fn carry_over(&self, _old: &Self, state: &mut DahlState<S>) {
+        state.f = carried(state.f, 1.0, self.fc);
+    }
 }
 
 /// Dahl built for one sample period `h` ([`DahlParams::build_at`]). Its
@@ -369,6 +376,13 @@ impl<S: Scalar> FixedStepObservable<S> for DahlAt<S> {
     /// `Fc + sigma2 |v|`.
     fn force_bound(&self, v: S) -> S {
         (self.fc + self.sigma2 * v.abs()).rescale_pow2(self.inv_scale_exp)
+    }
+
+    /// Keeps the hysteretic force `F`, rescaled to this model's force
+    /// scale, within `±Fc`.
+    fn carry_over(&self, old: &Self, state: &mut DahlState<S>) {
+        let ratio = scale_ratio(old.inv_scale_exp, self.inv_scale_exp);
+        state.f = carried(state.f, ratio, self.fc);
     }
 }
 

@@ -17,7 +17,9 @@
 //! lands on the steady state).
 
 use crate::bits::Flag;
-use crate::fixed_step::{checked_velocity, period, signed, FixedStepModel, FixedStepObservable};
+use crate::fixed_step::{
+    carried, checked_velocity, period, scale_ratio, signed, FixedStepModel, FixedStepObservable,
+};
 use crate::model::{
     check_force, checked_inputs, convert, convert_derived, magnitude, magnitude_or_zero,
     FrictionModel, ParamError,
@@ -342,6 +344,13 @@ impl<S: Scalar> Observable<S> for LuGre<S> {
         let speed = v.abs();
         self.curve.fs() + (self.damping(v) * self.rate_factor + self.sigma2) * speed
     }
+
+    /// Keeps the elastic force `sigma0 z`: `z = z_old sigma0_old / sigma0`,
+    /// within `±Fs/sigma0`.
+    fn carry_over(&self, old: &Self, state: &mut LuGreState<S>) {
+        let ratio = old.sigma0.to_f64() / self.sigma0.to_f64();
+        state.z = carried(state.z, ratio, self.z_max);
+    }
 }
 
 /// LuGre built for one sample period `h` ([`LuGreParams::build_at`]), with
@@ -624,6 +633,13 @@ impl<S: Scalar> FixedStepObservable<S> for LuGreAt<S> {
     fn force_bound(&self, v: S) -> S {
         let speed = v.abs();
         self.unscale(self.fs + (self.damping(v) * self.rate_factor + self.sigma2) * speed)
+    }
+
+    /// Keeps the elastic force `w` (the state is a force): rescaled to this
+    /// model's force scale, within `±Fs`.
+    fn carry_over(&self, old: &Self, state: &mut LuGreAtState<S>) {
+        let ratio = scale_ratio(old.inv_scale_exp, self.inv_scale_exp);
+        state.w = carried(state.w, ratio, self.fs);
     }
 }
 

@@ -34,6 +34,7 @@
 use super::{Estimate, ParameterAdaptive, ParameterAdaptiveParams, ESTIMATES, SIGNAL_LIMIT};
 use crate::bits::Flag;
 use crate::compensator::{Compensation, CompensatorParams};
+use crate::fixed_step::{carried, scale_ratio};
 use crate::gain::Gain;
 use crate::model::{check_force, convert, ParamError};
 use crate::scalar::inverse_scale_exp;
@@ -423,6 +424,26 @@ impl<S: Scalar> Compensation<S> for ParameterAdaptiveAt<S> {
     #[inline]
     fn commanded(&self, state: &mut Self::State, command: S) {
         state.torque = (self.torque_constant * command - state.external).sat(self.torque_limit);
+    }
+
+    /// As [`crate::ParameterAdaptive`]'s: the estimates
+    /// restart at this law's nominal values; the elastic force `w` is kept
+    /// (rescaled to this law's force scale) within the nominal `max(Fc+,
+    /// Fc-) + Ds + mu |τ|`; the last error and the torques are kept.
+    fn carry_over(&self, old: &Self, state: &mut Self::State) {
+        let torque = state.torque.sat(self.torque_limit);
+        let fresh = self.initial();
+        let [fc_pos, fc_neg, excess, _, load] = fresh.estimates;
+        let level = fc_pos.max(fc_neg) + excess + load * torque.abs();
+        let ratio = scale_ratio(old.inv_scale_exp, self.inv_scale_exp);
+        *state = ParameterAdaptiveAtState {
+            w: carried(state.w, ratio, level),
+            torque,
+            external: state.external.sat(self.torque_limit),
+            last_error: state.last_error,
+            primed: state.primed,
+            ..fresh
+        };
     }
 }
 
