@@ -1350,3 +1350,36 @@ fn online_runs_and_refuses_bad_options() {
         assert!(dir.path().join("online").join(name).exists(), "{name}");
     }
 }
+
+/// `friction commission`: a bad `[commission]` key or value exits 2
+/// naming it; a run that aborts exits 2 naming the reason and writes
+/// nothing.
+#[test]
+fn commission_bad_settings_and_aborts_exit_2_naming_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("../params");
+    let olsson = std::fs::read_to_string(base.join("olsson1998-servo.toml")).unwrap();
+    let stickslip = std::fs::read_to_string(base.join("astrom2008-stickslip.toml")).unwrap();
+    for (text, needle) in [
+        (format!("{olsson}\n[commission]\ntravle = 1\n"), "travle"),
+        (format!("{olsson}\n[commission]\ntravel = -1\n"), "`travel`"),
+        (format!("{olsson}\n[commission]\nspeeds = 40\n"), "`speeds`"),
+        (stickslip, "Timeout"),
+    ] {
+        let p = dir.path().join("commission.toml");
+        std::fs::write(&p, &text).unwrap();
+        let output = dir.path().join("out");
+        let out = friction(&[
+            "commission",
+            "--quiet",
+            "--params",
+            p.to_str().unwrap(),
+            "--output",
+            output.to_str().unwrap(),
+        ]);
+        assert_eq!(out.status.code(), Some(2), "{needle}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(needle) && err.contains("commission.toml"), "{needle}: {err}");
+        assert!(!output.exists(), "{needle}: wrote {}", output.display());
+    }
+}

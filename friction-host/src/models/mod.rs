@@ -497,7 +497,7 @@ pub(crate) fn sign(v: f64) -> f64 {
 
 /// Declares a model's file struct: its own keys, `deny_unknown_fields`, and
 /// the tables every parameter file may carry (`[rig]`, `[servo]`,
-/// `[plant]`), which their own readers parse.
+/// `[plant]`, `[commission]`), which their own readers parse.
 macro_rules! model_file {
     ($name:ident { $($(#[$fm:meta])* $field:ident : $ty:ty),* $(,)? }) => {
         #[derive(serde::Deserialize)]
@@ -515,6 +515,9 @@ macro_rules! model_file {
             #[serde(default)]
             #[allow(dead_code)]
             plant: Option<serde::de::IgnoredAny>,
+            #[serde(default)]
+            #[allow(dead_code)]
+            commission: Option<serde::de::IgnoredAny>,
         }
     };
 }
