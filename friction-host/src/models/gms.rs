@@ -9,6 +9,7 @@
 //! its sub-step (written here from the sheet, sharing no code with the
 //! core's step).
 
+use super::HostParams;
 use super::ReferenceRun;
 use super::{
     boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, Expect,
@@ -62,8 +63,10 @@ model_file!(GmsFile {
     elements: Vec<ElementFile>,
 });
 
-pub(super) fn parse(text: &str, origin: &str) -> Result<GmsSpec> {
-    let f: GmsFile = from_toml(text, origin, "gms")?;
+impl<const N: usize> HostParams for GmsParams<N> {
+    type Spec = GmsSpec;
+    fn parse(text: &str, origin: &str, name: &'static str) -> Result<GmsSpec> {
+    let f: GmsFile = from_toml(text, origin, name)?;
     if !(1..=MAX_ELEMENTS).contains(&f.elements.len()) {
         bail!(
             "{origin}: {} `[[elements]]` tables: the host runs GMS with 1 to {MAX_ELEMENTS} elements",
@@ -89,6 +92,7 @@ pub(super) fn parse(text: &str, origin: &str) -> Result<GmsSpec> {
             })
             .collect(),
     })
+    }
 }
 
 impl GmsSpec {
@@ -212,9 +216,6 @@ fn validate_n<const K: usize>(spec: &GmsSpec) -> Result<(), ParamError> {
 }
 
 impl HostModel for GmsSpec {
-    fn name(&self) -> &'static str {
-        "gms"
-    }
     /// See `observer_n`.
     fn observer_controller(
         &self,
@@ -484,6 +485,11 @@ impl GmsSpec {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The module's parser, as the registry calls it.
+    fn parse(text: &str, origin: &str) -> Result<GmsSpec> {
+        <GmsParams<1> as HostParams>::parse(text, origin, "gms")
+    }
 
     /// A shipped set's GMS parameters (its text parsed here: the layer
     /// test keeps `models` from importing `params`).

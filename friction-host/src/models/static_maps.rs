@@ -2,6 +2,7 @@
 //! state: their reference is the map itself, evaluated independently here,
 //! and only the steady-state experiment applies.
 
+use super::HostParams;
 use super::{
     boxed, default_exponent, from_toml, in_scalar, model_file, sign, stribeck, Continuous,
     HostModel, ScalarKind, Stepper,
@@ -26,21 +27,29 @@ model_file!(StribeckFile {
     sigma2: f64,
 });
 
-pub(super) fn parse_coulomb(text: &str, origin: &str) -> Result<CoulombParams> {
-    let f: CoulombFile = from_toml(text, origin, "coulomb")?;
+impl HostParams for CoulombParams {
+    type Spec = Self;
+    fn parse(text: &str, origin: &str, name: &'static str) -> Result<Self> {
+    let f: CoulombFile = from_toml(text, origin, name)?;
     Ok(CoulombParams { fc: f.fc })
+    }
 }
 
-pub(super) fn parse_coulomb_viscous(text: &str, origin: &str) -> Result<CoulombViscousParams> {
-    let f: CoulombViscousFile = from_toml(text, origin, "coulomb-viscous")?;
+impl HostParams for CoulombViscousParams {
+    type Spec = Self;
+    fn parse(text: &str, origin: &str, name: &'static str) -> Result<Self> {
+    let f: CoulombViscousFile = from_toml(text, origin, name)?;
     Ok(CoulombViscousParams {
         fc: f.fc,
         sigma2: f.sigma2,
     })
+    }
 }
 
-pub(super) fn parse_stribeck(text: &str, origin: &str) -> Result<StribeckMapParams> {
-    let f: StribeckFile = from_toml(text, origin, "stribeck")?;
+impl HostParams for StribeckMapParams {
+    type Spec = Self;
+    fn parse(text: &str, origin: &str, name: &'static str) -> Result<Self> {
+    let f: StribeckFile = from_toml(text, origin, name)?;
     Ok(StribeckMapParams {
         curve: StribeckParams {
             fc: f.fc,
@@ -50,6 +59,7 @@ pub(super) fn parse_stribeck(text: &str, origin: &str) -> Result<StribeckMapPara
         },
         sigma2: f.sigma2,
     })
+    }
 }
 
 /// `F = g(v) sign(v) + sigma2 v`, with `g = Fc` for the Coulomb maps.
@@ -85,11 +95,8 @@ fn no_states(_: &()) -> Vec<f64> {
 const EXACT: f64 = 1e-9;
 
 macro_rules! static_map {
-    ($params:ty, $name:literal, $build:ident, $map:expr) => {
+    ($params:ty, $build:ident, $map:expr) => {
         impl HostModel for $params {
-            fn name(&self) -> &'static str {
-                $name
-            }
             fn validate(&self) -> Result<(), ParamError> {
                 self.build::<f64>().map(|_| ())
             }
@@ -124,7 +131,6 @@ macro_rules! static_map {
 
 static_map!(
     CoulombParams,
-    "coulomb",
     build_coulomb,
     |p: &CoulombParams| StaticMap {
         fc: p.fc,
@@ -136,7 +142,6 @@ static_map!(
 );
 static_map!(
     CoulombViscousParams,
-    "coulomb-viscous",
     build_coulomb_viscous,
     |p: &CoulombViscousParams| StaticMap {
         fc: p.fc,
@@ -148,7 +153,6 @@ static_map!(
 );
 static_map!(
     StribeckMapParams,
-    "stribeck",
     build_stribeck,
     |p: &StribeckMapParams| StaticMap {
         fc: p.curve.fc,

@@ -1,6 +1,7 @@
 //! The multistate model of Xiong, Kikuuwe and Yamamoto (~2013) on the host:
 //! file keys, the continuous equations, expectations and bounds.
 
+use super::HostParams;
 use super::gms::with_count;
 use super::{
     boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, sign,
@@ -46,8 +47,10 @@ model_file!(XiongFile {
     elements: Vec<ElementFile>,
 });
 
-pub(super) fn parse(text: &str, origin: &str) -> Result<XiongSpec> {
-    let f: XiongFile = from_toml(text, origin, "xiong")?;
+impl<const N: usize> HostParams for XiongParams<N> {
+    type Spec = XiongSpec;
+    fn parse(text: &str, origin: &str, name: &'static str) -> Result<XiongSpec> {
+    let f: XiongFile = from_toml(text, origin, name)?;
     if !(1..=super::gms::MAX_ELEMENTS).contains(&f.elements.len()) {
         bail!(
             "{origin}: {} `[[elements]]` tables: the host runs the Xiong model with 1 to {} elements",
@@ -74,6 +77,7 @@ pub(super) fn parse(text: &str, origin: &str) -> Result<XiongSpec> {
             })
             .collect(),
     })
+    }
 }
 
 impl XiongSpec {
@@ -211,9 +215,6 @@ fn observer_n<const K: usize>(
 }
 
 impl HostModel for XiongSpec {
-    fn name(&self) -> &'static str {
-        "xiong"
-    }
     /// See `observer_n`.
     fn observer_controller(
         &self,
@@ -273,6 +274,11 @@ impl HostModel for XiongSpec {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The module's parser, as the registry calls it.
+    fn parse(text: &str, origin: &str) -> Result<XiongSpec> {
+        <XiongParams<1> as HostParams>::parse(text, origin, "xiong")
+    }
 
     #[test]
     fn rejects_unknown_keys_in_elements() {
