@@ -61,7 +61,7 @@ pub use parameter_adaptive::{
 pub use rls::{RlsFeedForward, RlsParams, RlsState};
 pub use scalar::{Conversion, Scalar};
 pub use stribeck::{
-    CoulombParams, CoulombViscous, CoulombViscousParams, Karnopp, StribeckCurve, StribeckMap,
+    AsymmetricCoulombViscous, AsymmetricCoulombViscousParams, CoulombParams, CoulombViscous, CoulombViscousParams, Karnopp, StribeckCurve, StribeckMap,
     StribeckMapParams, StribeckParams,
 };
 pub use supervisor::{Mode, Supervised, SupervisedState, SupervisorParams, SupervisorStatus};

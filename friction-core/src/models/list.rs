@@ -117,6 +117,13 @@ macro_rules! model_list {
                 variable: $crate::Leuven<S, MEMORY>,
                 sets: ["leuven-typical"],
             }
+            /// `asymmetric-coulomb-viscous`: `fc_pos`, `sigma2_pos`, `fc_neg`, `sigma2_neg`.
+            AsymmetricCoulombViscous = "asymmetric-coulomb-viscous" {
+                params: $crate::AsymmetricCoulombViscousParams,
+                field: asymmetric_coulomb_viscous,
+                map: $crate::AsymmetricCoulombViscous<S>,
+                sets: ["robot-joint-asymmetric"],
+            }
         }
     };
 }
