@@ -384,3 +384,20 @@ macro_rules! families {
 }
 
 friction_core::model_list!(dispatch);
+
+#[cfg(test)]
+mod tests {
+    /// Each model of the list that the C ABI builds has its two
+    /// constructors in the header (written by hand: cbindgen reads no macro
+    /// output), so a model added to the list without them fails here.
+    #[test]
+    fn every_listed_model_has_its_constructors() {
+        let header = include_str!("../include/friction.h");
+        for field in super::C_MODELS {
+            for scalar in ["f32", "f64"] {
+                let name = std::format!("friction_{field}_init_{scalar}(");
+                assert!(header.contains(&name), "{name} is missing from friction.h");
+            }
+        }
+    }
+}

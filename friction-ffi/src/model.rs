@@ -17,7 +17,7 @@ use crate::params::{
     FRICTION_LEUVEN_MEMORY as MEMORY,
 };
 use friction_core::{
-    BristleParams, CoulombViscousParams, DahlParams, ElastoPlasticParams, FixedStepModel,
+    AsymmetricCoulombViscousParams, BristleParams, CoulombViscousParams, DahlParams, ElastoPlasticParams, FixedStepModel,
     FrictionModel, GmsParams, LeuvenParams, LuGreParams, ParamError, ResetIntegratorParams, Scalar,
     StribeckMapParams, XiongParams,
 };
@@ -343,6 +343,32 @@ pub extern "C" fn friction_coulomb_viscous_init_f64(
     error: Option<&mut friction_error>,
 ) -> friction_status {
     init(out, params, "params", error, |p| CoulombViscousParams::from(p).model(0.0))
+}
+
+/// Coulomb plus viscous friction with a level and slope for each
+/// direction in `float`.
+#[no_mangle]
+pub extern "C" fn friction_asymmetric_coulomb_viscous_init_f32(
+    out: Option<&mut friction_model_f32>,
+    params: Option<&friction_asymmetric_coulomb_viscous_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, "params", error, |p| {
+        AsymmetricCoulombViscousParams::from(p).model(0.0)
+    })
+}
+
+/// Coulomb plus viscous friction with a level and slope for each
+/// direction in `double`.
+#[no_mangle]
+pub extern "C" fn friction_asymmetric_coulomb_viscous_init_f64(
+    out: Option<&mut friction_model_f64>,
+    params: Option<&friction_asymmetric_coulomb_viscous_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, "params", error, |p| {
+        AsymmetricCoulombViscousParams::from(p).model(0.0)
+    })
 }
 
 /// The static Stribeck map in `float`.

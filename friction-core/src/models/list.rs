@@ -34,7 +34,7 @@
 #[doc(hidden)]
 #[macro_export]
 macro_rules! model_list {
-    ($callback:path) => {
+    ($callback:ident) => {
         $callback! {
             /// `coulomb`: `fc`.
             Coulomb = "coulomb" {
