@@ -620,15 +620,24 @@ mod tests {
             ParamError::NotPositive("fc_neg")
         );
         assert_eq!(
-            err(AsymmetricCoulombViscousParams { fc_pos: f64::NAN, ..p }),
+            err(AsymmetricCoulombViscousParams {
+                fc_pos: f64::NAN,
+                ..p
+            }),
             ParamError::NotFinite("fc_pos")
         );
         assert_eq!(
-            err(AsymmetricCoulombViscousParams { sigma2_neg: -1.0, ..p }),
+            err(AsymmetricCoulombViscousParams {
+                sigma2_neg: -1.0,
+                ..p
+            }),
             ParamError::Negative("sigma2_neg")
         );
         assert_eq!(
-            err(AsymmetricCoulombViscousParams { sigma2_pos: 1e40, ..p }),
+            err(AsymmetricCoulombViscousParams {
+                sigma2_pos: 1e40,
+                ..p
+            }),
             ParamError::OutOfRange("sigma2_pos")
         );
         assert!(p.build::<f32>().is_ok());

@@ -15,8 +15,7 @@
 
 // the capacities the model list's core types are named with
 use crate::params::{
-    FRICTION_BRISTLES as BRISTLES, FRICTION_ELEMENTS as ELEMENTS,
-    FRICTION_LEUVEN_MEMORY as MEMORY,
+    FRICTION_BRISTLES as BRISTLES, FRICTION_ELEMENTS as ELEMENTS, FRICTION_LEUVEN_MEMORY as MEMORY,
 };
 use friction_core::{
     BristleState, DahlState, FixedStepModel, FixedStepObservable, FrictionModel, GmsState,

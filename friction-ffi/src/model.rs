@@ -13,13 +13,12 @@ use crate::status::{friction_error, friction_status, report, Refusal};
 // the capacities the model list's core types are named with
 #[allow(unused_imports)]
 use crate::params::{
-    FRICTION_BRISTLES as BRISTLES, FRICTION_ELEMENTS as ELEMENTS,
-    FRICTION_LEUVEN_MEMORY as MEMORY,
+    FRICTION_BRISTLES as BRISTLES, FRICTION_ELEMENTS as ELEMENTS, FRICTION_LEUVEN_MEMORY as MEMORY,
 };
 use friction_core::{
-    AsymmetricCoulombViscousParams, BristleParams, CoulombViscousParams, DahlParams, ElastoPlasticParams, FixedStepModel,
-    FrictionModel, GmsParams, LeuvenParams, LuGreParams, ParamError, ResetIntegratorParams, Scalar,
-    StribeckMapParams, XiongParams,
+    AsymmetricCoulombViscousParams, BristleParams, CoulombViscousParams, DahlParams,
+    ElastoPlasticParams, FixedStepModel, FrictionModel, GmsParams, LeuvenParams, LuGreParams,
+    ParamError, ResetIntegratorParams, Scalar, StribeckMapParams, XiongParams,
 };
 
 /// Words (8 bytes each) of a `float` model object, room for the largest
@@ -332,7 +331,9 @@ pub extern "C" fn friction_coulomb_viscous_init_f32(
     params: Option<&friction_coulomb_viscous_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| CoulombViscousParams::from(p).model(0.0))
+    init(out, params, "params", error, |p| {
+        CoulombViscousParams::from(p).model(0.0)
+    })
 }
 
 /// Coulomb plus viscous friction in `double`.
@@ -342,7 +343,9 @@ pub extern "C" fn friction_coulomb_viscous_init_f64(
     params: Option<&friction_coulomb_viscous_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| CoulombViscousParams::from(p).model(0.0))
+    init(out, params, "params", error, |p| {
+        CoulombViscousParams::from(p).model(0.0)
+    })
 }
 
 /// Coulomb plus viscous friction with a level and slope for each
@@ -378,7 +381,9 @@ pub extern "C" fn friction_stribeck_map_init_f32(
     params: Option<&friction_stribeck_map_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| StribeckMapParams::from(p).model(0.0))
+    init(out, params, "params", error, |p| {
+        StribeckMapParams::from(p).model(0.0)
+    })
 }
 
 /// The static Stribeck map in `double`.
@@ -388,7 +393,9 @@ pub extern "C" fn friction_stribeck_map_init_f64(
     params: Option<&friction_stribeck_map_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| StribeckMapParams::from(p).model(0.0))
+    init(out, params, "params", error, |p| {
+        StribeckMapParams::from(p).model(0.0)
+    })
 }
 
 /// The bristle model in `float` (re-bonds at most 2 per bristle a step,
@@ -399,7 +406,9 @@ pub extern "C" fn friction_bristle_init_f32(
     params: Option<&friction_bristle_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| BristleParams::from(p).model(0.0))
+    init(out, params, "params", error, |p| {
+        BristleParams::from(p).model(0.0)
+    })
 }
 
 /// The bristle model in `double` (re-bonds at most 2 per bristle a step).
@@ -409,7 +418,9 @@ pub extern "C" fn friction_bristle_init_f64(
     params: Option<&friction_bristle_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| BristleParams::from(p).model(0.0))
+    init(out, params, "params", error, |p| {
+        BristleParams::from(p).model(0.0)
+    })
 }
 
 /// The reset integrator in `float`.
@@ -419,7 +430,9 @@ pub extern "C" fn friction_reset_integrator_init_f32(
     params: Option<&friction_reset_integrator_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| ResetIntegratorParams::from(p).model(0.0))
+    init(out, params, "params", error, |p| {
+        ResetIntegratorParams::from(p).model(0.0)
+    })
 }
 
 /// The reset integrator in `double`.
@@ -429,7 +442,9 @@ pub extern "C" fn friction_reset_integrator_init_f64(
     params: Option<&friction_reset_integrator_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| ResetIntegratorParams::from(p).model(0.0))
+    init(out, params, "params", error, |p| {
+        ResetIntegratorParams::from(p).model(0.0)
+    })
 }
 
 /// The Dahl model in `float`: `h == 0` the variable-step form, `h > 0` the
@@ -441,7 +456,9 @@ pub extern "C" fn friction_dahl_init_f32(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| DahlParams::from(p).model(h))
+    init(out, params, "params", error, |p| {
+        DahlParams::from(p).model(h)
+    })
 }
 
 /// The Dahl model in `double` (`h` as in [`friction_dahl_init_f32`]).
@@ -452,7 +469,9 @@ pub extern "C" fn friction_dahl_init_f64(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| DahlParams::from(p).model(h))
+    init(out, params, "params", error, |p| {
+        DahlParams::from(p).model(h)
+    })
 }
 
 /// The LuGre model in `float`: `h == 0` the variable-step form, `h > 0` the
@@ -464,7 +483,9 @@ pub extern "C" fn friction_lugre_init_f32(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| LuGreParams::from(p).model(h))
+    init(out, params, "params", error, |p| {
+        LuGreParams::from(p).model(h)
+    })
 }
 
 /// The LuGre model in `double` (`h` as in [`friction_lugre_init_f32`]).
@@ -475,7 +496,9 @@ pub extern "C" fn friction_lugre_init_f64(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| LuGreParams::from(p).model(h))
+    init(out, params, "params", error, |p| {
+        LuGreParams::from(p).model(h)
+    })
 }
 
 /// The elasto-plastic model in `float` (`h` as in [`friction_lugre_init_f32`]).
@@ -486,7 +509,9 @@ pub extern "C" fn friction_elasto_plastic_init_f32(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| ElastoPlasticParams::from(p).model(h))
+    init(out, params, "params", error, |p| {
+        ElastoPlasticParams::from(p).model(h)
+    })
 }
 
 /// The elasto-plastic model in `double` (`h` as in [`friction_lugre_init_f32`]).
@@ -497,7 +522,9 @@ pub extern "C" fn friction_elasto_plastic_init_f64(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| ElastoPlasticParams::from(p).model(h))
+    init(out, params, "params", error, |p| {
+        ElastoPlasticParams::from(p).model(h)
+    })
 }
 
 /// The Leuven model in `float`.
@@ -507,7 +534,9 @@ pub extern "C" fn friction_leuven_init_f32(
     params: Option<&friction_leuven_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| LeuvenParams::from(p).model(0.0))
+    init(out, params, "params", error, |p| {
+        LeuvenParams::from(p).model(0.0)
+    })
 }
 
 /// The Leuven model in `double`.
@@ -517,7 +546,9 @@ pub extern "C" fn friction_leuven_init_f64(
     params: Option<&friction_leuven_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| LeuvenParams::from(p).model(0.0))
+    init(out, params, "params", error, |p| {
+        LeuvenParams::from(p).model(0.0)
+    })
 }
 
 /// The GMS model in `float` (`h` as in [`friction_lugre_init_f32`]).
@@ -528,7 +559,9 @@ pub extern "C" fn friction_gms_init_f32(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| GmsParams::from(p).model(h))
+    init(out, params, "params", error, |p| {
+        GmsParams::from(p).model(h)
+    })
 }
 
 /// The GMS model in `double` (`h` as in [`friction_lugre_init_f32`]).
@@ -539,7 +572,9 @@ pub extern "C" fn friction_gms_init_f64(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| GmsParams::from(p).model(h))
+    init(out, params, "params", error, |p| {
+        GmsParams::from(p).model(h)
+    })
 }
 
 /// The Xiong model in `float` (`h` as in [`friction_lugre_init_f32`]).
@@ -550,7 +585,9 @@ pub extern "C" fn friction_xiong_init_f32(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| XiongParams::from(p).model(h))
+    init(out, params, "params", error, |p| {
+        XiongParams::from(p).model(h)
+    })
 }
 
 /// The Xiong model in `double` (`h` as in [`friction_lugre_init_f32`]).
@@ -561,7 +598,9 @@ pub extern "C" fn friction_xiong_init_f64(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| XiongParams::from(p).model(h))
+    init(out, params, "params", error, |p| {
+        XiongParams::from(p).model(h)
+    })
 }
 
 /// Advances `model` by `h` (s) with velocity `v` held and writes the force.

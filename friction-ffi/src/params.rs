@@ -3,10 +3,10 @@
 //! constructors check.
 
 use friction_core::{
-    AdaptiveParams, AsymmetricCoulombViscousParams, BristleParams, CompensatorParams, CoulombViscousParams, DahlParams,
-    ElastoPlasticParams, GmsElement, GmsParams, LeuvenParams, LuGreParams, ParameterAdaptiveParams,
-    ResetIntegratorParams, StribeckMapParams, StribeckParams, SupervisorParams, XiongElement,
-    XiongParams,
+    AdaptiveParams, AsymmetricCoulombViscousParams, BristleParams, CompensatorParams,
+    CoulombViscousParams, DahlParams, ElastoPlasticParams, GmsElement, GmsParams, LeuvenParams,
+    LuGreParams, ParameterAdaptiveParams, ResetIntegratorParams, StribeckMapParams, StribeckParams,
+    SupervisorParams, XiongElement, XiongParams,
 };
 
 /// Element count of the GMS and Xiong models in this ABI.

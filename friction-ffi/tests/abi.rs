@@ -6,9 +6,10 @@
 #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
 
 use friction_core::{
-    AdaptiveParams, AsymmetricCoulombViscousParams, AtPeriod, CompensatorParams, CoulombViscousParams, FixedStepModel,
-    FrictionModel, LuGreAtState, LuGreParams, LuGreServo, LuGreState, Mode, Observer,
-    ParameterAdaptiveParams, ParameterAdaptiveServo, Scalar, Setpoint, SupervisorParams,
+    AdaptiveParams, AsymmetricCoulombViscousParams, AtPeriod, CompensatorParams,
+    CoulombViscousParams, FixedStepModel, FrictionModel, LuGreAtState, LuGreParams, LuGreServo,
+    LuGreState, Mode, Observer, ParameterAdaptiveParams, ParameterAdaptiveServo, Scalar, Setpoint,
+    SupervisorParams,
 };
 use friction_ffi::*;
 use friction_status::*;
@@ -275,7 +276,10 @@ fn every_model_builds_and_steps_finite() {
     let mut listed = c_models();
     tested.sort();
     listed.sort();
-    assert_eq!(tested, listed, "a model of the list without its C constructors");
+    assert_eq!(
+        tested, listed,
+        "a model of the list without its C constructors"
+    );
     for (label, has_fixed, build64, build32) in &cases {
         let periods: &[f64] = if *has_fixed { &[0.0, 1e-4] } else { &[0.0] };
         for &period in periods {
@@ -349,7 +353,11 @@ fn asymmetric_map_through_the_abi_is_the_core() {
     let mut err = no_error();
     let bad = friction_asymmetric_coulomb_viscous_params { fc_neg: -1.0, ..p };
     assert_eq!(
-        friction_asymmetric_coulomb_viscous_init_f32(Some(&mut model_f32()), Some(&bad), Some(&mut err)),
+        friction_asymmetric_coulomb_viscous_init_f32(
+            Some(&mut model_f32()),
+            Some(&bad),
+            Some(&mut err)
+        ),
         FRICTION_NOT_POSITIVE
     );
     assert_eq!(name(&err), "fc_neg");

@@ -962,7 +962,10 @@ mod tests {
                 .iter()
                 .filter(|(_, spec, ..)| spec.name() == *name)
                 .collect();
-            assert!(!specs.is_empty(), "`friction validate` does not measure `{name}`");
+            assert!(
+                !specs.is_empty(),
+                "`friction validate` does not measure `{name}`"
+            );
             let fixed = FIXED_POINT_MODELS.contains(name);
             for (label, spec, ..) in specs {
                 assert_eq!(

@@ -52,21 +52,21 @@ model_file!(BristleFile {
 impl HostParams for BristleParams {
     type Spec = BristleSpec;
     fn parse(text: &str, origin: &str, name: &'static str) -> Result<BristleSpec> {
-    let f: BristleFile = from_toml(text, origin, name)?;
-    if !(1..=MAX_BRISTLES).contains(&f.bristles) {
-        bail!(
+        let f: BristleFile = from_toml(text, origin, name)?;
+        if !(1..=MAX_BRISTLES).contains(&f.bristles) {
+            bail!(
             "{origin}: `bristles` = {} is out of range: the host runs 1 to {MAX_BRISTLES} bristles",
             f.bristles
         );
-    }
-    Ok(BristleSpec {
-        params: BristleParams {
-            sigma0: f.sigma0,
-            delta_s: f.delta_s,
-            seed: f.seed,
-        },
-        bristles: f.bristles,
-    })
+        }
+        Ok(BristleSpec {
+            params: BristleParams {
+                sigma0: f.sigma0,
+                delta_s: f.delta_s,
+                seed: f.seed,
+            },
+            bristles: f.bristles,
+        })
     }
 }
 

@@ -26,13 +26,13 @@ model_file!(DahlFile {
 impl HostParams for DahlParams {
     type Spec = Self;
     fn parse(text: &str, origin: &str, name: &'static str) -> Result<Self> {
-    let f: DahlFile = from_toml(text, origin, name)?;
-    Ok(DahlParams {
-        sigma: f.sigma,
-        fc: f.fc,
-        delta: f.delta,
-        sigma2: f.sigma2,
-    })
+        let f: DahlFile = from_toml(text, origin, name)?;
+        Ok(DahlParams {
+            sigma: f.sigma,
+            fc: f.fc,
+            delta: f.delta,
+            sigma2: f.sigma2,
+        })
     }
 }
 

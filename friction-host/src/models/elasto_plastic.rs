@@ -1,9 +1,9 @@
 //! Elasto-plastic (Dupont et al. 2002) on the host: LuGre's keys and
 //! `z_ba`, the continuous equations with `alpha(z, v)` (`|z|` in the sine).
 
-use super::HostParams;
 use super::lugre::{lugre_force, parse_keys, z_state};
 use super::scaled_curve;
+use super::HostParams;
 use super::{
     boxed, boxed_fixed, curve_g, in_scalar, sign, Continuous, Expect, HostModel, ScalarKind,
     Stepper, N, Y,
@@ -16,11 +16,11 @@ use friction_core::{ElastoPlasticParams, Fixed32, LuGreAtState, ParamError, Scal
 impl HostParams for ElastoPlasticParams {
     type Spec = ElastoPlasticParams;
     fn parse(text: &str, origin: &str, name: &'static str) -> Result<ElastoPlasticParams> {
-    let (lugre, z_ba) = parse_keys(text, origin, name, true)?;
-    let Some(z_ba) = z_ba else {
-        bail!("{origin}: `elasto-plastic` needs `z_ba` (the break-away deflection)");
-    };
-    Ok(ElastoPlasticParams { lugre, z_ba })
+        let (lugre, z_ba) = parse_keys(text, origin, name, true)?;
+        let Some(z_ba) = z_ba else {
+            bail!("{origin}: `elasto-plastic` needs `z_ba` (the break-away deflection)");
+        };
+        Ok(ElastoPlasticParams { lugre, z_ba })
     }
 }
 

@@ -66,32 +66,32 @@ model_file!(GmsFile {
 impl<const N: usize> HostParams for GmsParams<N> {
     type Spec = GmsSpec;
     fn parse(text: &str, origin: &str, name: &'static str) -> Result<GmsSpec> {
-    let f: GmsFile = from_toml(text, origin, name)?;
-    if !(1..=MAX_ELEMENTS).contains(&f.elements.len()) {
-        bail!(
+        let f: GmsFile = from_toml(text, origin, name)?;
+        if !(1..=MAX_ELEMENTS).contains(&f.elements.len()) {
+            bail!(
             "{origin}: {} `[[elements]]` tables: the host runs GMS with 1 to {MAX_ELEMENTS} elements",
             f.elements.len()
         );
-    }
-    Ok(GmsSpec {
-        curve: StribeckParams {
-            fc: f.fc,
-            fs: f.fs,
-            vs: f.vs,
-            exponent: f.stribeck_exponent,
-        },
-        sigma2: f.sigma2,
-        c: f.c,
-        elements: f
-            .elements
-            .iter()
-            .map(|e| GmsElement {
-                k: e.k,
-                alpha: e.alpha,
-                sigma1: e.sigma1,
-            })
-            .collect(),
-    })
+        }
+        Ok(GmsSpec {
+            curve: StribeckParams {
+                fc: f.fc,
+                fs: f.fs,
+                vs: f.vs,
+                exponent: f.stribeck_exponent,
+            },
+            sigma2: f.sigma2,
+            c: f.c,
+            elements: f
+                .elements
+                .iter()
+                .map(|e| GmsElement {
+                    k: e.k,
+                    alpha: e.alpha,
+                    sigma1: e.sigma1,
+                })
+                .collect(),
+        })
     }
 }
 

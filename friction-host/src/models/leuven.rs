@@ -63,28 +63,28 @@ model_file!(LeuvenFile {
 impl HostParams for LeuvenParams {
     type Spec = LeuvenSpec;
     fn parse(text: &str, origin: &str, name: &'static str) -> Result<LeuvenSpec> {
-    let f: LeuvenFile = from_toml(text, origin, name)?;
-    if !(1..=MAX_MEMORY).contains(&f.memory) {
-        bail!(
+        let f: LeuvenFile = from_toml(text, origin, name)?;
+        if !(1..=MAX_MEMORY).contains(&f.memory) {
+            bail!(
             "{origin}: `memory = {}`: the host runs the Leuven model with a memory of 1 to {MAX_MEMORY} reversal points",
             f.memory
         );
-    }
-    Ok(LeuvenSpec {
-        params: LeuvenParams {
-            curve: StribeckParams {
-                fc: f.fc,
-                fs: f.fs,
-                vs: f.vs,
-                exponent: f.stribeck_exponent,
+        }
+        Ok(LeuvenSpec {
+            params: LeuvenParams {
+                curve: StribeckParams {
+                    fc: f.fc,
+                    fs: f.fs,
+                    vs: f.vs,
+                    exponent: f.stribeck_exponent,
+                },
+                sigma1: f.sigma1,
+                sigma2: f.sigma2,
+                n: f.n,
+                xs: f.xs,
             },
-            sigma1: f.sigma1,
-            sigma2: f.sigma2,
-            n: f.n,
-            xs: f.xs,
-        },
-        memory: f.memory,
-    })
+            memory: f.memory,
+        })
     }
 }
 

@@ -1,8 +1,8 @@
 //! LuGre (Canudas de Wit et al. 1995) on the host: file keys, the
 //! continuous equations, expectations and bounds.
 
-use super::HostParams;
 use super::scaled_curve;
+use super::HostParams;
 use super::{
     boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, sign,
     Continuous, Expect, HostModel, ScalarKind, Stepper, N, Y,
@@ -58,7 +58,7 @@ pub(super) fn parse_keys(
 impl HostParams for LuGreParams {
     type Spec = LuGreParams;
     fn parse(text: &str, origin: &str, name: &'static str) -> Result<LuGreParams> {
-    Ok(parse_keys(text, origin, name, false)?.0)
+        Ok(parse_keys(text, origin, name, false)?.0)
     }
 }
 

@@ -28,8 +28,8 @@ model_file!(ResetIntegratorFile {
 impl HostParams for ResetIntegratorParams {
     type Spec = Self;
     fn parse(text: &str, origin: &str, name: &'static str) -> Result<Self> {
-    let f: ResetIntegratorFile = from_toml(text, origin, name)?;
-    let curve = match (f.fc, f.fs, f.vs) {
+        let f: ResetIntegratorFile = from_toml(text, origin, name)?;
+        let curve = match (f.fc, f.fs, f.vs) {
         (Some(fc), Some(fs), Some(vs)) => Some(StribeckParams {
             fc,
             fs,
@@ -43,13 +43,13 @@ impl HostParams for ResetIntegratorParams {
             "{origin}: the Stribeck shape of `reset-integrator` needs all of `fc`, `fs`, `vs` (or none)"
         ),
     };
-    Ok(ResetIntegratorParams {
-        sigma0: f.sigma0,
-        sigma1: f.sigma1,
-        z0: f.z0,
-        stiction: f.stiction,
-        curve,
-    })
+        Ok(ResetIntegratorParams {
+            sigma0: f.sigma0,
+            sigma1: f.sigma1,
+            z0: f.z0,
+            stiction: f.stiction,
+            curve,
+        })
     }
 }
 

@@ -10,7 +10,8 @@ use super::{
 };
 use anyhow::Result;
 use friction_core::{
-    AsymmetricCoulombViscousParams, CoulombParams, CoulombViscousParams, ParamError, Scalar, StribeckMapParams, StribeckParams,
+    AsymmetricCoulombViscousParams, CoulombParams, CoulombViscousParams, ParamError, Scalar,
+    StribeckMapParams, StribeckParams,
 };
 
 model_file!(CoulombFile { fc: f64 });
@@ -37,35 +38,35 @@ model_file!(StribeckFile {
 impl HostParams for CoulombParams {
     type Spec = Self;
     fn parse(text: &str, origin: &str, name: &'static str) -> Result<Self> {
-    let f: CoulombFile = from_toml(text, origin, name)?;
-    Ok(CoulombParams { fc: f.fc })
+        let f: CoulombFile = from_toml(text, origin, name)?;
+        Ok(CoulombParams { fc: f.fc })
     }
 }
 
 impl HostParams for CoulombViscousParams {
     type Spec = Self;
     fn parse(text: &str, origin: &str, name: &'static str) -> Result<Self> {
-    let f: CoulombViscousFile = from_toml(text, origin, name)?;
-    Ok(CoulombViscousParams {
-        fc: f.fc,
-        sigma2: f.sigma2,
-    })
+        let f: CoulombViscousFile = from_toml(text, origin, name)?;
+        Ok(CoulombViscousParams {
+            fc: f.fc,
+            sigma2: f.sigma2,
+        })
     }
 }
 
 impl HostParams for StribeckMapParams {
     type Spec = Self;
     fn parse(text: &str, origin: &str, name: &'static str) -> Result<Self> {
-    let f: StribeckFile = from_toml(text, origin, name)?;
-    Ok(StribeckMapParams {
-        curve: StribeckParams {
-            fc: f.fc,
-            fs: f.fs,
-            vs: f.vs,
-            exponent: f.stribeck_exponent,
-        },
-        sigma2: f.sigma2,
-    })
+        let f: StribeckFile = from_toml(text, origin, name)?;
+        Ok(StribeckMapParams {
+            curve: StribeckParams {
+                fc: f.fc,
+                fs: f.fs,
+                vs: f.vs,
+                exponent: f.stribeck_exponent,
+            },
+            sigma2: f.sigma2,
+        })
     }
 }
 
@@ -136,17 +137,15 @@ macro_rules! static_map {
     };
 }
 
-static_map!(
-    CoulombParams,
-    build_coulomb,
-    |p: &CoulombParams| StaticMap {
+static_map!(CoulombParams, build_coulomb, |p: &CoulombParams| {
+    StaticMap {
         fc: p.fc,
         fs: p.fc,
         vs: 1.0,
         delta: 1.0,
         sigma2: 0.0,
     }
-);
+});
 static_map!(
     CoulombViscousParams,
     build_coulomb_viscous,

@@ -1,8 +1,8 @@
 //! The multistate model of Xiong, Kikuuwe and Yamamoto (~2013) on the host:
 //! file keys, the continuous equations, expectations and bounds.
 
-use super::HostParams;
 use super::gms::with_count;
+use super::HostParams;
 use super::{
     boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, sign,
     Continuous, Expect, HostModel, ScalarKind, Stepper, N, Y,
@@ -50,33 +50,33 @@ model_file!(XiongFile {
 impl<const N: usize> HostParams for XiongParams<N> {
     type Spec = XiongSpec;
     fn parse(text: &str, origin: &str, name: &'static str) -> Result<XiongSpec> {
-    let f: XiongFile = from_toml(text, origin, name)?;
-    if !(1..=super::gms::MAX_ELEMENTS).contains(&f.elements.len()) {
-        bail!(
+        let f: XiongFile = from_toml(text, origin, name)?;
+        if !(1..=super::gms::MAX_ELEMENTS).contains(&f.elements.len()) {
+            bail!(
             "{origin}: {} `[[elements]]` tables: the host runs the Xiong model with 1 to {} elements",
             f.elements.len(),
             super::gms::MAX_ELEMENTS
         );
-    }
-    Ok(XiongSpec {
-        curve: StribeckParams {
-            fc: f.fc,
-            fs: f.fs,
-            vs: f.vs,
-            exponent: f.stribeck_exponent,
-        },
-        tau: f.tau,
-        sigma2: f.sigma2,
-        elements: f
-            .elements
-            .iter()
-            .map(|e| XiongElement {
-                k: e.k,
-                sigma: e.sigma,
-                lambda: e.lambda,
-            })
-            .collect(),
-    })
+        }
+        Ok(XiongSpec {
+            curve: StribeckParams {
+                fc: f.fc,
+                fs: f.fs,
+                vs: f.vs,
+                exponent: f.stribeck_exponent,
+            },
+            tau: f.tau,
+            sigma2: f.sigma2,
+            elements: f
+                .elements
+                .iter()
+                .map(|e| XiongElement {
+                    k: e.k,
+                    sigma: e.sigma,
+                    lambda: e.lambda,
+                })
+                .collect(),
+        })
     }
 }
 
