@@ -5,7 +5,7 @@
 //! list, and the C ABI's unions and dispatch `match`es each need every model
 //! at once, as items and arms; a trait can describe one model but cannot
 //! enumerate them. So the list is written once here, and each crate hands
-//! [`model_list!`] a macro of its own that turns the list into its wiring
+//! [`model_list!`](crate::model_list) a macro of its own that turns the list into its wiring
 //! (`friction-host/src/models/mod.rs`, `friction-ffi/src/any.rs`).
 //!
 //! Each entry, in the order the host lists models (`MODEL_NAMES`):
