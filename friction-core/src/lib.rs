@@ -66,8 +66,8 @@ pub use parameter_adaptive::{
 pub use rls::{RlsFeedForward, RlsParams, RlsState};
 pub use scalar::{Conversion, Scalar};
 pub use stribeck::{
-    CoulombParams, CoulombViscous, CoulombViscousParams, Karnopp, StribeckCurve, StribeckMap,
-    StribeckMapParams, StribeckParams,
+    AsymmetricCoulombViscous, AsymmetricCoulombViscousParams, CoulombParams, CoulombViscous,
+    CoulombViscousParams, Karnopp, StribeckCurve, StribeckMap, StribeckMapParams, StribeckParams,
 };
 pub use supervisor::{Mode, Supervised, SupervisedState, SupervisorParams, SupervisorStatus};
 

@@ -280,6 +280,91 @@ impl<S: Scalar> FrictionModel<S> for CoulombViscous<S> {
     }
 }
 
+/// Coulomb plus viscous friction with its own levels for each direction
+/// (`model = "asymmetric-coulomb-viscous"`): `F = fc_pos + sigma2_pos v`
+/// for `v > 0`, `F = -fc_neg + sigma2_neg v` for `v < 0`, 0 at rest. The
+/// map robot joint stacks configure: a joint's gravity load and seals make
+/// it rub harder one way than the other, which one `Fc` cannot fit.
+///
+/// ```
+/// use friction_core::{AsymmetricCoulombViscousParams, FrictionModel};
+/// let m = AsymmetricCoulombViscousParams {
+///     fc_pos: 1.2, sigma2_pos: 0.5, fc_neg: 0.8, sigma2_neg: 0.25,
+/// }
+/// .build::<f64>()?;
+/// assert_eq!(m.step(&mut (), 2.0, 1e-3), 1.2 + 0.5 * 2.0);
+/// assert_eq!(m.step(&mut (), -2.0, 1e-3), -0.8 - 0.25 * 2.0);
+/// # Ok::<(), friction_core::ParamError>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct AsymmetricCoulombViscousParams {
+    /// Coulomb level for `v > 0`, `fc_pos > 0`.
+    pub fc_pos: f64,
+    /// Viscous coefficient for `v > 0`, `sigma2_pos >= 0`.
+    pub sigma2_pos: f64,
+    /// Coulomb level (a magnitude) for `v < 0`, `fc_neg > 0`.
+    pub fc_neg: f64,
+    /// Viscous coefficient for `v < 0`, `sigma2_neg >= 0`.
+    pub sigma2_neg: f64,
+}
+
+impl AsymmetricCoulombViscousParams {
+    /// Validates and builds the map: each side as [`CoulombViscousParams`]
+    /// checks its one side, the errors naming the side's parameter.
+    pub fn build<S: Scalar>(&self) -> Result<AsymmetricCoulombViscous<S>, ParamError> {
+        magnitude("fc_pos", self.fc_pos)?;
+        magnitude_or_zero("sigma2_pos", self.sigma2_pos)?;
+        magnitude("fc_neg", self.fc_neg)?;
+        magnitude_or_zero("sigma2_neg", self.sigma2_neg)?;
+        let v_max = S::VELOCITY_LIMIT.to_f64();
+        check_force::<S>("sigma2_pos", self.fc_pos + self.sigma2_pos * v_max)?;
+        check_force::<S>("sigma2_neg", self.fc_neg + self.sigma2_neg * v_max)?;
+        Ok(AsymmetricCoulombViscous {
+            fc_pos: convert("fc_pos", self.fc_pos)?,
+            sigma2_pos: convert("sigma2_pos", self.sigma2_pos)?,
+            fc_neg: convert("fc_neg", self.fc_neg)?,
+            sigma2_neg: convert("sigma2_neg", self.sigma2_neg)?,
+        })
+    }
+}
+
+/// The built asymmetric Coulomb + viscous map.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct AsymmetricCoulombViscous<S> {
+    fc_pos: S,
+    sigma2_pos: S,
+    fc_neg: S,
+    sigma2_neg: S,
+}
+
+impl<S: Scalar> AsymmetricCoulombViscous<S> {
+    /// `fc_pos + sigma2_pos v` for `v > 0`, `-fc_neg + sigma2_neg v` for
+    /// `v < 0`, 0 at `v = 0` (as `sign(0) = 0` in [`CoulombViscous`]).
+    #[inline]
+    pub fn force(&self, v: S) -> S {
+        if v > S::ZERO {
+            self.fc_pos + self.sigma2_pos * v
+        } else if v < S::ZERO {
+            self.sigma2_neg * v - self.fc_neg
+        } else {
+            S::ZERO
+        }
+    }
+}
+
+impl<S: Scalar> FrictionModel<S> for AsymmetricCoulombViscous<S> {
+    type State = ();
+    /// Static: ignores `h`; invalid input returns 0.
+    fn step(&self, _state: &mut (), v: S, h: S) -> S {
+        checked_inputs(v, h).map_or(S::ZERO, |v| self.force(v))
+    }
+    fn hold_force(&self, _state: &()) -> S {
+        S::ZERO
+    }
+}
+
 /// The Stribeck map `F = g(v) sign(v) + sigma2 v` (`model = "stribeck"`), the
 /// steady state of most dynamic models.
 ///
@@ -483,6 +568,79 @@ mod tests {
         .build::<f64>()
         .unwrap();
         assert_eq!(c.force(-0.5), -2.0);
+    }
+
+    #[test]
+    fn asymmetric_map_takes_each_sides_levels() {
+        let p = AsymmetricCoulombViscousParams {
+            fc_pos: 1.2,
+            sigma2_pos: 0.5,
+            fc_neg: 0.8,
+            sigma2_neg: 0.25,
+        };
+        let m = p.build::<f64>().unwrap();
+        assert_eq!(m.force(2.0), 1.2 + 0.5 * 2.0);
+        assert_eq!(m.force(-2.0), -0.8 - 0.25 * 2.0);
+        assert_eq!(m.force(0.0), 0.0);
+        // a vanishing velocity keeps its side's Coulomb level
+        assert_eq!(m.force(1e-12), 1.2 + 0.5 * 1e-12);
+        assert_eq!(m.force(-1e-12), -0.8 - 0.25 * 1e-12);
+        assert_eq!(m.step(&mut (), f64::NAN, 1e-3), 0.0);
+        assert_eq!(m.step(&mut (), 1.0, -1.0), 0.0);
+        // equal sides are the symmetric map
+        let sym = CoulombViscousParams {
+            fc: 0.8,
+            sigma2: 0.25,
+        }
+        .build::<f32>()
+        .unwrap();
+        let same = AsymmetricCoulombViscousParams {
+            fc_pos: 0.8,
+            sigma2_pos: 0.25,
+            ..p
+        }
+        .build::<f32>()
+        .unwrap();
+        for v in [-3.0f32, -1e-3, 0.0, 1e-3, 3.0] {
+            assert_eq!(same.force(v), sym.force(v), "v = {v}");
+        }
+    }
+
+    #[test]
+    fn asymmetric_map_names_the_invalid_side() {
+        let p = AsymmetricCoulombViscousParams {
+            fc_pos: 1.0,
+            sigma2_pos: 0.1,
+            fc_neg: 1.0,
+            sigma2_neg: 0.1,
+        };
+        let err = |q: AsymmetricCoulombViscousParams| q.build::<f32>().unwrap_err();
+        assert_eq!(
+            err(AsymmetricCoulombViscousParams { fc_neg: 0.0, ..p }),
+            ParamError::NotPositive("fc_neg")
+        );
+        assert_eq!(
+            err(AsymmetricCoulombViscousParams {
+                fc_pos: f64::NAN,
+                ..p
+            }),
+            ParamError::NotFinite("fc_pos")
+        );
+        assert_eq!(
+            err(AsymmetricCoulombViscousParams {
+                sigma2_neg: -1.0,
+                ..p
+            }),
+            ParamError::Negative("sigma2_neg")
+        );
+        assert_eq!(
+            err(AsymmetricCoulombViscousParams {
+                sigma2_pos: 1e40,
+                ..p
+            }),
+            ParamError::OutOfRange("sigma2_pos")
+        );
+        assert!(p.build::<f32>().is_ok());
     }
 
     #[test]

@@ -225,6 +225,30 @@ typedef struct {
 } friction_model_f64;
 
 /**
+ * Coulomb plus viscous friction with its own levels for each direction
+ * (a static map): `F = fc_pos + sigma2_pos v` for `v > 0`,
+ * `F = -fc_neg + sigma2_neg v` for `v < 0`, 0 at rest.
+ */
+typedef struct {
+  /**
+   * Coulomb force for `v > 0`, `fc_pos > 0` (N).
+   */
+  double fc_pos;
+  /**
+   * Viscous coefficient for `v > 0`, `sigma2_pos >= 0` (N s/m).
+   */
+  double sigma2_pos;
+  /**
+   * Coulomb force (a magnitude) for `v < 0`, `fc_neg > 0` (N).
+   */
+  double fc_neg;
+  /**
+   * Viscous coefficient for `v < 0`, `sigma2_neg >= 0` (N s/m).
+   */
+  double sigma2_neg;
+} friction_asymmetric_coulomb_viscous_params;
+
+/**
  * The Stribeck curve `g(v) = fc + (fs - fc) exp(-|v/vs|^exponent)`.
  */
 typedef struct {
@@ -830,6 +854,22 @@ friction_status friction_coulomb_viscous_init_f32(friction_model_f32 *out,
 friction_status friction_coulomb_viscous_init_f64(friction_model_f64 *out,
                                                   const friction_coulomb_viscous_params *params,
                                                   friction_error *error);
+
+/**
+ * Coulomb plus viscous friction with a level and slope for each
+ * direction in `float`.
+ */
+friction_status friction_asymmetric_coulomb_viscous_init_f32(friction_model_f32 *out,
+                                                             const friction_asymmetric_coulomb_viscous_params *params,
+                                                             friction_error *error);
+
+/**
+ * Coulomb plus viscous friction with a level and slope for each
+ * direction in `double`.
+ */
+friction_status friction_asymmetric_coulomb_viscous_init_f64(friction_model_f64 *out,
+                                                             const friction_asymmetric_coulomb_viscous_params *params,
+                                                             friction_error *error);
 
 /**
  * The static Stribeck map in `float`.

@@ -13,12 +13,14 @@
 //! asks for); the first step turns it into the model's own state at rest,
 //! so that a state can never step with another model's union field.
 
-use crate::params::{FRICTION_BRISTLES, FRICTION_ELEMENTS, FRICTION_LEUVEN_MEMORY};
+// the capacities the model list's core types are named with
+use crate::params::{
+    FRICTION_BRISTLES as BRISTLES, FRICTION_ELEMENTS as ELEMENTS, FRICTION_LEUVEN_MEMORY as MEMORY,
+};
 use friction_core::{
-    Bristle, BristleState, CoulombViscous, Dahl, DahlAt, DahlState, ElastoPlastic, ElastoPlasticAt,
-    FixedStepModel, FixedStepObservable, FrictionModel, Gms, GmsAt, GmsState, Leuven, LeuvenState,
-    LuGre, LuGreAt, LuGreAtState, LuGreState, Observable, ResetIntegrator, ResetIntegratorState,
-    Scalar, SlipMode, StribeckMap, Xiong, XiongAt, XiongAtState, XiongState,
+    BristleState, DahlState, FixedStepModel, FixedStepObservable, FrictionModel, GmsState,
+    LeuvenState, LuGreAtState, LuGreState, Observable, ResetIntegratorState, Scalar, SlipMode,
+    XiongAtState, XiongState,
 };
 
 /// The kind of a state before its first step (no union field written).
@@ -32,13 +34,19 @@ const REST: u32 = u32::MAX;
 macro_rules! family {
     (
         $(#[$doc:meta])* $model:ident, $union:ident, $state:ident, $state_union:ident, $tr:ident,
-        $kinds:ident, [$($n:literal $field:ident: $ty:ty),* $(,)?]
+        $kinds:ident, [$($field:ident: $ty:ty),* $(,)?]
     ) => {
         /// The kind of each union field (named as the field: the dispatch
-        /// matches a kind by the field's name, so the two cannot disagree).
+        /// matches a kind by the field's name, so the two cannot disagree),
+        /// counted from 0 in the list's order.
         #[allow(non_upper_case_globals)]
         mod $kinds {
-            $(pub(super) const $field: u32 = $n;)*
+            #[allow(non_camel_case_types, dead_code)]
+            #[repr(u32)]
+            enum Order {
+                $($field,)*
+            }
+            $(pub(super) const $field: u32 = Order::$field as u32;)*
         }
 
         $(#[$doc])*
@@ -181,7 +189,7 @@ impl<S: Scalar, const N: usize> Repair for GmsState<S, N> {
 /// check the kind first). A state of another kind (or `REST`) is first
 /// made the model's own at rest (`own`, off the hot path).
 macro_rules! each {
-    ($kinds:ident, $self:expr, $st:expr, |$m:ident, $s:ident| $body:expr, [$($field:ident),*]) => {{
+    ($kinds:ident, $self:expr, $st:expr, |$m:ident, $s:ident| $body:expr, [$($field:ident: $ty:ty),* $(,)?]) => {{
         let model = $self;
         let state = $st;
         let state = if state.kind == model.kind { state } else { model.own(state) };
@@ -213,7 +221,7 @@ macro_rules! each {
 /// `REST` (a change of model starts the new one at rest, as its first step
 /// would).
 macro_rules! each_pair {
-    ($kinds:ident, $self:expr, $old:expr, $st:expr, |$m:ident, $o:ident, $s:ident| $body:expr, [$($field:ident),*]) => {{
+    ($kinds:ident, $self:expr, $old:expr, $st:expr, |$m:ident, $o:ident, $s:ident| $body:expr, [$($field:ident: $ty:ty),* $(,)?]) => {{
         let (model, old, state) = ($self, $old, $st);
         if old.kind != model.kind || state.kind != model.kind {
             *state = Default::default();
@@ -239,7 +247,7 @@ macro_rules! each_pair {
 
 /// `$body` with `$m` bound to the model, for the model's kind (no state).
 macro_rules! each_model {
-    ($kinds:ident, $self:expr, |$m:ident| $body:expr, $default:expr, [$($field:ident),*]) => {{
+    ($kinds:ident, $self:expr, |$m:ident| $body:expr, $default:expr, [$($field:ident: $ty:ty),* $(,)?]) => {{
         let model = $self;
         match model.kind {
             // SAFETY: as in `each`: the kind names the union field written.
@@ -252,221 +260,181 @@ macro_rules! each_model {
     }};
 }
 
-family!(
-    /// A static map: no state.
-    StaticMap, StaticMapUnion, StaticMapState, StaticMapStateUnion, FrictionModel, static_kind,
-    [
-        0 coulomb_viscous: CoulombViscous<S>,
-        1 stribeck_map: StribeckMap<S>,
-    ]
-);
+/// The C ABI's reading of the core's model list
+/// (`friction_core::model_list!`): each form's models, passed on to
+/// `families!` as one list per family.
+macro_rules! dispatch {
+    ($(
+        $(#[$doc:meta])* $variant:ident = $name:literal {
+            params: $params:ty,
+            field: $field:ident,
+            $(map: $map:ty,)?
+            $(variable: $variable:ty,)?
+            $(fixed: $fixed:ty,)?
+            sets: [$($set:literal),* $(,)?],
+        }
+    )*) => {
+        families! {
+            statics: [$($($field: $map,)?)*],
+            variables: [$($($field: $variable,)?)*],
+            fixeds: [$($($field: $fixed,)?)*],
+        }
 
-family!(
-    /// A variable-step state model (stepped with its `h` each call).
-    Variable, VariableUnion, VariableState, VariableStateUnion, FrictionModel, variable_kind,
-    [
-        0 bristle: Bristle<S, FRICTION_BRISTLES>,
-        1 reset_integrator: ResetIntegrator<S>,
-        2 dahl: Dahl<S>,
-        3 lugre: LuGre<S>,
-        4 elasto_plastic: ElastoPlastic<S>,
-        5 leuven: Leuven<S, FRICTION_LEUVEN_MEMORY>,
-        6 gms: Gms<S, FRICTION_ELEMENTS>,
-        7 xiong: Xiong<S, FRICTION_ELEMENTS>,
-    ]
-);
-
-family!(
-    /// A fixed-step state model (built for one period).
-    Fixed, FixedUnion, FixedState, FixedStateUnion, FixedStepModel, fixed_kind,
-    [
-        0 dahl: DahlAt<S>,
-        1 lugre: LuGreAt<S>,
-        2 elasto_plastic: ElastoPlasticAt<S>,
-        3 gms: GmsAt<S, FRICTION_ELEMENTS>,
-        4 xiong: XiongAt<S, FRICTION_ELEMENTS>,
-    ]
-);
-
-macro_rules! each_static {
-    ($self:expr, |$m:ident| $body:expr) => {
-        each_model!(
-            static_kind,
-            $self,
-            |$m| $body,
-            S::ZERO,
-            [coulomb_viscous, stribeck_map]
-        )
+        /// The snake-case names of the models the C ABI builds
+        /// (`friction_<name>_init_f32/_f64`), for the test that each has its
+        /// constructors.
+        #[cfg(test)]
+        pub(crate) const C_MODELS: &[&str] = &[
+            $($(named!($field, $map),)? $(named!($field, $variable),)?)*
+        ];
     };
 }
 
-macro_rules! each_variable {
-    ($self:expr, $old:expr, $st:expr, |$m:ident, $o:ident, $s:ident| $body:expr) => {
-        each_pair!(
-            variable_kind,
-            $self,
-            $old,
-            $st,
-            |$m, $o, $s| $body,
-            [
-                bristle,
-                reset_integrator,
-                dahl,
-                lugre,
-                elasto_plastic,
-                leuven,
-                gms,
-                xiong
-            ]
-        )
-    };
-    ($self:expr, $st:expr, |$m:ident, $s:ident| $body:expr) => {
-        each!(
-            variable_kind,
-            $self,
-            $st,
-            |$m, $s| $body,
-            [
-                bristle,
-                reset_integrator,
-                dahl,
-                lugre,
-                elasto_plastic,
-                leuven,
-                gms,
-                xiong
-            ]
-        )
-    };
-    ($self:expr, |$m:ident| $body:expr) => {
-        each_model!(
-            variable_kind,
-            $self,
-            |$m| $body,
-            S::ZERO,
-            [
-                bristle,
-                reset_integrator,
-                dahl,
-                lugre,
-                elasto_plastic,
-                leuven,
-                gms,
-                xiong
-            ]
-        )
+/// `$field` as a string (a helper of `dispatch!`: a repetition that `$form`
+/// drives yields the name of each model that has the form).
+#[cfg(test)]
+macro_rules! named {
+    ($field:ident, $($form:tt)*) => {
+        stringify!($field)
     };
 }
 
-macro_rules! each_fixed {
-    ($self:expr, $old:expr, $st:expr, |$m:ident, $o:ident, $s:ident| $body:expr) => {
-        each_pair!(
-            fixed_kind,
-            $self,
-            $old,
-            $st,
-            |$m, $o, $s| $body,
-            [dahl, lugre, elasto_plastic, gms, xiong]
-        )
+/// The three families and their dispatch, each from its list of
+/// `field: type` (the union field and the core type of its form).
+macro_rules! families {
+    (statics: $statics:tt, variables: $variables:tt, fixeds: $fixeds:tt,) => {
+        family!(
+            /// A static map: no state.
+            StaticMap, StaticMapUnion, StaticMapState, StaticMapStateUnion, FrictionModel,
+            static_kind, $statics
+        );
+
+        family!(
+            /// A variable-step state model (stepped with its `h` each call).
+            Variable, VariableUnion, VariableState, VariableStateUnion, FrictionModel,
+            variable_kind, $variables
+        );
+
+        family!(
+            /// A fixed-step state model (built for one period).
+            Fixed, FixedUnion, FixedState, FixedStateUnion, FixedStepModel, fixed_kind, $fixeds
+        );
+
+        impl<S: Scalar> FrictionModel<S> for StaticMap<S> {
+            type State = ();
+
+            fn step(&self, state: &mut (), v: S, h: S) -> S {
+                each_model!(static_kind, self, |m| m.step(state, v, h), S::ZERO, $statics)
+            }
+
+            fn hold_force(&self, state: &()) -> S {
+                each_model!(static_kind, self, |m| m.hold_force(state), S::ZERO, $statics)
+            }
+        }
+
+        impl<S: Scalar> FrictionModel<S> for Variable<S> {
+            type State = VariableState<S>;
+
+            fn step(&self, state: &mut Self::State, v: S, h: S) -> S {
+                each!(variable_kind, self, state, |m, s| m.step(s, v, h), $variables)
+            }
+
+            fn hold_force(&self, state: &Self::State) -> S {
+                let mut copy = *state;
+                each!(variable_kind, self, &mut copy, |m, s| m.hold_force(s), $variables)
+            }
+        }
+
+        impl<S: Scalar> Observable<S> for Variable<S> {
+            fn step_corrected(
+                &self,
+                state: &mut Self::State,
+                v: S,
+                correction: S,
+                h: S,
+                damping: bool,
+            ) -> S {
+                each!(
+                    variable_kind,
+                    self,
+                    state,
+                    |m, s| m.step_corrected(s, v, correction, h, damping),
+                    $variables
+                )
+            }
+
+            fn force_bound(&self, v: S) -> S {
+                each_model!(variable_kind, self, |m| m.force_bound(v), S::ZERO, $variables)
+            }
+
+            fn carry_over(&self, old: &Self, state: &mut Self::State) {
+                each_pair!(variable_kind, self, old, state, |m, o, s| m.carry_over(o, s), $variables)
+            }
+        }
+
+        impl<S: Scalar> FixedStepModel<S> for Fixed<S> {
+            type State = FixedState<S>;
+
+            fn period(&self) -> f64 {
+                // an unknown kind (never reached: the calls check it) has no period
+                each_model!(fixed_kind, self, |m| m.period(), 0.0, $fixeds)
+            }
+
+            #[inline]
+            fn step(&self, state: &mut Self::State, v: S) -> S {
+                each!(fixed_kind, self, state, |m, s| m.step(s, v), $fixeds)
+            }
+
+            fn hold_force(&self, state: &Self::State) -> S {
+                let mut copy = *state;
+                each!(fixed_kind, self, &mut copy, |m, s| m.hold_force(s), $fixeds)
+            }
+        }
+
+        impl<S: Scalar> FixedStepObservable<S> for Fixed<S> {
+            #[inline]
+            fn step_corrected(
+                &self,
+                state: &mut Self::State,
+                v: S,
+                correction: S,
+                damping: bool,
+            ) -> S {
+                each!(
+                    fixed_kind,
+                    self,
+                    state,
+                    |m, s| m.step_corrected(s, v, correction, damping),
+                    $fixeds
+                )
+            }
+
+            fn force_bound(&self, v: S) -> S {
+                each_model!(fixed_kind, self, |m| m.force_bound(v), S::ZERO, $fixeds)
+            }
+
+            fn carry_over(&self, old: &Self, state: &mut Self::State) {
+                each_pair!(fixed_kind, self, old, state, |m, o, s| m.carry_over(o, s), $fixeds)
+            }
+        }
     };
-    ($self:expr, $st:expr, |$m:ident, $s:ident| $body:expr) => {
-        each!(
-            fixed_kind,
-            $self,
-            $st,
-            |$m, $s| $body,
-            [dahl, lugre, elasto_plastic, gms, xiong]
-        )
-    };
-    ($self:expr, |$m:ident| $body:expr, $default:expr) => {
-        each_model!(
-            fixed_kind,
-            $self,
-            |$m| $body,
-            $default,
-            [dahl, lugre, elasto_plastic, gms, xiong]
-        )
-    };
 }
 
-impl<S: Scalar> FrictionModel<S> for StaticMap<S> {
-    type State = ();
+friction_core::model_list!(dispatch);
 
-    fn step(&self, state: &mut (), v: S, h: S) -> S {
-        each_static!(self, |m| m.step(state, v, h))
-    }
-
-    fn hold_force(&self, state: &()) -> S {
-        each_static!(self, |m| m.hold_force(state))
-    }
-}
-
-impl<S: Scalar> FrictionModel<S> for Variable<S> {
-    type State = VariableState<S>;
-
-    fn step(&self, state: &mut Self::State, v: S, h: S) -> S {
-        each_variable!(self, state, |m, s| m.step(s, v, h))
-    }
-
-    fn hold_force(&self, state: &Self::State) -> S {
-        let mut copy = *state;
-        each_variable!(self, &mut copy, |m, s| m.hold_force(s))
-    }
-}
-
-impl<S: Scalar> Observable<S> for Variable<S> {
-    fn step_corrected(
-        &self,
-        state: &mut Self::State,
-        v: S,
-        correction: S,
-        h: S,
-        damping: bool,
-    ) -> S {
-        each_variable!(self, state, |m, s| m
-            .step_corrected(s, v, correction, h, damping))
-    }
-
-    fn force_bound(&self, v: S) -> S {
-        each_variable!(self, |m| m.force_bound(v))
-    }
-
-    fn carry_over(&self, old: &Self, state: &mut Self::State) {
-        each_variable!(self, old, state, |m, o, s| m.carry_over(o, s))
-    }
-}
-
-impl<S: Scalar> FixedStepModel<S> for Fixed<S> {
-    type State = FixedState<S>;
-
-    fn period(&self) -> f64 {
-        // an unknown kind (never reached: the calls check it) has no period
-        each_fixed!(self, |m| m.period(), 0.0)
-    }
-
-    #[inline]
-    fn step(&self, state: &mut Self::State, v: S) -> S {
-        each_fixed!(self, state, |m, s| m.step(s, v))
-    }
-
-    fn hold_force(&self, state: &Self::State) -> S {
-        let mut copy = *state;
-        each_fixed!(self, &mut copy, |m, s| m.hold_force(s))
-    }
-}
-
-impl<S: Scalar> FixedStepObservable<S> for Fixed<S> {
-    #[inline]
-    fn step_corrected(&self, state: &mut Self::State, v: S, correction: S, damping: bool) -> S {
-        each_fixed!(self, state, |m, s| m
-            .step_corrected(s, v, correction, damping))
-    }
-
-    fn force_bound(&self, v: S) -> S {
-        each_fixed!(self, |m| m.force_bound(v), S::ZERO)
-    }
-
-    fn carry_over(&self, old: &Self, state: &mut Self::State) {
-        each_fixed!(self, old, state, |m, o, s| m.carry_over(o, s))
+#[cfg(test)]
+mod tests {
+    /// Each model of the list that the C ABI builds has its two
+    /// constructors in the header (written by hand: cbindgen reads no macro
+    /// output), so a model added to the list without them fails here.
+    #[test]
+    fn every_listed_model_has_its_constructors() {
+        let header = include_str!("../include/friction.h");
+        for field in super::C_MODELS {
+            for scalar in ["f32", "f64"] {
+                let name = std::format!("friction_{field}_init_{scalar}(");
+                assert!(header.contains(&name), "{name} is missing from friction.h");
+            }
+        }
     }
 }

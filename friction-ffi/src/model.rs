@@ -10,10 +10,15 @@ use crate::any::{Fixed, FixedState, StaticMap, Variable, VariableState};
 use crate::params::*;
 use crate::slot::{self, opaque};
 use crate::status::{friction_error, friction_status, report, Refusal};
+// the capacities the model list's core types are named with
+#[allow(unused_imports)]
+use crate::params::{
+    FRICTION_BRISTLES as BRISTLES, FRICTION_ELEMENTS as ELEMENTS, FRICTION_LEUVEN_MEMORY as MEMORY,
+};
 use friction_core::{
-    BristleParams, CoulombViscousParams, DahlParams, ElastoPlasticParams, FixedStepModel,
-    FrictionModel, GmsParams, LeuvenParams, LuGreParams, ParamError, ResetIntegratorParams, Scalar,
-    StribeckMapParams, XiongParams,
+    AsymmetricCoulombViscousParams, BristleParams, CoulombViscousParams, DahlParams,
+    ElastoPlasticParams, FixedStepModel, FrictionModel, GmsParams, LeuvenParams, LuGreParams,
+    ParamError, ResetIntegratorParams, Scalar, StribeckMapParams, XiongParams,
 };
 
 /// Words (8 bytes each) of a `float` model object, room for the largest
@@ -223,78 +228,66 @@ fn at<S: Scalar>(
     }
 }
 
-fn coulomb_viscous<S: Scalar>(p: &friction_coulomb_viscous_params) -> Result<Model<S>, Refusal> {
-    let model = CoulombViscousParams::from(p).build().map_err(param)?;
-    Ok(Model::Static(StaticMap::coulomb_viscous(model)))
+/// A core parameter type of the model list, built into the form the C ABI
+/// stores (`builders!` implements it from the list).
+trait Build {
+    /// The model: a static map, or a state model's variable-step form for
+    /// `h == 0` and its fixed-step form for period `h > 0` where it has one
+    /// (the constructors of the others take no `h` and pass 0).
+    fn model<S: Scalar>(&self, h: f64) -> Result<Model<S>, Refusal>;
 }
 
-fn stribeck_map<S: Scalar>(p: &friction_stribeck_map_params) -> Result<Model<S>, Refusal> {
-    let model = StribeckMapParams::from(p).build().map_err(param)?;
-    Ok(Model::Static(StaticMap::stribeck_map(model)))
+/// The C ABI's builders from the core's model list
+/// (`friction_core::model_list!`): `Build` for each model the ABI builds.
+macro_rules! builders {
+    ($(
+        $(#[$doc:meta])* $variant:ident = $name:literal {
+            params: $params:ty,
+            field: $field:ident,
+            $(map: $map:ty,)?
+            $(variable: $variable:ty,)?
+            $(fixed: $fixed:ty,)?
+            sets: [$($set:literal),* $(,)?],
+        }
+    )*) => {
+        $(build!($params, $field $(, map $map)? $(, variable $variable)? $(, fixed $fixed)?);)*
+    };
 }
 
-fn bristle<S: Scalar>(p: &friction_bristle_params) -> Result<Model<S>, Refusal> {
-    let model = BristleParams::from(p).build().map_err(param)?;
-    Ok(Model::variable(Variable::bristle(model)))
+/// `Build` for one model, by the forms it has.
+macro_rules! build {
+    // no form in the C ABI
+    ($params:ty, $field:ident) => {};
+    ($params:ty, $field:ident, map $map:ty) => {
+        impl Build for $params {
+            fn model<S: Scalar>(&self, _h: f64) -> Result<Model<S>, Refusal> {
+                let model = self.build().map_err(param)?;
+                Ok(Model::Static(StaticMap::$field(model)))
+            }
+        }
+    };
+    ($params:ty, $field:ident, variable $variable:ty) => {
+        impl Build for $params {
+            fn model<S: Scalar>(&self, _h: f64) -> Result<Model<S>, Refusal> {
+                let model = self.build().map_err(param)?;
+                Ok(Model::variable(Variable::$field(model)))
+            }
+        }
+    };
+    ($params:ty, $field:ident, variable $variable:ty, fixed $fixed:ty) => {
+        impl Build for $params {
+            fn model<S: Scalar>(&self, h: f64) -> Result<Model<S>, Refusal> {
+                at(
+                    h,
+                    || self.build().map(Variable::$field),
+                    |h| self.build_at(h).map(Fixed::$field),
+                )
+            }
+        }
+    };
 }
 
-fn reset_integrator<S: Scalar>(p: &friction_reset_integrator_params) -> Result<Model<S>, Refusal> {
-    let model = ResetIntegratorParams::from(p).build().map_err(param)?;
-    Ok(Model::variable(Variable::reset_integrator(model)))
-}
-
-fn dahl<S: Scalar>(p: &friction_dahl_params, h: f64) -> Result<Model<S>, Refusal> {
-    let p = DahlParams::from(p);
-    at(
-        h,
-        || p.build().map(Variable::dahl),
-        |h| p.build_at(h).map(Fixed::dahl),
-    )
-}
-
-fn lugre<S: Scalar>(p: &friction_lugre_params, h: f64) -> Result<Model<S>, Refusal> {
-    let p = LuGreParams::from(p);
-    at(
-        h,
-        || p.build().map(Variable::lugre),
-        |h| p.build_at(h).map(Fixed::lugre),
-    )
-}
-
-fn elasto_plastic<S: Scalar>(
-    p: &friction_elasto_plastic_params,
-    h: f64,
-) -> Result<Model<S>, Refusal> {
-    let p = ElastoPlasticParams::from(p);
-    at(
-        h,
-        || p.build().map(Variable::elasto_plastic),
-        |h| p.build_at(h).map(Fixed::elasto_plastic),
-    )
-}
-
-fn leuven<S: Scalar>(p: &friction_leuven_params) -> Result<Model<S>, Refusal> {
-    let model = LeuvenParams::from(p).build().map_err(param)?;
-    Ok(Model::variable(Variable::leuven(model)))
-}
-
-fn gms<S: Scalar>(p: &friction_gms_params, h: f64) -> Result<Model<S>, Refusal> {
-    let p = GmsParams::from(p);
-    at(
-        h,
-        || p.build().map(Variable::gms),
-        |h| p.build_at(h).map(Fixed::gms),
-    )
-}
-
-fn xiong<S: Scalar>(p: &friction_xiong_params, h: f64) -> Result<Model<S>, Refusal> {
-    let p = XiongParams::from(p);
-    at(
-        h,
-        || p.build().map(Variable::xiong),
-        |h| p.build_at(h).map(Fixed::xiong),
-    )
-}
+friction_core::model_list!(builders);
 
 fn step<O, S>(model: Option<&mut O>, v: S, h: S, force: Option<&mut S>) -> friction_status
 where
@@ -338,7 +331,9 @@ pub extern "C" fn friction_coulomb_viscous_init_f32(
     params: Option<&friction_coulomb_viscous_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, coulomb_viscous)
+    init(out, params, "params", error, |p| {
+        CoulombViscousParams::from(p).model(0.0)
+    })
 }
 
 /// Coulomb plus viscous friction in `double`.
@@ -348,7 +343,35 @@ pub extern "C" fn friction_coulomb_viscous_init_f64(
     params: Option<&friction_coulomb_viscous_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, coulomb_viscous)
+    init(out, params, "params", error, |p| {
+        CoulombViscousParams::from(p).model(0.0)
+    })
+}
+
+/// Coulomb plus viscous friction with a level and slope for each
+/// direction in `float`.
+#[no_mangle]
+pub extern "C" fn friction_asymmetric_coulomb_viscous_init_f32(
+    out: Option<&mut friction_model_f32>,
+    params: Option<&friction_asymmetric_coulomb_viscous_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, "params", error, |p| {
+        AsymmetricCoulombViscousParams::from(p).model(0.0)
+    })
+}
+
+/// Coulomb plus viscous friction with a level and slope for each
+/// direction in `double`.
+#[no_mangle]
+pub extern "C" fn friction_asymmetric_coulomb_viscous_init_f64(
+    out: Option<&mut friction_model_f64>,
+    params: Option<&friction_asymmetric_coulomb_viscous_params>,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    init(out, params, "params", error, |p| {
+        AsymmetricCoulombViscousParams::from(p).model(0.0)
+    })
 }
 
 /// The static Stribeck map in `float`.
@@ -358,7 +381,9 @@ pub extern "C" fn friction_stribeck_map_init_f32(
     params: Option<&friction_stribeck_map_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, stribeck_map)
+    init(out, params, "params", error, |p| {
+        StribeckMapParams::from(p).model(0.0)
+    })
 }
 
 /// The static Stribeck map in `double`.
@@ -368,7 +393,9 @@ pub extern "C" fn friction_stribeck_map_init_f64(
     params: Option<&friction_stribeck_map_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, stribeck_map)
+    init(out, params, "params", error, |p| {
+        StribeckMapParams::from(p).model(0.0)
+    })
 }
 
 /// The bristle model in `float` (re-bonds at most 2 per bristle a step,
@@ -379,7 +406,9 @@ pub extern "C" fn friction_bristle_init_f32(
     params: Option<&friction_bristle_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, bristle)
+    init(out, params, "params", error, |p| {
+        BristleParams::from(p).model(0.0)
+    })
 }
 
 /// The bristle model in `double` (re-bonds at most 2 per bristle a step).
@@ -389,7 +418,9 @@ pub extern "C" fn friction_bristle_init_f64(
     params: Option<&friction_bristle_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, bristle)
+    init(out, params, "params", error, |p| {
+        BristleParams::from(p).model(0.0)
+    })
 }
 
 /// The reset integrator in `float`.
@@ -399,7 +430,9 @@ pub extern "C" fn friction_reset_integrator_init_f32(
     params: Option<&friction_reset_integrator_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, reset_integrator)
+    init(out, params, "params", error, |p| {
+        ResetIntegratorParams::from(p).model(0.0)
+    })
 }
 
 /// The reset integrator in `double`.
@@ -409,7 +442,9 @@ pub extern "C" fn friction_reset_integrator_init_f64(
     params: Option<&friction_reset_integrator_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, reset_integrator)
+    init(out, params, "params", error, |p| {
+        ResetIntegratorParams::from(p).model(0.0)
+    })
 }
 
 /// The Dahl model in `float`: `h == 0` the variable-step form, `h > 0` the
@@ -421,7 +456,9 @@ pub extern "C" fn friction_dahl_init_f32(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| dahl(p, h))
+    init(out, params, "params", error, |p| {
+        DahlParams::from(p).model(h)
+    })
 }
 
 /// The Dahl model in `double` (`h` as in [`friction_dahl_init_f32`]).
@@ -432,7 +469,9 @@ pub extern "C" fn friction_dahl_init_f64(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| dahl(p, h))
+    init(out, params, "params", error, |p| {
+        DahlParams::from(p).model(h)
+    })
 }
 
 /// The LuGre model in `float`: `h == 0` the variable-step form, `h > 0` the
@@ -444,7 +483,9 @@ pub extern "C" fn friction_lugre_init_f32(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| lugre(p, h))
+    init(out, params, "params", error, |p| {
+        LuGreParams::from(p).model(h)
+    })
 }
 
 /// The LuGre model in `double` (`h` as in [`friction_lugre_init_f32`]).
@@ -455,7 +496,9 @@ pub extern "C" fn friction_lugre_init_f64(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| lugre(p, h))
+    init(out, params, "params", error, |p| {
+        LuGreParams::from(p).model(h)
+    })
 }
 
 /// The elasto-plastic model in `float` (`h` as in [`friction_lugre_init_f32`]).
@@ -466,7 +509,9 @@ pub extern "C" fn friction_elasto_plastic_init_f32(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| elasto_plastic(p, h))
+    init(out, params, "params", error, |p| {
+        ElastoPlasticParams::from(p).model(h)
+    })
 }
 
 /// The elasto-plastic model in `double` (`h` as in [`friction_lugre_init_f32`]).
@@ -477,7 +522,9 @@ pub extern "C" fn friction_elasto_plastic_init_f64(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| elasto_plastic(p, h))
+    init(out, params, "params", error, |p| {
+        ElastoPlasticParams::from(p).model(h)
+    })
 }
 
 /// The Leuven model in `float`.
@@ -487,7 +534,9 @@ pub extern "C" fn friction_leuven_init_f32(
     params: Option<&friction_leuven_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, leuven)
+    init(out, params, "params", error, |p| {
+        LeuvenParams::from(p).model(0.0)
+    })
 }
 
 /// The Leuven model in `double`.
@@ -497,7 +546,9 @@ pub extern "C" fn friction_leuven_init_f64(
     params: Option<&friction_leuven_params>,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, leuven)
+    init(out, params, "params", error, |p| {
+        LeuvenParams::from(p).model(0.0)
+    })
 }
 
 /// The GMS model in `float` (`h` as in [`friction_lugre_init_f32`]).
@@ -508,7 +559,9 @@ pub extern "C" fn friction_gms_init_f32(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| gms(p, h))
+    init(out, params, "params", error, |p| {
+        GmsParams::from(p).model(h)
+    })
 }
 
 /// The GMS model in `double` (`h` as in [`friction_lugre_init_f32`]).
@@ -519,7 +572,9 @@ pub extern "C" fn friction_gms_init_f64(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| gms(p, h))
+    init(out, params, "params", error, |p| {
+        GmsParams::from(p).model(h)
+    })
 }
 
 /// The Xiong model in `float` (`h` as in [`friction_lugre_init_f32`]).
@@ -530,7 +585,9 @@ pub extern "C" fn friction_xiong_init_f32(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| xiong(p, h))
+    init(out, params, "params", error, |p| {
+        XiongParams::from(p).model(h)
+    })
 }
 
 /// The Xiong model in `double` (`h` as in [`friction_lugre_init_f32`]).
@@ -541,7 +598,9 @@ pub extern "C" fn friction_xiong_init_f64(
     h: f64,
     error: Option<&mut friction_error>,
 ) -> friction_status {
-    init(out, params, "params", error, |p| xiong(p, h))
+    init(out, params, "params", error, |p| {
+        XiongParams::from(p).model(h)
+    })
 }
 
 /// Advances `model` by `h` (s) with velocity `v` held and writes the force.

@@ -3,10 +3,10 @@
 //! constructors check.
 
 use friction_core::{
-    AdaptiveParams, BristleParams, CompensatorParams, CoulombViscousParams, DahlParams,
-    ElastoPlasticParams, GmsElement, GmsParams, LeuvenParams, LuGreParams, ParameterAdaptiveParams,
-    ResetIntegratorParams, StribeckMapParams, StribeckParams, SupervisorParams, XiongElement,
-    XiongParams,
+    AdaptiveParams, AsymmetricCoulombViscousParams, BristleParams, CompensatorParams,
+    CoulombViscousParams, DahlParams, ElastoPlasticParams, GmsElement, GmsParams, LeuvenParams,
+    LuGreParams, ParameterAdaptiveParams, ResetIntegratorParams, StribeckMapParams, StribeckParams,
+    SupervisorParams, XiongElement, XiongParams,
 };
 
 /// Element count of the GMS and Xiong models in this ABI.
@@ -56,6 +56,33 @@ impl From<&friction_coulomb_viscous_params> for CoulombViscousParams {
         Self {
             fc: p.fc,
             sigma2: p.sigma2,
+        }
+    }
+}
+
+/// Coulomb plus viscous friction with its own levels for each direction
+/// (a static map): `F = fc_pos + sigma2_pos v` for `v > 0`,
+/// `F = -fc_neg + sigma2_neg v` for `v < 0`, 0 at rest.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct friction_asymmetric_coulomb_viscous_params {
+    /// Coulomb force for `v > 0`, `fc_pos > 0` (N).
+    pub fc_pos: f64,
+    /// Viscous coefficient for `v > 0`, `sigma2_pos >= 0` (N s/m).
+    pub sigma2_pos: f64,
+    /// Coulomb force (a magnitude) for `v < 0`, `fc_neg > 0` (N).
+    pub fc_neg: f64,
+    /// Viscous coefficient for `v < 0`, `sigma2_neg >= 0` (N s/m).
+    pub sigma2_neg: f64,
+}
+
+impl From<&friction_asymmetric_coulomb_viscous_params> for AsymmetricCoulombViscousParams {
+    fn from(p: &friction_asymmetric_coulomb_viscous_params) -> Self {
+        Self {
+            fc_pos: p.fc_pos,
+            sigma2_pos: p.sigma2_pos,
+            fc_neg: p.fc_neg,
+            sigma2_neg: p.sigma2_neg,
         }
     }
 }

@@ -6,9 +6,10 @@
 #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
 
 use friction_core::{
-    AdaptiveParams, AtPeriod, CompensatorParams, CoulombViscousParams, FixedStepModel,
-    FrictionModel, LuGreAtState, LuGreParams, LuGreServo, LuGreState, Mode, Observer,
-    ParameterAdaptiveParams, ParameterAdaptiveServo, Scalar, Setpoint, SupervisorParams,
+    AdaptiveParams, AsymmetricCoulombViscousParams, AtPeriod, CompensatorParams,
+    CoulombViscousParams, FixedStepModel, FrictionModel, LuGreAtState, LuGreParams, LuGreServo,
+    LuGreState, Mode, Observer, ParameterAdaptiveParams, ParameterAdaptiveServo, Scalar, Setpoint,
+    SupervisorParams,
 };
 use friction_ffi::*;
 use friction_status::*;
@@ -87,6 +88,40 @@ fn signal(k: usize) -> (f64, f64) {
     (2e-3 * (2.0 * std::f64::consts::PI * 5.0 * t).sin(), 1e-4)
 }
 
+/// The `model = "..."` name of each model of the core's list that the C ABI
+/// builds, and whether it has a fixed-step form.
+fn c_models() -> Vec<(&'static str, bool)> {
+    // `true` where the repetition that holds it is present
+    macro_rules! has {
+        ($($form:tt)*) => {
+            true
+        };
+    }
+    macro_rules! forms {
+        ($(
+            $(#[$doc:meta])* $variant:ident = $name:literal {
+                params: $params:ty,
+                field: $field:ident,
+                $(map: $map:ty,)?
+                $(variable: $variable:ty,)?
+                $(fixed: $fixed:ty,)?
+                sets: [$($set:literal),* $(,)?],
+            }
+        )*) => {{
+            let mut models = Vec::new();
+            $(
+                let fixed = false $(|| has!($fixed))?;
+                let c = false $(|| has!($map))? $(|| has!($variable))?;
+                if c {
+                    models.push(($name, fixed));
+                }
+            )*
+            models
+        }};
+    }
+    friction_core::model_list!(forms)
+}
+
 /// Every constructor, f32 and f64, on a valid set (the shipped parameter
 /// files' values, GMS and Xiong with 4 elements): OK, and a finite force
 /// over 2,000 steps of the sweep.
@@ -154,6 +189,12 @@ fn every_model_builds_and_steps_finite() {
         curve: CURVE,
         sigma2: 0.4,
     };
+    let asym = friction_asymmetric_coulomb_viscous_params {
+        fc_pos: 1.2,
+        sigma2_pos: 0.5,
+        fc_neg: 0.9,
+        sigma2_neg: 0.35,
+    };
     type Build64 = Box<dyn Fn(&mut friction_model_f64, f64) -> friction_status>;
     type Build32 = Box<dyn Fn(&mut friction_model_f32, f64) -> friction_status>;
     let e = || None;
@@ -169,6 +210,16 @@ fn every_model_builds_and_steps_finite() {
             false,
             Box::new(move |m, _| friction_stribeck_map_init_f64(Some(m), Some(&map), e())),
             Box::new(move |m, _| friction_stribeck_map_init_f32(Some(m), Some(&map), e())),
+        ),
+        (
+            "asymmetric-coulomb-viscous",
+            false,
+            Box::new(move |m, _| {
+                friction_asymmetric_coulomb_viscous_init_f64(Some(m), Some(&asym), e())
+            }),
+            Box::new(move |m, _| {
+                friction_asymmetric_coulomb_viscous_init_f32(Some(m), Some(&asym), e())
+            }),
         ),
         (
             "bristle",
@@ -219,6 +270,16 @@ fn every_model_builds_and_steps_finite() {
             Box::new(move |m, h| friction_xiong_init_f32(Some(m), Some(&xiong), h, e())),
         ),
     ];
+    // the cases are the core's list: each model with a form in the C ABI,
+    // the fixed-step form where the list gives one
+    let mut tested: Vec<(&str, bool)> = cases.iter().map(|(l, f, ..)| (*l, *f)).collect();
+    let mut listed = c_models();
+    tested.sort();
+    listed.sort();
+    assert_eq!(
+        tested, listed,
+        "a model of the list without its C constructors"
+    );
     for (label, has_fixed, build64, build32) in &cases {
         let periods: &[f64] = if *has_fixed { &[0.0, 1e-4] } else { &[0.0] };
         for &period in periods {
@@ -265,6 +326,41 @@ fn every_model_builds_and_steps_finite() {
         FRICTION_NOT_POSITIVE
     );
     assert_eq!(name(&err), "h");
+}
+
+#[test]
+fn asymmetric_map_through_the_abi_is_the_core() {
+    let p = friction_asymmetric_coulomb_viscous_params {
+        fc_pos: 1.2,
+        sigma2_pos: 0.5,
+        fc_neg: 0.9,
+        sigma2_neg: 0.35,
+    };
+    let core = AsymmetricCoulombViscousParams::from(&p)
+        .build::<f64>()
+        .unwrap();
+    let mut m = model_f64();
+    assert_eq!(
+        friction_asymmetric_coulomb_viscous_init_f64(Some(&mut m), Some(&p), None),
+        FRICTION_OK
+    );
+    for v in [-2.0, -1e-3, 0.0, 1e-3, 2.0] {
+        let mut f = f64::NAN;
+        friction_model_step_f64(Some(&mut m), v, 1e-3, Some(&mut f));
+        assert_eq!(f.to_bits(), core.force(v).to_bits(), "v = {v}");
+    }
+    // each side names its own parameter
+    let mut err = no_error();
+    let bad = friction_asymmetric_coulomb_viscous_params { fc_neg: -1.0, ..p };
+    assert_eq!(
+        friction_asymmetric_coulomb_viscous_init_f32(
+            Some(&mut model_f32()),
+            Some(&bad),
+            Some(&mut err)
+        ),
+        FRICTION_NOT_POSITIVE
+    );
+    assert_eq!(name(&err), "fc_neg");
 }
 
 #[test]

@@ -1212,11 +1212,12 @@ fn subject<T: Object + 'static>(
 
 /// Every subject: each model kind as a model, each state model inside an
 /// observer, and each compensation of the servo (none, feed-forward of the
-/// two static maps, observer and adaptive observer of every state model in
+/// static maps, observer and adaptive observer of every state model in
 /// its variable- and fixed-step form), in `float` and in `double`.
 macro_rules! subjects_of {
     ($all:ident, $scalar:literal, $model:ident, $observer:ident, $servo:ident,
      $observer_init:ident, $servo_init:ident, $coulomb_viscous:ident, $stribeck_map:ident,
+     $asymmetric_coulomb_viscous:ident,
      $bristle:ident, $reset_integrator:ident, $dahl:ident, $lugre:ident,
      $elasto_plastic:ident, $leuven:ident, $gms:ident, $xiong:ident) => {{
         type Build = std::rc::Rc<dyn Fn(&mut $model) -> friction_status>;
@@ -1242,6 +1243,21 @@ macro_rules! subjects_of {
                         Some(&friction_stribeck_map_params {
                             curve: CURVE,
                             sigma2: 0.4,
+                        }),
+                        None,
+                    )
+                }),
+            ),
+            (
+                "asymmetric-coulomb-viscous",
+                std::rc::Rc::new(|m: &mut $model| {
+                    $asymmetric_coulomb_viscous(
+                        Some(m),
+                        Some(&friction_asymmetric_coulomb_viscous_params {
+                            fc_pos: 1.2,
+                            sigma2_pos: 0.5,
+                            fc_neg: 0.9,
+                            sigma2_neg: 0.35,
                         }),
                         None,
                     )
@@ -1440,6 +1456,7 @@ fn subjects() -> Vec<Subject> {
         friction_servo_init_f32,
         friction_coulomb_viscous_init_f32,
         friction_stribeck_map_init_f32,
+        friction_asymmetric_coulomb_viscous_init_f32,
         friction_bristle_init_f32,
         friction_reset_integrator_init_f32,
         friction_dahl_init_f32,
@@ -1459,6 +1476,7 @@ fn subjects() -> Vec<Subject> {
         friction_servo_init_f64,
         friction_coulomb_viscous_init_f64,
         friction_stribeck_map_init_f64,
+        friction_asymmetric_coulomb_viscous_init_f64,
         friction_bristle_init_f64,
         friction_reset_integrator_init_f64,
         friction_dahl_init_f64,

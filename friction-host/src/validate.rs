@@ -268,37 +268,7 @@ pub fn run_with(dir: &Path, timings: bool) -> Result<bool> {
         "ok"
     );
     let mut rows = Vec::new();
-    // (set, bounded, plots, with its variants): the bounds are set for
-    // each model's primary set; the other sets are measured and reported.
-    // Each model's host module names its own variants
-    // (`HostModel::validation_variants`).
-    let sets: &[(&str, bool, bool, bool)] = &[
-        ("canudas1995", true, true, true),
-        ("astrom2008-drift", false, false, false),
-        ("olsson1998-servo", false, false, false),
-        ("dahl1968", true, false, true),
-        ("canudas1995-ep", true, true, false),
-        // the multistate family, N = 4, bounded like elasto-plastic (3 % / 1 %)
-        ("gms-typical", true, true, false),
-        ("xiong-typical", true, true, false),
-        ("leuven-typical", true, true, false),
-        // switching models: figures stated, no bound (see the report)
-        ("haessig1991-reset", false, true, false),
-        ("haessig1991-bristle", false, true, true),
-    ];
-    let mut models: Vec<(String, ModelSpec, bool, bool)> = Vec::new();
-    for &(set, bounded, plots, with_variants) in sets {
-        let spec = param_set(set)?.model;
-        let host = spec.host();
-        if host.validates_itself() {
-            models.push((set.into(), spec.clone(), bounded, plots));
-        }
-        if with_variants {
-            for v in host.validation_variants() {
-                models.push((format!("{set}{}", v.suffix), v.spec, v.bounded, v.plots));
-            }
-        }
-    }
+    let models = accuracy_models()?;
     let plan: &[(&str, &[&str])] = &[
         (
             "canudas1995",
@@ -520,6 +490,52 @@ pub fn accuracy_plot_name(label: &str, spec: &ModelSpec, signal: usize) -> Strin
         .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
         .collect();
     format!("accuracy-{slug}-{}-{signal}.svg", spec.name())
+}
+
+/// The parameter sets the accuracy table measures, each `(label, model,
+/// bounded, plots)`: the sets below with their variants, and the primary
+/// set of every listed model the table does not name.
+pub(crate) fn accuracy_models() -> Result<Vec<(String, ModelSpec, bool, bool)>> {
+    // (set, bounded, plots, with its variants): the bounds are set for
+    // each model's primary set; the other sets are measured and reported.
+    // Each model's host module names its own variants
+    // (`HostModel::validation_variants`).
+    let sets: &[(&str, bool, bool, bool)] = &[
+        ("canudas1995", true, true, true),
+        ("astrom2008-drift", false, false, false),
+        ("olsson1998-servo", false, false, false),
+        ("dahl1968", true, false, true),
+        ("canudas1995-ep", true, true, false),
+        // the multistate family, N = 4, bounded like elasto-plastic (3 % / 1 %)
+        ("gms-typical", true, true, false),
+        ("xiong-typical", true, true, false),
+        ("leuven-typical", true, true, false),
+        // switching models: figures stated, no bound (see the report)
+        ("haessig1991-reset", false, true, false),
+        ("haessig1991-bristle", false, true, true),
+    ];
+    // a model whose primary set the table does not name (a model added to
+    // the list since) is measured on it, bounded, with its variants
+    let listed = crate::models::MODEL_SETS
+        .iter()
+        .filter_map(|(_, shipped)| shipped.first())
+        .filter(|set| !sets.iter().any(|(named, ..)| named == *set))
+        .map(|&set| (set, true, false, true));
+    let sets: Vec<(&str, bool, bool, bool)> = sets.iter().copied().chain(listed).collect();
+    let mut models = Vec::new();
+    for &(set, bounded, plots, with_variants) in &sets {
+        let spec = param_set(set)?.model;
+        let host = spec.host();
+        if host.validates_itself() {
+            models.push((set.into(), spec.clone(), bounded, plots));
+        }
+        if with_variants {
+            for v in host.validation_variants() {
+                models.push((format!("{set}{}", v.suffix), v.spec, v.bounded, v.plots));
+            }
+        }
+    }
+    Ok(models)
 }
 
 /// Plots LuGre creeping and the elasto-plastic model not, under the same
@@ -921,5 +937,44 @@ mod tests {
         assert_eq!(pct(1e-9), "1.0e-7 %");
         assert_eq!(pct(0.25), "25.0 %");
         assert_eq!(pct(0.0), "0 %");
+    }
+
+    /// Every model of the core's list is wired in every part of the host
+    /// it needs: its shipped sets exist and name it, `friction validate`
+    /// measures it (on its own set or as another set's variant), and it
+    /// runs in Q16.16 exactly when the list gives it a fixed-step form.
+    #[test]
+    fn every_listed_model_is_wired_in_the_host() {
+        use crate::models::{FIXED_POINT_MODELS, MODEL_NAMES, MODEL_SETS};
+        assert_eq!(
+            MODEL_SETS.iter().map(|(name, _)| *name).collect::<Vec<_>>(),
+            MODEL_NAMES
+        );
+        for (name, sets) in MODEL_SETS {
+            for set in *sets {
+                let file = super::param_set(set).unwrap();
+                assert_eq!(file.model.name(), *name, "params/{set}.toml");
+            }
+        }
+        let measured = super::accuracy_models().unwrap();
+        for name in MODEL_NAMES {
+            let specs: Vec<_> = measured
+                .iter()
+                .filter(|(_, spec, ..)| spec.name() == *name)
+                .collect();
+            assert!(
+                !specs.is_empty(),
+                "`friction validate` does not measure `{name}`"
+            );
+            let fixed = FIXED_POINT_MODELS.contains(name);
+            for (label, spec, ..) in specs {
+                assert_eq!(
+                    spec.host().fixed_stepper(1e-3).is_some(),
+                    fixed,
+                    "{label}: the host's fixed-point form of `{name}` against the list"
+                );
+                spec.validate().unwrap();
+            }
+        }
     }
 }

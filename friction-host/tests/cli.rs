@@ -1379,7 +1379,10 @@ fn commission_bad_settings_and_aborts_exit_2_naming_them() {
         ]);
         assert_eq!(out.status.code(), Some(2), "{needle}");
         let err = String::from_utf8_lossy(&out.stderr);
-        assert!(err.contains(needle) && err.contains("commission.toml"), "{needle}: {err}");
+        assert!(
+            err.contains(needle) && err.contains("commission.toml"),
+            "{needle}: {err}"
+        );
         assert!(!output.exists(), "{needle}: wrote {}", output.display());
     }
 }

@@ -3,6 +3,7 @@
 //! event-driven solution on the signal's displacement, with the same seeded
 //! generator (the random numbers are part of the model's definition).
 
+use super::HostParams;
 use super::ReferenceRun;
 use super::{
     boxed, from_toml, in_scalar, model_file, Expect, HostModel, ScalarKind, Stepper, N, U, Y,
@@ -48,22 +49,25 @@ model_file!(BristleFile {
     seed: u64,
 });
 
-pub(super) fn parse(text: &str, origin: &str) -> Result<BristleSpec> {
-    let f: BristleFile = from_toml(text, origin, "bristle")?;
-    if !(1..=MAX_BRISTLES).contains(&f.bristles) {
-        bail!(
+impl HostParams for BristleParams {
+    type Spec = BristleSpec;
+    fn parse(text: &str, origin: &str, name: &'static str) -> Result<BristleSpec> {
+        let f: BristleFile = from_toml(text, origin, name)?;
+        if !(1..=MAX_BRISTLES).contains(&f.bristles) {
+            bail!(
             "{origin}: `bristles` = {} is out of range: the host runs 1 to {MAX_BRISTLES} bristles",
             f.bristles
         );
+        }
+        Ok(BristleSpec {
+            params: BristleParams {
+                sigma0: f.sigma0,
+                delta_s: f.delta_s,
+                seed: f.seed,
+            },
+            bristles: f.bristles,
+        })
     }
-    Ok(BristleSpec {
-        params: BristleParams {
-            sigma0: f.sigma0,
-            delta_s: f.delta_s,
-            seed: f.seed,
-        },
-        bristles: f.bristles,
-    })
 }
 
 fn strains<S: Scalar, const K: usize>(s: &BristleState<S, K>) -> Vec<f64> {
@@ -117,9 +121,6 @@ fn observer_n<const K: usize>(
 }
 
 impl HostModel for BristleSpec {
-    fn name(&self) -> &'static str {
-        "bristle"
-    }
     /// Measured at 8 and 64 bristles instead of the file's count, with
     /// `sigma0` scaled by 25 / N so that the total stiffness stays that of
     /// 25 bristles (reported; plots for N = 64).
@@ -267,6 +268,11 @@ pub fn bristle_reference(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The module's parser, as the registry calls it.
+    fn parse(text: &str, origin: &str) -> Result<BristleSpec> {
+        <BristleParams as HostParams>::parse(text, origin, "bristle")
+    }
 
     #[test]
     fn every_count_from_1_to_64_dispatches() {

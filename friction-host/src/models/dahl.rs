@@ -1,6 +1,7 @@
 //! Dahl (1968, 1976) on the host, in its force form:
 //! `dF/dt = sigma v sign(y) |y|^delta`, `y = 1 - F sign(v) / Fc`.
 
+use super::HostParams;
 use super::{
     boxed, boxed_fixed, from_toml, in_scalar, model_file, sign, Continuous, Expect, HostModel,
     ScalarKind, Stepper, N, Y,
@@ -22,14 +23,17 @@ model_file!(DahlFile {
     sigma2: f64,
 });
 
-pub(super) fn parse(text: &str, origin: &str) -> Result<DahlParams> {
-    let f: DahlFile = from_toml(text, origin, "dahl")?;
-    Ok(DahlParams {
-        sigma: f.sigma,
-        fc: f.fc,
-        delta: f.delta,
-        sigma2: f.sigma2,
-    })
+impl HostParams for DahlParams {
+    type Spec = Self;
+    fn parse(text: &str, origin: &str, name: &'static str) -> Result<Self> {
+        let f: DahlFile = from_toml(text, origin, name)?;
+        Ok(DahlParams {
+            sigma: f.sigma,
+            fc: f.fc,
+            delta: f.delta,
+            sigma2: f.sigma2,
+        })
+    }
 }
 
 struct DahlOde(DahlParams);
@@ -63,9 +67,6 @@ fn build<S: Scalar + 'static>(p: &DahlParams) -> Result<Box<dyn Stepper>, ParamE
 }
 
 impl HostModel for DahlParams {
-    fn name(&self) -> &'static str {
-        "dahl"
-    }
     /// `fc` scaled; `sigma` by the stiffness factor.
     fn observer_controller(
         &self,

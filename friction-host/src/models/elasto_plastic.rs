@@ -3,6 +3,7 @@
 
 use super::lugre::{lugre_force, parse_keys, z_state};
 use super::scaled_curve;
+use super::HostParams;
 use super::{
     boxed, boxed_fixed, curve_g, in_scalar, sign, Continuous, Expect, HostModel, ScalarKind,
     Stepper, N, Y,
@@ -12,12 +13,15 @@ use anyhow::{bail, Result};
 use friction_core::LuGreParams;
 use friction_core::{ElastoPlasticParams, Fixed32, LuGreAtState, ParamError, Scalar};
 
-pub(super) fn parse(text: &str, origin: &str) -> Result<ElastoPlasticParams> {
-    let (lugre, z_ba) = parse_keys(text, origin, true)?;
-    let Some(z_ba) = z_ba else {
-        bail!("{origin}: `elasto-plastic` needs `z_ba` (the break-away deflection)");
-    };
-    Ok(ElastoPlasticParams { lugre, z_ba })
+impl HostParams for ElastoPlasticParams {
+    type Spec = ElastoPlasticParams;
+    fn parse(text: &str, origin: &str, name: &'static str) -> Result<ElastoPlasticParams> {
+        let (lugre, z_ba) = parse_keys(text, origin, name, true)?;
+        let Some(z_ba) = z_ba else {
+            bail!("{origin}: `elasto-plastic` needs `z_ba` (the break-away deflection)");
+        };
+        Ok(ElastoPlasticParams { lugre, z_ba })
+    }
 }
 
 /// `dz/dt = v - alpha(z, v) sigma0 |v| z / g(v)`.
@@ -70,9 +74,6 @@ fn build<S: Scalar + 'static>(p: &ElastoPlasticParams) -> Result<Box<dyn Stepper
 }
 
 impl HostModel for ElastoPlasticParams {
-    fn name(&self) -> &'static str {
-        "elasto-plastic"
-    }
     /// `fc`, `fs` scaled; `sigma0` by the stiffness factor, `z_ba` by both
     /// (`z_ba sigma0 / fc` kept).
     fn observer_controller(

@@ -9,6 +9,7 @@
 //! its sub-step (written here from the sheet, sharing no code with the
 //! core's step).
 
+use super::HostParams;
 use super::ReferenceRun;
 use super::{
     boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, Expect,
@@ -62,33 +63,36 @@ model_file!(GmsFile {
     elements: Vec<ElementFile>,
 });
 
-pub(super) fn parse(text: &str, origin: &str) -> Result<GmsSpec> {
-    let f: GmsFile = from_toml(text, origin, "gms")?;
-    if !(1..=MAX_ELEMENTS).contains(&f.elements.len()) {
-        bail!(
+impl<const N: usize> HostParams for GmsParams<N> {
+    type Spec = GmsSpec;
+    fn parse(text: &str, origin: &str, name: &'static str) -> Result<GmsSpec> {
+        let f: GmsFile = from_toml(text, origin, name)?;
+        if !(1..=MAX_ELEMENTS).contains(&f.elements.len()) {
+            bail!(
             "{origin}: {} `[[elements]]` tables: the host runs GMS with 1 to {MAX_ELEMENTS} elements",
             f.elements.len()
         );
+        }
+        Ok(GmsSpec {
+            curve: StribeckParams {
+                fc: f.fc,
+                fs: f.fs,
+                vs: f.vs,
+                exponent: f.stribeck_exponent,
+            },
+            sigma2: f.sigma2,
+            c: f.c,
+            elements: f
+                .elements
+                .iter()
+                .map(|e| GmsElement {
+                    k: e.k,
+                    alpha: e.alpha,
+                    sigma1: e.sigma1,
+                })
+                .collect(),
+        })
     }
-    Ok(GmsSpec {
-        curve: StribeckParams {
-            fc: f.fc,
-            fs: f.fs,
-            vs: f.vs,
-            exponent: f.stribeck_exponent,
-        },
-        sigma2: f.sigma2,
-        c: f.c,
-        elements: f
-            .elements
-            .iter()
-            .map(|e| GmsElement {
-                k: e.k,
-                alpha: e.alpha,
-                sigma1: e.sigma1,
-            })
-            .collect(),
-    })
 }
 
 impl GmsSpec {
@@ -212,9 +216,6 @@ fn validate_n<const K: usize>(spec: &GmsSpec) -> Result<(), ParamError> {
 }
 
 impl HostModel for GmsSpec {
-    fn name(&self) -> &'static str {
-        "gms"
-    }
     /// See `observer_n`.
     fn observer_controller(
         &self,
@@ -484,6 +485,11 @@ impl GmsSpec {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The module's parser, as the registry calls it.
+    fn parse(text: &str, origin: &str) -> Result<GmsSpec> {
+        <GmsParams<1> as HostParams>::parse(text, origin, "gms")
+    }
 
     /// A shipped set's GMS parameters (its text parsed here: the layer
     /// test keeps `models` from importing `params`).

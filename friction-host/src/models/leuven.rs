@@ -10,6 +10,7 @@
 //! composite-branch lookup for the RK4 stages), sharing no code with the
 //! core's implicit step.
 
+use super::HostParams;
 use super::ReferenceRun;
 use super::{
     boxed, curve_g, default_exponent, from_toml, in_scalar, model_file, Expect, HostModel,
@@ -59,29 +60,32 @@ model_file!(LeuvenFile {
     memory: usize,
 });
 
-pub(super) fn parse(text: &str, origin: &str) -> Result<LeuvenSpec> {
-    let f: LeuvenFile = from_toml(text, origin, "leuven")?;
-    if !(1..=MAX_MEMORY).contains(&f.memory) {
-        bail!(
+impl HostParams for LeuvenParams {
+    type Spec = LeuvenSpec;
+    fn parse(text: &str, origin: &str, name: &'static str) -> Result<LeuvenSpec> {
+        let f: LeuvenFile = from_toml(text, origin, name)?;
+        if !(1..=MAX_MEMORY).contains(&f.memory) {
+            bail!(
             "{origin}: `memory = {}`: the host runs the Leuven model with a memory of 1 to {MAX_MEMORY} reversal points",
             f.memory
         );
-    }
-    Ok(LeuvenSpec {
-        params: LeuvenParams {
-            curve: StribeckParams {
-                fc: f.fc,
-                fs: f.fs,
-                vs: f.vs,
-                exponent: f.stribeck_exponent,
+        }
+        Ok(LeuvenSpec {
+            params: LeuvenParams {
+                curve: StribeckParams {
+                    fc: f.fc,
+                    fs: f.fs,
+                    vs: f.vs,
+                    exponent: f.stribeck_exponent,
+                },
+                sigma1: f.sigma1,
+                sigma2: f.sigma2,
+                n: f.n,
+                xs: f.xs,
             },
-            sigma1: f.sigma1,
-            sigma2: f.sigma2,
-            n: f.n,
-            xs: f.xs,
-        },
-        memory: f.memory,
-    })
+            memory: f.memory,
+        })
+    }
 }
 
 pub(crate) const TOO_LARGE: ParamError = ParamError::NotBelow {
@@ -172,9 +176,6 @@ fn observer_m<const M: usize>(
 }
 
 impl HostModel for LeuvenSpec {
-    fn name(&self) -> &'static str {
-        "leuven"
-    }
     /// See `observer_m`.
     fn observer_controller(
         &self,
@@ -382,6 +383,11 @@ pub fn leuven_reference(p: &LeuvenParams, signal: &Signal, t: &[f64], dt: f64) -
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The module's parser, as the registry calls it.
+    fn parse(text: &str, origin: &str) -> Result<LeuvenSpec> {
+        <LeuvenParams as HostParams>::parse(text, origin, "leuven")
+    }
 
     const OK: &str = "model = \"leuven\"\nfc = 1\nfs = 1.5\nvs = 1e-3\nn = 2\nxs = 1e-5\n";
 

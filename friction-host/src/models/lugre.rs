@@ -2,6 +2,7 @@
 //! continuous equations, expectations and bounds.
 
 use super::scaled_curve;
+use super::HostParams;
 use super::{
     boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, sign,
     Continuous, Expect, HostModel, ScalarKind, Stepper, N, Y,
@@ -27,18 +28,15 @@ model_file!(LuGreFile {
     z_ba: Option<f64>,
 });
 
-/// Reads the LuGre keys, and `z_ba` when `elasto_plastic`.
+/// Reads the LuGre keys, and `z_ba` when `elasto_plastic`; `name` is the
+/// model's, for the error messages.
 pub(super) fn parse_keys(
     text: &str,
     origin: &str,
+    name: &str,
     elasto_plastic: bool,
 ) -> Result<(LuGreParams, Option<f64>)> {
-    let model = if elasto_plastic {
-        "elasto-plastic"
-    } else {
-        "lugre"
-    };
-    let f: LuGreFile = from_toml(text, origin, model)?;
+    let f: LuGreFile = from_toml(text, origin, name)?;
     if !elasto_plastic && f.z_ba.is_some() {
         bail!("{origin}: `z_ba` belongs to `elasto-plastic`, not `lugre`");
     }
@@ -57,8 +55,11 @@ pub(super) fn parse_keys(
     Ok((p, f.z_ba))
 }
 
-pub(super) fn parse(text: &str, origin: &str) -> Result<LuGreParams> {
-    Ok(parse_keys(text, origin, false)?.0)
+impl HostParams for LuGreParams {
+    type Spec = LuGreParams;
+    fn parse(text: &str, origin: &str, name: &'static str) -> Result<LuGreParams> {
+        Ok(parse_keys(text, origin, name, false)?.0)
+    }
 }
 
 /// `F = sigma0 z + sigma1(v) dz/dt + sigma2 v`, shared by LuGre and elasto-plastic.
@@ -103,9 +104,6 @@ fn build<S: Scalar + 'static>(p: &LuGreParams) -> Result<Box<dyn Stepper>, Param
 }
 
 impl HostModel for LuGreParams {
-    fn name(&self) -> &'static str {
-        "lugre"
-    }
     /// `fc`, `fs` scaled; `sigma0` by the stiffness factor.
     fn observer_controller(
         &self,

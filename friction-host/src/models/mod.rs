@@ -7,8 +7,10 @@
 //! steps), what each experiment is expected to show, its accuracy bounds,
 //! its state column names, and how to build its core stepper in each scalar.
 //!
-//! Adding a model: its core file, its host module here, and one line in
-//! the `registry!` call below.
+//! Adding a model: its core file, its host module here (implementing
+//! [`HostParams`] and [`HostModel`]), and one entry in the core's model list
+//! (`friction_core::model_list!`), which the `registry!` below reads; see
+//! `docs/guide/adding-a-model.md`.
 
 use crate::control::{Controller, Loop, ObserverRequest};
 use crate::signals::Signal;
@@ -23,9 +25,6 @@ pub struct ReferenceRun {
     /// `switching[k]`: the model switched (its force jumped) in `(t[k-1], t[k]]`.
     pub switching: Vec<bool>,
 }
-
-/// The models with a fixed-point (fixed-step) form.
-pub const FIXED_POINT_MODELS: &[&str] = &["lugre", "elasto-plastic", "dahl", "gms", "xiong"];
 
 mod bristle;
 mod dahl;
@@ -196,8 +195,6 @@ pub const U: Expect = None;
 
 /// Everything the host knows of one model.
 pub trait HostModel {
-    /// The `model = "..."` name.
-    fn name(&self) -> &'static str;
     /// Validates the parameters (the core's checks), naming the offending one.
     fn validate(&self) -> Result<(), ParamError>;
     /// The core's model in the given scalar, at rest.
@@ -331,19 +328,73 @@ pub struct Variant {
     pub plots: bool,
 }
 
-/// The registry: one line per model, `Variant(Type) = "file name"`. It
-/// generates [`ModelSpec`], [`MODEL_NAMES`], the parser dispatch and the
-/// [`HostModel`] delegation.
+/// What the host adds to a core parameter type of the model list: the
+/// type it keeps the model's parameters in (the core's own, or a spec that
+/// picks the element count at run time) and the reader of its file keys.
+/// Each model's host module implements it beside [`HostModel`].
+pub trait HostParams {
+    /// The parameters as the host keeps them ([`ModelSpec`]'s variant).
+    type Spec: HostModel + Clone + std::fmt::Debug + PartialEq;
+    /// Parses the model's keys from a parameter file's text; `name` is the
+    /// list's `model = "..."` name, for the error messages (the list is the
+    /// one place it is written).
+    fn parse(text: &str, origin: &str, name: &'static str) -> Result<Self::Spec>;
+}
+
+/// The capacities the list's core types are named with; the host picks the
+/// count at run time up to these (see [`HostParams::Spec`]).
+#[allow(dead_code)] // the host reads the list's parameter types only
+const BRISTLES: usize = MAX_BRISTLES;
+#[allow(dead_code)]
+const ELEMENTS: usize = MAX_ELEMENTS;
+#[allow(dead_code)]
+const MEMORY: usize = MAX_MEMORY;
+
+/// `$name` (a helper of `registry!`: a repetition that `$form` drives
+/// yields the name of each model that has the form).
+macro_rules! named {
+    ($name:literal, $($form:tt)*) => {
+        $name
+    };
+}
+
+/// The host's reading of the core's model list (`friction_core::model_list!`):
+/// [`ModelSpec`], [`MODEL_NAMES`], [`FIXED_POINT_MODELS`], [`PARAM_SETS`],
+/// [`MODEL_SETS`], the parser dispatch and the model names. A model's host
+/// module implements [`HostParams`] and [`HostModel`] for it; nothing else
+/// here names a model.
 macro_rules! registry {
-    ($($(#[$doc:meta])* $variant:ident($ty:ty) = $name:literal => $parse:path,)*) => {
+    ($(
+        $(#[$doc:meta])* $variant:ident = $name:literal {
+            params: $params:ty,
+            field: $field:ident,
+            $(map: $map:ty,)?
+            $(variable: $variable:ty,)?
+            $(fixed: $fixed:ty,)?
+            sets: [$($set:literal),* $(,)?],
+        }
+    )*) => {
         /// A model of the library with its parameters.
         #[derive(Clone, Debug, PartialEq)]
         pub enum ModelSpec {
-            $($(#[$doc])* $variant($ty),)*
+            $($(#[$doc])* $variant(<$params as HostParams>::Spec),)*
         }
 
         /// The model names a file may give.
         pub const MODEL_NAMES: &[&str] = &[$($name),*];
+
+        /// The models with a fixed-point (fixed-step) form.
+        pub const FIXED_POINT_MODELS: &[&str] = &[$($(named!($name, $fixed),)?)*];
+
+        /// Each model's parameter sets shipped in `params/`, its primary set
+        /// first (none for a static map validated on another model's curve).
+        pub const MODEL_SETS: &[(&str, &[&str])] = &[$(($name, &[$($set),*]),)*];
+
+        /// The parameter sets shipped with the project (`params/`), embedded
+        /// so that `validate` needs no files.
+        pub const PARAM_SETS: &[(&str, &str)] = &[$($(
+            ($set, include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/../params/", $set, ".toml"))),
+        )*)*];
 
         impl ModelSpec {
             /// The host side of the model.
@@ -353,10 +404,17 @@ macro_rules! registry {
                 }
             }
 
+            /// The `model = "..."` name.
+            pub fn name(&self) -> &'static str {
+                match self {
+                    $(Self::$variant(_) => $name,)*
+                }
+            }
+
             /// Parses the model's keys from a parameter file's text.
             pub fn parse(name: &str, text: &str, origin: &str) -> Result<Self> {
                 match name {
-                    $($name => Ok(Self::$variant($parse(text, origin)?)),)*
+                    $($name => Ok(Self::$variant(<$params as HostParams>::parse(text, origin, $name)?)),)*
                     other => anyhow::bail!(
                         "{origin}: unknown model `{other}` (expected one of {})",
                         MODEL_NAMES.join(", ")
@@ -367,36 +425,9 @@ macro_rules! registry {
     };
 }
 
-registry! {
-    /// `coulomb`: `fc`.
-    Coulomb(friction_core::CoulombParams) = "coulomb" => static_maps::parse_coulomb,
-    /// `coulomb-viscous`: `fc`, `sigma2`.
-    CoulombViscous(friction_core::CoulombViscousParams) = "coulomb-viscous" => static_maps::parse_coulomb_viscous,
-    /// `stribeck`: `fc`, `fs`, `vs`, `stribeck_exponent`, `sigma2`.
-    Stribeck(friction_core::StribeckMapParams) = "stribeck" => static_maps::parse_stribeck,
-    /// `lugre`: `fc`, `fs`, `vs`, `stribeck_exponent`, `sigma0`, `sigma1`, `sigma2`, `vd`.
-    LuGre(friction_core::LuGreParams) = "lugre" => lugre::parse,
-    /// `dahl`: `sigma`, `fc`, `delta`, `sigma2`.
-    Dahl(friction_core::DahlParams) = "dahl" => dahl::parse,
-    /// `elasto-plastic`: the LuGre keys and `z_ba`.
-    ElastoPlastic(friction_core::ElastoPlasticParams) = "elasto-plastic" => elasto_plastic::parse,
-    /// `reset-integrator`: `sigma0`, `sigma1`, `z0`, `stiction`, optional Stribeck keys.
-    ResetIntegrator(friction_core::ResetIntegratorParams) = "reset-integrator" => reset_integrator::parse,
-    /// `bristle`: `sigma0`, `delta_s`, `bristles` (1 to 64), `seed`.
-    Bristle(BristleSpec) = "bristle" => bristle::parse,
-    /// `gms`: Stribeck keys, `sigma2`, `c`, `[[elements]]` with `k`, `alpha`, `sigma1` (1 to 16).
-    Gms(GmsSpec) = "gms" => gms::parse,
-    /// `xiong`: Stribeck keys, `tau`, `sigma2`, `[[elements]]` with `k`, `sigma`, `lambda` (1 to 16).
-    Xiong(XiongSpec) = "xiong" => xiong::parse,
-    /// `leuven`: Stribeck keys, `sigma1`, `sigma2`, `n`, `xs`, `memory` (1 to 32, default 16).
-    Leuven(LeuvenSpec) = "leuven" => leuven::parse,
-}
+friction_core::model_list!(registry);
 
 impl ModelSpec {
-    /// The `model = "..."` name.
-    pub fn name(&self) -> &'static str {
-        self.host().name()
-    }
     /// See [`HostModel::max_static_force`].
     pub fn max_static_force(&self) -> f64 {
         self.host().max_static_force()

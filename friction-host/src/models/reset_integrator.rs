@@ -1,6 +1,7 @@
 //! The reset integrator (Haessig & Friedland 1991) on the host: a
 //! discontinuous right-hand side for the reference solver.
 
+use super::HostParams;
 use super::{
     boxed, from_toml, in_scalar, model_file, sign, stribeck, Continuous, Expect, HostModel,
     ScalarKind, Stepper, N, U, Y,
@@ -24,9 +25,11 @@ model_file!(ResetIntegratorFile {
     stribeck_exponent: Option<f64>,
 });
 
-pub(super) fn parse(text: &str, origin: &str) -> Result<ResetIntegratorParams> {
-    let f: ResetIntegratorFile = from_toml(text, origin, "reset-integrator")?;
-    let curve = match (f.fc, f.fs, f.vs) {
+impl HostParams for ResetIntegratorParams {
+    type Spec = Self;
+    fn parse(text: &str, origin: &str, name: &'static str) -> Result<Self> {
+        let f: ResetIntegratorFile = from_toml(text, origin, name)?;
+        let curve = match (f.fc, f.fs, f.vs) {
         (Some(fc), Some(fs), Some(vs)) => Some(StribeckParams {
             fc,
             fs,
@@ -40,13 +43,14 @@ pub(super) fn parse(text: &str, origin: &str) -> Result<ResetIntegratorParams> {
             "{origin}: the Stribeck shape of `reset-integrator` needs all of `fc`, `fs`, `vs` (or none)"
         ),
     };
-    Ok(ResetIntegratorParams {
-        sigma0: f.sigma0,
-        sigma1: f.sigma1,
-        z0: f.z0,
-        stiction: f.stiction,
-        curve,
-    })
+        Ok(ResetIntegratorParams {
+            sigma0: f.sigma0,
+            sigma1: f.sigma1,
+            z0: f.z0,
+            stiction: f.stiction,
+            curve,
+        })
+    }
 }
 
 struct ResetIntegratorOde(ResetIntegratorParams);
@@ -101,9 +105,6 @@ fn build<S: Scalar + 'static>(p: &ResetIntegratorParams) -> Result<Box<dyn Stepp
 }
 
 impl HostModel for ResetIntegratorParams {
-    fn name(&self) -> &'static str {
-        "reset-integrator"
-    }
     /// `sigma0` by the stiffness factor and `z0` by `scale / stiffness`, so
     /// the bond's force `sigma0 z0` scales by `scale` (a Stribeck curve only
     /// shapes `sigma0(v)` by `g(v) / Fs`).

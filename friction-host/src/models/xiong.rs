@@ -2,6 +2,7 @@
 //! file keys, the continuous equations, expectations and bounds.
 
 use super::gms::with_count;
+use super::HostParams;
 use super::{
     boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, sign,
     Continuous, Expect, HostModel, ScalarKind, Stepper, N, Y,
@@ -46,34 +47,37 @@ model_file!(XiongFile {
     elements: Vec<ElementFile>,
 });
 
-pub(super) fn parse(text: &str, origin: &str) -> Result<XiongSpec> {
-    let f: XiongFile = from_toml(text, origin, "xiong")?;
-    if !(1..=super::gms::MAX_ELEMENTS).contains(&f.elements.len()) {
-        bail!(
+impl<const N: usize> HostParams for XiongParams<N> {
+    type Spec = XiongSpec;
+    fn parse(text: &str, origin: &str, name: &'static str) -> Result<XiongSpec> {
+        let f: XiongFile = from_toml(text, origin, name)?;
+        if !(1..=super::gms::MAX_ELEMENTS).contains(&f.elements.len()) {
+            bail!(
             "{origin}: {} `[[elements]]` tables: the host runs the Xiong model with 1 to {} elements",
             f.elements.len(),
             super::gms::MAX_ELEMENTS
         );
+        }
+        Ok(XiongSpec {
+            curve: StribeckParams {
+                fc: f.fc,
+                fs: f.fs,
+                vs: f.vs,
+                exponent: f.stribeck_exponent,
+            },
+            tau: f.tau,
+            sigma2: f.sigma2,
+            elements: f
+                .elements
+                .iter()
+                .map(|e| XiongElement {
+                    k: e.k,
+                    sigma: e.sigma,
+                    lambda: e.lambda,
+                })
+                .collect(),
+        })
     }
-    Ok(XiongSpec {
-        curve: StribeckParams {
-            fc: f.fc,
-            fs: f.fs,
-            vs: f.vs,
-            exponent: f.stribeck_exponent,
-        },
-        tau: f.tau,
-        sigma2: f.sigma2,
-        elements: f
-            .elements
-            .iter()
-            .map(|e| XiongElement {
-                k: e.k,
-                sigma: e.sigma,
-                lambda: e.lambda,
-            })
-            .collect(),
-    })
 }
 
 impl XiongSpec {
@@ -211,9 +215,6 @@ fn observer_n<const K: usize>(
 }
 
 impl HostModel for XiongSpec {
-    fn name(&self) -> &'static str {
-        "xiong"
-    }
     /// See `observer_n`.
     fn observer_controller(
         &self,
@@ -273,6 +274,11 @@ impl HostModel for XiongSpec {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The module's parser, as the registry calls it.
+    fn parse(text: &str, origin: &str) -> Result<XiongSpec> {
+        <XiongParams<1> as HostParams>::parse(text, origin, "xiong")
+    }
 
     #[test]
     fn rejects_unknown_keys_in_elements() {

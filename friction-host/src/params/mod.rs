@@ -164,54 +164,8 @@ impl ParamFile {
 }
 
 /// The parameter sets shipped with the project (`params/`), embedded so that
-/// `validate` needs no files.
-pub const PARAM_SETS: &[(&str, &str)] = &[
-    (
-        "canudas1995",
-        include_str!("../../../params/canudas1995.toml"),
-    ),
-    (
-        "astrom2008-drift",
-        include_str!("../../../params/astrom2008-drift.toml"),
-    ),
-    (
-        "astrom2008-stickslip",
-        include_str!("../../../params/astrom2008-stickslip.toml"),
-    ),
-    (
-        "olsson1998-servo",
-        include_str!("../../../params/olsson1998-servo.toml"),
-    ),
-    ("dahl1968", include_str!("../../../params/dahl1968.toml")),
-    (
-        "canudas1995-ep",
-        include_str!("../../../params/canudas1995-ep.toml"),
-    ),
-    (
-        "astrom2008-drift-ep",
-        include_str!("../../../params/astrom2008-drift-ep.toml"),
-    ),
-    (
-        "haessig1991-reset",
-        include_str!("../../../params/haessig1991-reset.toml"),
-    ),
-    (
-        "haessig1991-bristle",
-        include_str!("../../../params/haessig1991-bristle.toml"),
-    ),
-    (
-        "gms-typical",
-        include_str!("../../../params/gms-typical.toml"),
-    ),
-    (
-        "xiong-typical",
-        include_str!("../../../params/xiong-typical.toml"),
-    ),
-    (
-        "leuven-typical",
-        include_str!("../../../params/leuven-typical.toml"),
-    ),
-];
+/// `validate` needs no files; from the model list (`models::PARAM_SETS`).
+pub use crate::models::PARAM_SETS;
 
 /// A shipped parameter set by name.
 pub fn param_set(name: &str) -> Result<ParamFile> {
