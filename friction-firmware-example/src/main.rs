@@ -33,37 +33,24 @@ use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use defmt_semihosting as _;
-use friction_core::{
-    AtPeriod, BristleParams, Commissioned, CommissioningState, Compensation, Compensator, CompensatorState, CoulombViscousParams,
-    DahlParams, ElastoPlasticParams, FeedForward, FixedStepModel, FrictionModel, GmsElement,
-    GmsParams, GmsState, LeuvenParams, LeuvenState, LuGre, LuGreAt, LuGreAtState, LuGreParams,
-    LuGreServo, LuGreState, NoCompensation, Observer, ParameterAdaptiveServo, Phase,
-    ResetIntegratorParams, Setpoint, SlipMode, StribeckParams, XiongElement, XiongParams,
-};
-use hw::Encoder;
 use embedded_hal::pwm::SetDutyCycle;
+use friction_core::{
+    AtPeriod, BristleParams, Commissioned, CommissioningState, Compensation, Compensator,
+    CompensatorState, CoulombViscousParams, DahlParams, ElastoPlasticParams, FeedForward,
+    FixedStepModel, FrictionModel, GmsElement, GmsParams, GmsState, LeuvenParams, LeuvenState,
+    LuGre, LuGreAt, LuGreAtState, LuGreParams, LuGreServo, LuGreState, NoCompensation, Observer,
+    ParameterAdaptiveServo, Phase, ResetIntegratorParams, Setpoint, SlipMode, StribeckParams,
+    XiongElement, XiongParams,
+};
 use heapless::spsc::Queue;
+use hw::Encoder;
 use hw::{Plant, SimDrive, SimEncoder};
 use servo::Servo;
 use setup::{
     adaptation, commissioning, controller, fallback, leuven_nominal, parameter_adaptation,
-    supervisor, ENCODER_COUNTS, H, INERTIA, NOMINAL, OBSERVER_GAIN, TORQUE_MAX,
+    supervisor, ACTUAL, ENCODER_COUNTS, H, INERTIA, NOMINAL, OBSERVER_GAIN, TORQUE_MAX,
 };
 use telemetry::{Sample, Sender, Stats};
-
-/// The plant's "real" friction: 10-20 % away from the nominal model.
-const ACTUAL: LuGreParams = LuGreParams {
-    curve: StribeckParams {
-        fc: 0.31,
-        fs: 0.38,
-        vs: 0.012,
-        exponent: 2.0,
-    },
-    sigma0: 300.0,
-    sigma1: 0.7,
-    sigma2: 0.02,
-    vd: None,
-};
 
 const SUBSTEPS: u32 = 10; // plant simulated at 10 kHz
 const TICKS: u32 = 4000; // 4 s: two periods of the trajectory
@@ -304,7 +291,13 @@ fn parameters_hold(r: &Commissioned) -> bool {
         ("fs", m.curve.fs, t.curve.fs, id.stribeck, 0.05),
         ("sigma2", m.sigma2, t.sigma2, true, 0.05),
         ("vs", m.curve.vs, t.curve.vs, id.stribeck, 0.2),
-        ("exponent", m.curve.exponent, t.curve.exponent, id.stribeck, f64::INFINITY),
+        (
+            "exponent",
+            m.curve.exponent,
+            t.curve.exponent,
+            id.stribeck,
+            f64::INFINITY,
+        ),
         ("sigma0", m.sigma0, t.sigma0, id.stiffness, 0.3),
         ("sigma1", m.sigma1, t.sigma1, id.damping, f64::INFINITY),
     ];
@@ -832,7 +825,9 @@ fn main() -> ! {
         debug::exit(EXIT_FAILURE);
     }
     if !(with_commissioned.rms <= 2.0 * exact.rms) {
-        defmt::error!("the commissioned observer missed its bound (2x the exact model's rms error)");
+        defmt::error!(
+            "the commissioned observer missed its bound (2x the exact model's rms error)"
+        );
         debug::exit(EXIT_FAILURE);
     }
     if obs_leuven.rms >= none.rms || leuven_obs.rms >= leuven_none.rms {
