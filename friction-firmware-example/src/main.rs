@@ -1,5 +1,12 @@
 //! A compensated servo loop on a Cortex-M4F (QEMU mps2-an386).
 //!
+//! It first commissions its plant: the core's `Commissioning` routine
+//! ticked in the control loop against the simulated axis, the fit, the
+//! identified parameters against the plant's (issue 33's bounds, enforced
+//! where the run says it identified them), then the LuGre observer on the
+//! commissioned model tracks against the observer on the exact model and
+//! must stay within 2x its RMS error.
+//!
 //! The core's compensator (here a PD position loop with acceleration
 //! feed-forward) tracks one trajectory four times against a simulated plant
 //! (inertia + LuGre friction whose parameters differ from the controller's
