@@ -1,5 +1,12 @@
 //! A compensated servo loop on a Cortex-M4F (QEMU mps2-an386).
 //!
+//! It first commissions its plant: the core's `Commissioning` routine
+//! ticked in the control loop against the simulated axis, the fit, the
+//! identified parameters against the plant's (issue 33's bounds, enforced
+//! where the run says it identified them), then the LuGre observer on the
+//! commissioned model tracks against the observer on the exact model and
+//! must stay within 2x its RMS error.
+//!
 //! The core's compensator (here a PD position loop with acceleration
 //! feed-forward) tracks one trajectory four times against a simulated plant
 //! (inertia + LuGre friction whose parameters differ from the controller's
@@ -33,39 +40,28 @@ use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use defmt_semihosting as _;
+use embedded_hal::pwm::SetDutyCycle;
 use friction_core::{
-    AtPeriod, BristleParams, Compensation, Compensator, CompensatorState, CoulombViscousParams,
-    DahlParams, ElastoPlasticParams, FeedForward, FixedStepModel, FrictionModel, GmsElement,
-    GmsParams, GmsState, LeuvenParams, LeuvenState, LuGre, LuGreAt, LuGreAtState, LuGreParams,
-    LuGreServo, LuGreState, NoCompensation, Observer, ParameterAdaptiveServo,
-    ResetIntegratorParams, Setpoint, SlipMode, StribeckParams, XiongElement, XiongParams,
+    AtPeriod, BristleParams, Commissioned, CommissioningState, Compensation, Compensator,
+    CompensatorState, CoulombViscousParams, DahlParams, ElastoPlasticParams, FeedForward,
+    FixedStepModel, FrictionModel, GmsElement, GmsParams, GmsState, LeuvenParams, LeuvenState,
+    LuGre, LuGreAt, LuGreAtState, LuGreParams, LuGreServo, LuGreState, NoCompensation, Observer,
+    ParameterAdaptiveServo, Phase, ResetIntegratorParams, Setpoint, SlipMode, StribeckParams,
+    XiongElement, XiongParams,
 };
 use heapless::spsc::Queue;
+use hw::Encoder;
 use hw::{Plant, SimDrive, SimEncoder};
 use servo::Servo;
 use setup::{
-    adaptation, controller, fallback, leuven_nominal, parameter_adaptation, supervisor, H, INERTIA,
-    NOMINAL, OBSERVER_GAIN, TORQUE_MAX,
+    adaptation, commissioning, controller, fallback, leuven_nominal, parameter_adaptation,
+    supervisor, ACTUAL, ENCODER_COUNTS, H, INERTIA, NOMINAL, OBSERVER_GAIN, TORQUE_MAX,
 };
 use telemetry::{Sample, Sender, Stats};
 
-/// The plant's "real" friction: 10-20 % away from the nominal model.
-const ACTUAL: LuGreParams = LuGreParams {
-    curve: StribeckParams {
-        fc: 0.31,
-        fs: 0.38,
-        vs: 0.012,
-        exponent: 2.0,
-    },
-    sigma0: 300.0,
-    sigma1: 0.7,
-    sigma2: 0.02,
-    vd: None,
-};
-
 const SUBSTEPS: u32 = 10; // plant simulated at 10 kHz
 const TICKS: u32 = 4000; // 4 s: two periods of the trajectory
-const COUNTS_PER_RAD: f32 = 1_048_576.0 / (2.0 * core::f32::consts::PI); // 20-bit encoder
+const COUNTS_PER_RAD: f32 = (ENCODER_COUNTS / core::f64::consts::TAU) as f32;
 const AMPLITUDE: f32 = 0.2; // rad
 const FREQUENCY: f32 = 0.5; // Hz
 
@@ -195,6 +191,157 @@ fn run_actuator<M: FrictionModel<f32>, C: Compensation<f32>>(
         max: stats.max,
         overflows: sender.overflows,
     }
+}
+
+/// Commissions the plant: the core's routine ticked in the control loop
+/// (encoder read -> `Commissioning::tick` -> `SetDutyCycle`) against the
+/// same simulated axis the servo runs on, from rest, then the fit. Logs the
+/// phases and plateaus as they pass; fails on an abort, a refused result,
+/// or a run beyond its window or its duration.
+fn commission() -> Commissioned {
+    let settings = commissioning();
+    let Ok(routine) = settings.build::<f32>() else {
+        fail("commissioning settings")
+    };
+    let Ok(friction) = ACTUAL.build::<f32>() else {
+        fail("plant parameters")
+    };
+    let plant = RefCell::new(Plant {
+        inertia: INERTIA,
+        friction,
+        z: LuGreState::default(),
+        x: 0.0,
+        v: 0.0,
+        torque: 0.0,
+        asymmetry: 0.0,
+        load: 0.0,
+    });
+    let mut drive = SimDrive {
+        plant: &plant,
+        max_duty: 20_000,
+        torque_max: TORQUE_MAX,
+    };
+    let mut encoder = SimEncoder {
+        plant: &plant,
+        counts_per_rad: COUNTS_PER_RAD,
+    };
+    let max = drive.max_duty_cycle();
+    let mut state = CommissioningState::default();
+    // the routine stops itself at its duration: two more ticks are a bug
+    let most = libm::ceil(settings.duration / settings.servo.h) as u32 + 2;
+    let (mut widest, mut shown) = (0.0f32, (Phase::Breakaway, 0u8));
+    defmt::info!("commissioning: break-away ramps");
+    for _ in 0..most {
+        let Ok(counts) = encoder.read_counts();
+        let x = counts as f32 / COUNTS_PER_RAD;
+        widest = widest.max(libm::fabsf(x));
+        let tick = routine.tick(&mut state, x);
+        let Ok(()) = drive.set_duty_cycle(servo::duty(tick.command, TORQUE_MAX, max));
+        if (tick.phase, tick.plateaus) != shown {
+            shown = (tick.phase, tick.plateaus);
+            defmt::info!(
+                "commissioning: {} after {=f32} s, {=u8} plateaus",
+                tick.phase,
+                state.ticks() as f32 * H,
+                tick.plateaus
+            );
+        }
+        if matches!(tick.phase, Phase::Done | Phase::Aborted) {
+            break;
+        }
+        plant.borrow_mut().advance(H, SUBSTEPS);
+    }
+    let seconds = state.ticks() as f32 * H;
+    defmt::info!(
+        "commissioning: {=f32} s of plant time, widest excursion {=f32} rad (window {=f64})",
+        seconds,
+        widest,
+        settings.travel
+    );
+    if f64::from(widest) > settings.travel || f64::from(seconds) > settings.duration {
+        fail("commissioning left its window or ran over its duration");
+    }
+    for p in routine.plateau_points(&state).into_iter().flatten() {
+        defmt::info!(
+            "commissioning plateau: v {=f64} rad/s, F {=f64} N m, steady {=bool}",
+            p.speed,
+            p.force,
+            p.steady
+        );
+    }
+    match routine.result(&state) {
+        Ok(r) => r,
+        Err(e) => {
+            defmt::error!("commissioning refused: {}", e);
+            fail("commissioning")
+        }
+    }
+}
+
+/// Checks the commissioned parameters against the plant's (issue 33's
+/// bounds: `fc` and `sigma2` within 5 %; `fs` within 5 % and `vs` within
+/// 20 % where the run says it identified the Stribeck branch, `sigma0`
+/// within 30 % where it says it identified the stiffness; `sigma1` and what
+/// was not identified reported against the same bounds, not enforced).
+/// True when the enforced bounds hold.
+///
+/// On this plant the PD loop cannot hold the Stribeck branch (its damping
+/// is below the branch's falling slope), so `fs` is the routine's fallback,
+/// the break-away level of its command ramp, which LuGre's creep under the
+/// ramp keeps below `fs`: the guide's cost page gives the figure.
+fn parameters_hold(r: &Commissioned) -> bool {
+    let (m, t, id) = (r.model, ACTUAL, r.identified);
+    let rows = [
+        // (name, commissioned, plant, identified, bound): fc and
+        // sigma2 are enforced whatever the run says, the plant has both
+        ("fc", m.curve.fc, t.curve.fc, true, 0.05),
+        ("fs", m.curve.fs, t.curve.fs, id.stribeck, 0.05),
+        ("sigma2", m.sigma2, t.sigma2, true, 0.05),
+        ("vs", m.curve.vs, t.curve.vs, id.stribeck, 0.2),
+        (
+            "exponent",
+            m.curve.exponent,
+            t.curve.exponent,
+            id.stribeck,
+            f64::INFINITY,
+        ),
+        ("sigma0", m.sigma0, t.sigma0, id.stiffness, 0.3),
+        ("sigma1", m.sigma1, t.sigma1, id.damping, f64::INFINITY),
+    ];
+    let mut hold = true;
+    for (name, got, truth, identified, bound) in rows {
+        let error = (got - truth) / truth;
+        let within = libm::fabs(error) <= bound;
+        let enforced = identified && bound.is_finite();
+        hold &= within || !enforced;
+        let verdict = match (identified, enforced, within) {
+            (_, true, true) => "ok",
+            (_, true, false) => "MISSED",
+            (true, false, _) => "identified, no bound in the issue (reported)",
+            (false, _, true) => "not identified, within (reported)",
+            (false, _, false) => "not identified, outside (reported, not enforced)",
+        };
+        defmt::info!(
+            "commissioned {=str}: {=f64} (plant {=f64}, error {=f64} %), bound {=f64} %: {=str}",
+            name,
+            got,
+            truth,
+            100.0 * error,
+            100.0 * bound,
+            verdict
+        );
+    }
+    defmt::info!(
+        "commissioned: identified {}, fit residual {=f64} % of fc, speeds {=f64} to {=f64} rad/s, {=u8} plateaus fitted, break-away {=f64} / {=f64} N m",
+        id,
+        100.0 * r.residual,
+        r.speed_range[0],
+        r.speed_range[1],
+        r.plateaus,
+        r.breakaway[0],
+        r.breakaway[1]
+    );
+    hold
 }
 
 /// SysTick ticks spent by `f`, `n` times (counting down, 24 bits).
@@ -487,6 +634,11 @@ fn main() -> ! {
         fail("telemetry queue self-check");
     }
 
+    // commissioning first: the routine identifies the plant, then the
+    // servo compensates with the result
+    let commissioned = commission();
+    let parameters_ok = parameters_hold(&commissioned);
+
     // the loop runs at one rate: the fixed-step form, built for H
     let (Ok(model), Ok(model_at), Ok(coulomb)) = (
         NOMINAL.build::<f32>(),
@@ -528,6 +680,28 @@ fn main() -> ! {
     };
 
     let none = run(c_none);
+    // the commissioned model's observer against the same observer on the
+    // plant's exact model (issue 33: within 2x its error)
+    let (Ok(exact_at), Ok(commissioned_at)) = (
+        ACTUAL.build_at::<f32>(H as f64),
+        commissioned.model.build_at::<f32>(H as f64),
+    ) else {
+        fail("exact or commissioned model")
+    };
+    let (Ok(exact_observer), Ok(commissioned_observer)) = (
+        Observer::new(exact_at, OBSERVER_GAIN),
+        Observer::new(commissioned_at, OBSERVER_GAIN),
+    ) else {
+        fail("observer gain")
+    };
+    let (Ok(c_exact), Ok(c_commissioned)) = (
+        p.build(AtPeriod(exact_observer)),
+        p.build(AtPeriod(commissioned_observer)),
+    ) else {
+        fail("controller gains")
+    };
+    let exact = run(c_exact);
+    let with_commissioned = run(c_commissioned);
     let coul = run(c_coul);
     let obs_damped = run(c_obs);
     let obs_plain = run(c_plain);
@@ -607,6 +781,8 @@ fn main() -> ! {
         ("Coulomb + viscous feed-forward (measured v)", &coul),
         ("LuGre observer", &obs_damped),
         ("LuGre observer without sigma1 dz/dt", &obs_plain),
+        ("LuGre observer, the plant's exact model", &exact),
+        ("LuGre observer, the commissioned model", &with_commissioned),
         ("Leuven observer (M = 8) on the LuGre plant", &obs_leuven),
         ("Leuven plant: no compensation", &leuven_none),
         ("Leuven plant: Leuven observer (M = 8)", &leuven_obs),
@@ -647,6 +823,22 @@ fn main() -> ! {
         "observer / uncompensated rms ratio: {=f32}",
         best / none.rms
     );
+    defmt::info!(
+        "commissioned / exact observer rms ratio: {=f32} (bound 2)",
+        with_commissioned.rms / exact.rms
+    );
+    if !parameters_ok {
+        defmt::error!("the commissioned parameters missed their bounds");
+        debug::exit(EXIT_FAILURE);
+    }
+    // a NaN error fails too
+    let tracks = with_commissioned.rms <= 2.0 * exact.rms;
+    if !tracks {
+        defmt::error!(
+            "the commissioned observer missed its bound (2x the exact model's rms error)"
+        );
+        debug::exit(EXIT_FAILURE);
+    }
     if obs_leuven.rms >= none.rms || leuven_obs.rms >= leuven_none.rms {
         defmt::error!("the Leuven observer did not reduce the tracking error");
         debug::exit(EXIT_FAILURE);

@@ -3,8 +3,8 @@
 //! cost table measures the servo the example runs.
 
 use friction_core::{
-    AdaptiveParams, CompensatorParams, CoulombViscousParams, LeuvenParams, LuGreParams,
-    ParameterAdaptiveParams, SupervisorParams,
+    AdaptiveParams, CommissioningParams, CompensatorParams, CoulombViscousParams, LeuvenParams,
+    LuGreParams, ParameterAdaptiveParams, StribeckParams, SupervisorParams,
 };
 
 /// Olsson et al. 1998, Table 2: the controller's model of the friction (N m, rad).
@@ -14,6 +14,22 @@ pub const INERTIA: f32 = 0.0023; // kg m^2
 pub const H: f32 = 1e-3; // 1 kHz control loop
 pub const OBSERVER_GAIN: f64 = 200.0; // 1/s
 pub const TORQUE_MAX: f32 = 5.0; // N m, the drive's full scale and the command limit
+pub const ENCODER_COUNTS: f64 = 1_048_576.0; // per revolution: a 20-bit encoder
+
+/// The simulated plant's "real" friction: 10-20 % away from the nominal
+/// model (the servo's plant, and the one the commissioning cost rows run on).
+pub const ACTUAL: LuGreParams = LuGreParams {
+    curve: StribeckParams {
+        fc: 0.31,
+        fs: 0.38,
+        vs: 0.012,
+        exponent: 2.0,
+    },
+    sigma0: 300.0,
+    sigma1: 0.7,
+    sigma2: 0.02,
+    vd: None,
+};
 
 /// PD (bandwidth 2 pi 10 Hz, damping 1) with acceleration feed-forward, at
 /// 1 kHz, commanding a torque.
@@ -87,5 +103,21 @@ pub fn fallback() -> CoulombViscousParams {
     CoulombViscousParams {
         fc: NOMINAL.curve.fc,
         sigma2: NOMINAL.sigma2,
+    }
+}
+
+/// The commissioning routine for [`controller`]'s loop on the example's
+/// axis: the core's defaults for a travel window of 1 rad and a top speed
+/// of 2 rad/s (three times the trajectory's peak), the encoder's count, and
+/// the slowest plateau where a block of 8 ticks spans 4 counts (slower
+/// plateaus are too coarse for the steadiness test), as `friction
+/// commission` chooses it.
+pub fn commissioning() -> CommissioningParams {
+    let count = core::f64::consts::TAU / ENCODER_COUNTS;
+    let p = CommissioningParams::new(controller(), 1.0, 2.0);
+    CommissioningParams {
+        resolution: count,
+        min_speed: (p.max_speed / 1000.0).max(count / (2.0 * p.servo.h)),
+        ..p
     }
 }

@@ -40,8 +40,9 @@
 #![deny(unsafe_code)]
 
 use core::hint::black_box;
+use core::sync::atomic::{AtomicU32, Ordering};
 use cortex_m::peripheral::{syst::SystClkSource, SYST};
-use cortex_m_rt::entry;
+use cortex_m_rt::{entry, exception};
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::hprintln;
 use friction_core::{AdaptiveObserver, AdaptiveState, Leuven, LeuvenState};
@@ -57,6 +58,9 @@ use friction_core::{
     Xiong, XiongElement, XiongParams, XiongState,
 };
 use friction_core::{
+    Commissioning, CommissioningParams, CommissioningState, CommissioningTick, Phase,
+};
+use friction_core::{
     ParameterAdaptiveAt, ParameterAdaptiveAtState, ParameterAdaptiveServo, SupervisedState,
 };
 
@@ -65,8 +69,8 @@ use friction_core::{
 #[path = "../setup.rs"]
 mod setup;
 use setup::{
-    adaptation, controller, fallback, leuven_nominal, parameter_adaptation, supervisor, H, NOMINAL,
-    OBSERVER_GAIN,
+    adaptation, commissioning, controller, fallback, leuven_nominal, parameter_adaptation,
+    supervisor, ACTUAL, ENCODER_COUNTS, H, INERTIA, NOMINAL, OBSERVER_GAIN, TORQUE_MAX,
 };
 // the sweep, the stress sequence and the GMS / Xiong elements, shared with
 // the profile (`profile.rs`)
@@ -713,6 +717,183 @@ fn servo_stress(k: usize) -> (f32, Setpoint<f32>) {
     (1e-3 * v, r)
 }
 
+step_fn!(step_commissioning_f32, Commissioning<f32>, CommissioningState<f32>, f32 => CommissioningTick<f32>,
+    |m, s, x| m.tick(s, x));
+step_fn!(step_commissioning_q16, Commissioning<Fixed32>, CommissioningState<Fixed32>, Fixed32 => CommissioningTick<Fixed32>,
+    |m, s, x| m.tick(s, x));
+
+/// Replays of each commissioning tick: 16, not [`REPS`], since every tick
+/// of a 25 s run is replayed with a copy of a state of over a kilobyte
+/// (the copy is measured and subtracted, as for every row).
+const COMMISSIONING_REPS: u32 = 16;
+
+/// SysTick wraps (2^24 ticks each) while [`long_count`] measures.
+static WRAPS: AtomicU32 = AtomicU32::new(0);
+
+#[exception]
+fn SysTick() {
+    // single core, the only writer: a load and a store (ARMv6-M has no
+    // atomic read-modify-write)
+    WRAPS.store(WRAPS.load(Ordering::Relaxed) + 1, Ordering::Relaxed);
+}
+
+/// Instructions spent by `f`, once, for calls longer than SysTick's 24
+/// bits (671 M instructions): the wraps are counted by the SysTick
+/// exception, enabled only here.
+fn long_count<O>(per_tick: f32, syst: &mut SYST, f: impl FnOnce() -> O) -> (O, f64) {
+    WRAPS.store(0, Ordering::Relaxed);
+    syst.clear_current();
+    syst.enable_interrupt();
+    let start = SYST::get_current();
+    let out = black_box(f());
+    let end = SYST::get_current();
+    syst.disable_interrupt();
+    let wraps = WRAPS.load(Ordering::Relaxed);
+    let ticks = f64::from(wraps) * f64::from(1u32 << 24) + f64::from(start) - f64::from(end);
+    (out, ticks * f64::from(per_tick))
+}
+
+/// The commissioning tick's rows: the routine of the example (`setup.rs`)
+/// run from rest to its end against the example's plant (inertia and
+/// LuGre friction in f32 at 10 kHz, the 20-bit encoder, the drive's
+/// torque limit), every tick replayed from its own starting state and
+/// counted alone, by the phase the tick starts in, and for the whole run.
+/// Returns the routine and its finished state (for the fit's row), or
+/// `None` with a `cost-skip` line where the scalar cannot carry the
+/// settings.
+fn commissioning_rows<S: Scalar>(
+    per_tick: f32,
+    settings: CommissioningParams,
+    scalar: &str,
+    function: &str,
+    step: fn(&Commissioning<S>, &mut CommissioningState<S>, S) -> CommissioningTick<S>,
+) -> Option<(Commissioning<S>, CommissioningState<S>)> {
+    const SUBSTEPS: u32 = 10;
+    let routine = match settings.build::<S>() {
+        Ok(r) => r,
+        Err(e) => {
+            hprintln!("cost-skip commissioning {} {} {}", scalar, CORE, e);
+            return None;
+        }
+    };
+    let plant = ACTUAL
+        .build::<f32>()
+        .unwrap_or_else(|_| fail("plant parameters"));
+    let counts_per_rad = (ENCODER_COUNTS / core::f64::consts::TAU) as f32;
+    let (mut z, mut x, mut v) = (LuGreState::default(), 0.0f32, 0.0f32);
+    let mut state = CommissioningState::<S>::default();
+    // per phase (break-away, presliding, plateaus) and for the whole run:
+    // sum, ticks, worst and the tick it was at
+    let mut sums = [(0.0f64, 0u32, f32::MIN, 0u32); 4];
+    let most = libm::ceil(settings.duration / settings.servo.h) as u32 + 2;
+    let hs = H / SUBSTEPS as f32;
+    let mut finished = false;
+    for k in 0..most {
+        let measured = libm::floorf(x * counts_per_rad) / counts_per_rad;
+        let input = S::from_f64(f64::from(measured));
+        let phase = match state.phase() {
+            Phase::Breakaway => 0,
+            Phase::Presliding => 1,
+            Phase::Plateaus => 2,
+            Phase::Done | Phase::Aborted => {
+                finished = true;
+                break;
+            }
+        };
+        let t = ticks(COMMISSIONING_REPS, || {
+            let mut s = black_box(state);
+            black_box(step(black_box(&routine), &mut s, black_box(input)));
+            black_box(&s);
+        });
+        let base = ticks(COMMISSIONING_REPS, || {
+            let mut s = black_box(state);
+            black_box(step_none(black_box(&routine), &mut s, black_box(input)));
+            black_box(&s);
+        });
+        let c = (t as f32 - base as f32) * per_tick / COMMISSIONING_REPS as f32;
+        for i in [phase, 3] {
+            if let Some(e) = sums.get_mut(i) {
+                e.0 += f64::from(c);
+                e.1 += 1;
+                if c > e.2 {
+                    (e.2, e.3) = (c, k);
+                }
+            }
+        }
+        let tick = step(&routine, &mut state, input);
+        let torque = tick.command.to_f64() as f32;
+        let torque = torque.clamp(-TORQUE_MAX, TORQUE_MAX);
+        for _ in 0..SUBSTEPS {
+            let f = plant.step(&mut z, v, hs);
+            v += hs * (torque - f) / INERTIA;
+            x += hs * v;
+        }
+    }
+    if !(finished && state.phase() == Phase::Done) {
+        hprintln!("cost: commissioning in {}: {:?}", scalar, state.abort());
+        fail("the commissioning run of the cost rows did not finish");
+    }
+    let names = [
+        "commissioning-breakaway",
+        "commissioning-presliding",
+        "commissioning-plateaus",
+        "commissioning",
+    ];
+    for (name, (sum, n, worst, at)) in names.into_iter().zip(sums) {
+        if n == 0 {
+            fail("a commissioning phase without ticks");
+        }
+        let avg = (sum / f64::from(n)) as f32;
+        hprintln!("cost {} {} {} {}", name, scalar, CORE, round(avg));
+        hprintln!("cost-worst {} {} {} {}", name, scalar, CORE, round(worst));
+        hprintln!(
+            "cost-detail {} {} {} fixed avg={} worst={} ratio={} worst-at=tick:{} straight-avg={} model-bytes={} state-bytes={} stack-bytes=- fn={}",
+            name,
+            scalar,
+            CORE,
+            tenths(avg),
+            tenths(worst),
+            hundredths(worst / avg),
+            at,
+            tenths(avg),
+            core::mem::size_of::<Commissioning<S>>(),
+            core::mem::size_of::<CommissioningState<S>>(),
+            function
+        );
+    }
+    Some((routine, state))
+}
+
+/// The final fit's row: `Commissioning::result` once on the finished run
+/// (f64, in software on both cores), its instructions in the avg and
+/// worst columns; fails if the fit refuses the run.
+fn fit_row<S: Scalar>(
+    per_tick: f32,
+    syst: &mut SYST,
+    scalar: &str,
+    routine: &Commissioning<S>,
+    state: &CommissioningState<S>,
+) {
+    let (result, n) = long_count(per_tick, syst, || routine.result(black_box(state)));
+    if result.is_err() {
+        fail("the commissioning fit refused the cost rows' run");
+    }
+    // beyond i32's tenths: whole instructions
+    let n = n as u64;
+    hprintln!("cost commissioning-fit {} {} {}", scalar, CORE, n);
+    hprintln!("cost-worst commissioning-fit {} {} {}", scalar, CORE, n);
+    hprintln!(
+        "cost-detail commissioning-fit {} {} fixed avg={}.0 worst={}.0 ratio=1.00 worst-at=run:0 straight-avg={}.0 model-bytes={} state-bytes={} stack-bytes=- fn=result",
+        scalar,
+        CORE,
+        n,
+        n,
+        n,
+        core::mem::size_of::<Commissioning<S>>(),
+        core::mem::size_of::<CommissioningState<S>>()
+    );
+}
+
 fn fail(what: &str) -> ! {
     hprintln!("cost: failed: {}", what);
     debug::exit(EXIT_FAILURE);
@@ -1181,6 +1362,37 @@ fn main() -> ! {
         |k| Fixed32::from_f64(0.01 * k as f64),
         STRESS_LEN,
     );
+    // the commissioning tick by phase, and the fit (f64 in software): f32
+    // on both cores, Q16.16 as the M0's scalar
+    let Some((routine, state)) = commissioning_rows::<f32>(
+        pt,
+        commissioning(),
+        "f32",
+        "step_commissioning_f32",
+        step_commissioning_f32,
+    ) else {
+        fail("the example's commissioning settings in f32")
+    };
+    fit_row(pt, &mut cp.SYST, "f32", &routine, &state);
+    if CORE == "cortex-m0" {
+        // Q16.16 holds a plateau's 1 / (8 v h) only up to 32,768 (the
+        // example's slowest plateau, 3 mrad/s, gives 41,667) and each
+        // setting within 0.1 % of its value: the slowest plateau at 10
+        // mrad/s, the ramp a whole number of Q16.16 steps a tick. The fit
+        // is the f32 row's f64 code, not repeated.
+        let settings = CommissioningParams {
+            min_speed: 0.01,
+            ramp_rate: 33.0 / 65_536.0 / f64::from(H),
+            ..commissioning()
+        };
+        commissioning_rows::<Fixed32>(
+            pt,
+            settings,
+            "fixed",
+            "step_commissioning_q16",
+            step_commissioning_q16,
+        );
+    }
     hprintln!("cost-done");
     debug::exit(EXIT_SUCCESS);
     loop {
