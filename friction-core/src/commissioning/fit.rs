@@ -7,7 +7,9 @@
 //! 30 % RMS of their mean beyond the variance `c^2 / 4` that the encoder's
 //! count adds (a steady slide's quantized distances take two adjacent
 //! values); `c`, the count as a fraction of a block's distance, must be at
-//! most 1/4, or the plateau is too slow for the encoder to judge. The point
+//! most 1/4, or the plateau is too slow for the encoder to judge; and the
+//! mean distance within 25 % of the reference's (an axis that lagged the
+//! reference was not at the plateau's speed). The point
 //! is `v` the distance over
 //! the time, `F = kc` times the mean command. A plateau in stick-slip (the
 //! loop's damping below the curve's falling slope) is left out. Per
@@ -128,6 +130,9 @@ const MAX_RESIDUAL: f64 = 0.1;
 const SIGNIFICANT: f64 = 0.25;
 /// Stribeck excess below this fraction of `fc`: no Stribeck effect.
 const MIN_EXCESS: f64 = 0.02;
+/// A plateau whose mean distance per block differs from the reference's by
+/// more than this fraction did not keep up with it.
+const TRACKED: f64 = 0.25;
 /// A plateau whose distance per block varies by more than 30 % RMS of its
 /// mean (beyond what the encoder's counts explain) was not sliding
 /// steadily.
@@ -299,16 +304,19 @@ pub(super) fn measured<S: Scalar>(
         // the distance spans one period fewer than the commands summed
         let periods = f64::from(p.ticks - 1);
         let speed = p.distance.to_f64() / (periods * h);
-        let force = kc * p.command_sum / f64::from(p.ticks);
-        let blocks = f64::from(p.blocks.max(1));
-        let mean = p.ratio_sum / blocks;
-        let variance = p.square_sum / blocks - mean * mean;
+        let force = kc * p.command_mean.to_f64();
+        let mean = p.ratio_mean.to_f64();
+        let variance = p.square_mean.to_f64() - mean * mean;
         let step = 8.0 * params.speed(count.saturating_sub(1 + index / 2)) * h;
-        let counts = params.resolution / step;
+        let counts = resolution::<S>(params) / step;
         // a steady slide's block distances differ by at most one count:
         // their variance is at most c^2 / 4
         let resolved = counts <= 0.25;
-        let steady = resolved && variance - 0.25 * counts * counts <= STEADY * mean * mean;
+        // and it kept up with the reference: a lagging axis is not at the
+        // plateau's speed
+        let tracked = (mean - 1.0).abs() <= TRACKED;
+        let steady =
+            resolved && tracked && variance - 0.25 * counts * counts <= STEADY * mean * mean;
         let finite = speed.is_finite() && force.is_finite() && speed != 0.0;
         if finite {
             *slot = Some(PlateauPoint {
@@ -483,12 +491,15 @@ fn stiffness<S: Scalar>(
     let [plus, minus] = state.presliding;
     let dx = plus.to_f64() - minus.to_f64();
     let a = params.servo.torque_constant * state.presliding_level.to_f64();
-    let floor = if params.resolution > 0.0 {
-        MIN_COUNTS * params.resolution
+    let count = resolution::<S>(params);
+    // a float's own resolution is far below any presliding: then the
+    // floor is the displacement that counts as breaking away
+    let floor = if count > 1e-6 * params.breakaway_travel {
+        MIN_COUNTS * count
     } else {
         params.breakaway_travel
     };
-    let resolved = dx.is_finite() && dx > 0.0 && dx >= MIN_COUNTS * params.resolution;
+    let resolved = dx.is_finite() && dx > 0.0 && dx >= MIN_COUNTS * count;
     if state.slipped.get() || !resolved {
         return (fs / floor, false);
     }
@@ -513,7 +524,7 @@ fn damping<S: Scalar>(
     let critical = 2.0 * libm::sqrt(model.sigma0 * inertia);
     let [before, lowest, last] = state.step_response.map(|x| x.to_f64());
     let (drop, overshoot) = (before - last, last - lowest);
-    let count = params.resolution;
+    let count = resolution::<S>(params);
     let seen = drop > 0.0 && drop >= 2.0 * MIN_COUNTS * count && overshoot > 2.0 * count;
     let target = overshoot / drop;
     if !(measured && seen && target > 0.0 && target < 1.0 && inertia > 0.0) {
@@ -569,4 +580,10 @@ fn step_overshoot(params: &CommissioningParams, model: LuGreParams, a: f64) -> f
         lowest = lowest.min(x);
     }
     (x - lowest) / -x
+}
+
+/// The position's resolution: the encoder's count, or the scalar's own
+/// where it is coarser (Q16.16 holds a position to 1/65536).
+fn resolution<S: Scalar>(params: &CommissioningParams) -> f64 {
+    params.resolution.max(S::MIN_POSITIVE.to_f64())
 }

@@ -207,34 +207,39 @@ impl CommissioningParams {
         self.validate()?;
         let h = self.servo.h;
         let ticks = |seconds: f64| libm::ceil(seconds / h).min(f64::from(u32::MAX)) as u32;
-        let mut speeds = [S::ZERO; MAX_SPEEDS];
-        let mut inv_steps = [Gain::new("min_speed", 0.0)?; MAX_SPEEDS];
-        let mut measuring = [0u32; MAX_SPEEDS];
-        for (k, ((speed, inv), count)) in speeds
-            .iter_mut()
-            .zip(inv_steps.iter_mut())
-            .zip(measuring.iter_mut())
-            .enumerate()
-        {
+        let zero = Gain::new("min_speed", 0.0)?;
+        let mut speeds = [Speed {
+            speed: S::ZERO,
+            inv_step: zero,
+            inv_ticks: zero,
+            inv_blocks: zero,
+            ticks: 0,
+        }; MAX_SPEEDS];
+        for (k, slot) in speeds.iter_mut().enumerate() {
             if k < usize::from(self.speeds) {
                 let v = self.speed(k);
-                *speed = convert("min_speed", v)?;
-                *inv = Gain::new("min_speed", 1.0 / (f64::from(BLOCK) * v * h))?;
-                *count = ticks(self.measuring_time(v));
+                let count = ticks(self.measuring_time(v)).max(1);
+                let blocks = (count / u32::from(BLOCK)).max(1);
+                *slot = Speed {
+                    speed: coarse("min_speed", v)?,
+                    inv_step: Gain::new("min_speed", 1.0 / (f64::from(BLOCK) * v * h))?,
+                    inv_ticks: Gain::new("plateau", 1.0 / f64::from(count))?,
+                    inv_blocks: Gain::new("plateau", 1.0 / f64::from(blocks))?,
+                    ticks: count,
+                };
             }
         }
         Ok(Commissioning {
             servo: self.servo.build(NoCompensation)?,
-            travel: convert("travel", self.travel)?,
-            breakaway_travel: convert("breakaway_travel", self.breakaway_travel)?,
-            ramp_step: convert("ramp_rate", self.ramp_rate * h)?,
-            speed_step: convert("acceleration", self.acceleration * h)?,
-            acceleration: convert("acceleration", self.acceleration)?,
-            h: convert("h", h)?,
+            travel: coarse("travel", self.travel)?,
+            breakaway_travel: coarse("breakaway_travel", self.breakaway_travel)?,
+            ramp_step: coarse("ramp_rate", self.ramp_rate * h)?,
+            speed_step: coarse("acceleration", self.acceleration * h)?,
+            acceleration: coarse("acceleration", self.acceleration)?,
+            h: Gain::new("h", h)?,
             limit: convert("limit", self.servo.limit)?,
+            ratio_cap: S::from_f64(RATIO_CAP),
             speeds,
-            inv_steps,
-            measuring,
             settle_ticks: ticks(self.settle),
             hold_ticks: ticks(HOLD),
             presliding_ticks: ticks(PRESLIDING_HOLD),
@@ -248,6 +253,38 @@ impl CommissioningParams {
 /// Ticks in a block of a plateau's sums (8 commands stay within the
 /// `32 limit` every scalar of a compensator holds).
 const BLOCK: u8 = 8;
+/// A block's distance ratio beyond this is a jump, not sliding: it counts
+/// as this (and its square stays within Q16.16).
+const RATIO_CAP: f64 = 32.0;
+
+/// `value` in `S`, rounded: for settings whose rounding only shifts the
+/// programme (a ramp's or a reference's rate, a window), never a measured
+/// figure; refused only where it overflows or rounds to 0.
+fn coarse<S: Scalar>(name: &'static str, value: f64) -> Result<S, ParamError> {
+    let s = S::from_f64(value);
+    if !s.is_finite() || (s.to_f64() - value).abs() > 0.5 * value.abs() {
+        return Err(ParamError::NotRepresentable(name));
+    }
+    if s == S::ZERO {
+        return Err(ParamError::Underflow(name));
+    }
+    Ok(s)
+}
+
+/// A plateau speed and the gains of its measurement.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+struct Speed<S> {
+    speed: S,
+    /// `1 / (8 v h)`: a block's distance as a ratio of the plateau's.
+    inv_step: Gain<S>,
+    /// `1 / ticks` and `1 / blocks` of the measurement: the sums are kept as
+    /// means, so that no scalar overflows whatever the plateau's length.
+    inv_ticks: Gain<S>,
+    inv_blocks: Gain<S>,
+    ticks: u32,
+}
+
 /// The loop's hold after a break-away ramp (s).
 const HOLD: f64 = 0.3;
 /// Each hold of the presliding programme (s).
@@ -314,12 +351,10 @@ pub struct Commissioning<S> {
     ramp_step: S,
     speed_step: S,
     acceleration: S,
-    h: S,
+    h: Gain<S>,
     limit: S,
-    speeds: [S; MAX_SPEEDS],
-    /// `1 / (8 v h)` per speed: a block's distance as a ratio of the plateau's.
-    inv_steps: [Gain<S>; MAX_SPEEDS],
-    measuring: [u32; MAX_SPEEDS],
+    ratio_cap: S,
+    speeds: [Speed<S>; MAX_SPEEDS],
     settle_ticks: u32,
     hold_ticks: u32,
     presliding_ticks: u32,
@@ -328,20 +363,19 @@ pub struct Commissioning<S> {
     params: CommissioningParams,
 }
 
-/// One measured plateau: the distance, the ticks, and the sum of the
-/// commands over them (kept in `f64`: thousands of commands).
+/// One measured plateau: the distance, the ticks, and the mean command
+/// over them.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub(crate) struct Plateau<S> {
     pub(crate) distance: S,
     pub(crate) ticks: u32,
-    pub(crate) command_sum: f64,
-    /// The sums over the blocks of 8 ticks of each block's distance as a
+    pub(crate) command_mean: S,
+    /// The means over the blocks of 8 ticks of each block's distance as a
     /// ratio `r` of the plateau's `8 v h`, and of `r^2`: their variance
     /// tells steady sliding from stick-slip.
-    pub(crate) ratio_sum: f64,
-    pub(crate) square_sum: f64,
-    pub(crate) blocks: u32,
+    pub(crate) ratio_mean: S,
+    pub(crate) square_mean: S,
 }
 
 // The stored phase: a byte, decoded totally (every byte is some phase).
@@ -458,7 +492,7 @@ impl<S: Scalar> CommissioningState<S> {
     fn level(&self, index: usize) -> S {
         let before = index.checked_sub(2).and_then(|i| self.plateaus.get(i));
         match before {
-            Some(p) if p.ticks > 0 => S::from_f64(p.command_sum / f64::from(p.ticks)).abs(),
+            Some(p) if p.ticks > 0 => p.command_mean.abs(),
             _ => self.breakaway.get(index % 2).copied().unwrap_or(S::ZERO),
         }
     }
@@ -713,19 +747,20 @@ impl<S: Scalar> Commissioning<S> {
             state.next_phase(DONE);
             return S::ZERO;
         }
-        let speed = count - 1 - index / 2;
         let forward = index % 2 == 0;
-        let v = self.speeds.get(speed).copied().unwrap_or(S::ZERO);
-        let target = if forward { v } else { -v };
-        let measuring = self.measuring.get(speed).copied().unwrap_or(0);
+        let Some(speed) = self.speeds.get(count - 1 - index / 2) else {
+            state.next_phase(DONE);
+            return S::ZERO;
+        };
+        let target = if forward { speed.speed } else { -speed.speed };
         let (a, next) = match state.stage {
             0 => self.accelerate(state, target),
             1 => (S::ZERO, state.stage_ticks >= self.settle_ticks),
-            2 => (S::ZERO, state.stage_ticks >= measuring),
+            2 => (S::ZERO, state.stage_ticks >= speed.ticks),
             3 => self.accelerate(state, S::ZERO),
             _ => (S::ZERO, state.stage_ticks >= self.settle_ticks),
         };
-        state.x_ref = state.x_ref + state.v_ref * self.h;
+        state.x_ref = state.x_ref + self.h.times(state.v_ref);
         let level = state.level(index);
         let feed = if state.v_ref > S::ZERO {
             level
@@ -736,12 +771,7 @@ impl<S: Scalar> Commissioning<S> {
         };
         let command = (self.track(state, x, a) + feed).sat(self.limit);
         if state.stage == 2 {
-            let inv_step = self
-                .inv_steps
-                .get(speed)
-                .copied()
-                .unwrap_or(self.inv_steps[0]);
-            self.measure(state, x, index, command, inv_step, next);
+            self.measure(state, x, index, command, speed, next);
         }
         if next {
             if state.stage >= 4 {
@@ -754,16 +784,14 @@ impl<S: Scalar> Commissioning<S> {
         command
     }
 
-    /// One tick of plateau `index`'s measuring stage (`inv_step`: `1 / (8 v
-    /// h)` of its speed, so that a block of 8 ticks at the plateau's speed
-    /// has the ratio 1).
+    /// One tick of plateau `index`'s measuring stage at `speed`.
     fn measure(
         &self,
         state: &mut CommissioningState<S>,
         x: S,
         index: usize,
         command: S,
-        inv_step: Gain<S>,
+        speed: &Speed<S>,
         last: bool,
     ) {
         if state.stage_ticks == 1 {
@@ -778,19 +806,17 @@ impl<S: Scalar> Commissioning<S> {
         state.block = state.block + command;
         state.block_len += 1;
         if state.block_len >= BLOCK || last {
-            // a ratio beyond 32 is a jump, not sliding: it counts as 32
-            let r = inv_step
+            let r = speed
+                .inv_step
                 .times(x - state.last_x)
                 .abs()
-                .min(S::from_f64(32.0))
-                .to_f64();
+                .min(self.ratio_cap);
             let full = state.block_len >= BLOCK;
             if let Some(p) = state.plateaus.get_mut(index) {
-                p.command_sum += state.block.to_f64();
+                p.command_mean = p.command_mean + speed.inv_ticks.times(state.block);
                 if full {
-                    p.ratio_sum += r;
-                    p.square_sum += r * r;
-                    p.blocks += 1;
+                    p.ratio_mean = p.ratio_mean + speed.inv_blocks.times(r);
+                    p.square_mean = p.square_mean + speed.inv_blocks.times(r * r);
                 }
                 p.ticks = state.stage_ticks;
                 p.distance = x - state.x_start;
