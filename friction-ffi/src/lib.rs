@@ -38,6 +38,7 @@
 extern crate std;
 
 mod any;
+pub mod commissioning;
 pub mod model;
 pub mod observer;
 pub mod params;
@@ -45,6 +46,7 @@ pub mod servo;
 mod slot;
 pub mod status;
 
+pub use commissioning::*;
 pub use model::*;
 pub use observer::*;
 pub use params::*;

@@ -776,7 +776,8 @@ impl<S: Scalar> Commissioning<S> {
             }
         }
         state.block = state.block + command;
-        state.block_len += 1;
+        // saturating: a state C's memory holds may carry any count here
+        state.block_len = state.block_len.saturating_add(1);
         if state.block_len >= BLOCK || last {
             // a ratio beyond 32 is a jump, not sliding: it counts as 32
             let r = inv_step
