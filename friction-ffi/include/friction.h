@@ -79,6 +79,42 @@
 #define FRICTION_NAME_LEN 32
 
 /**
+ * Why a routine stopped early (the values of
+ * [`friction_commissioning_abort_f32`]).
+ */
+typedef enum {
+  /**
+   * Not aborted.
+   */
+  FRICTION_ABORT_NONE = 0,
+  /**
+   * The axis left the travel window.
+   */
+  FRICTION_ABORT_TRAVEL = 1,
+  /**
+   * The programme ran longer than `duration`.
+   */
+  FRICTION_ABORT_TIMEOUT = 2,
+  /**
+   * The position loop held its command at the limit for 50 ms.
+   */
+  FRICTION_ABORT_STALL = 3,
+  /**
+   * A break-away ramp reached the command limit without moving the axis.
+   */
+  FRICTION_ABORT_NO_BREAKAWAY = 4,
+  /**
+   * The axis moved against the command (motor or encoder sign reversed).
+   */
+  FRICTION_ABORT_REVERSED_SIGN = 5,
+  /**
+   * A measured position was NaN or infinite (the core's routine; the
+   * ABI refuses such a position before the routine sees it).
+   */
+  FRICTION_ABORT_NON_FINITE = 6,
+} friction_abort;
+
+/**
  * Which compensation the supervisor applies.
  */
 typedef enum {
@@ -95,6 +131,33 @@ typedef enum {
    */
   FRICTION_MODE_OFF = 2,
 } friction_mode;
+
+/**
+ * Where a routine is (the values of [`friction_commissioning_command_f32`]'s
+ * `phase` and of [`friction_commissioning_phase_f32`]).
+ */
+typedef enum {
+  /**
+   * The break-away ramps, forward then backward.
+   */
+  FRICTION_PHASE_BREAKAWAY = 0,
+  /**
+   * The presliding reversal.
+   */
+  FRICTION_PHASE_PRESLIDING = 1,
+  /**
+   * The velocity plateaus.
+   */
+  FRICTION_PHASE_PLATEAUS = 2,
+  /**
+   * Finished: `friction_commissioning_result_*` fits the parameters.
+   */
+  FRICTION_PHASE_DONE = 3,
+  /**
+   * Stopped by a limit or a fault; the command is 0 from now on.
+   */
+  FRICTION_PHASE_ABORTED = 4,
+} friction_phase;
 
 /**
  * What a call did: `FRICTION_OK` (0) or why it refused. Values are stable;
@@ -356,7 +419,7 @@ typedef struct {
    * Plateaus measured so far (of `2 speeds`).
    */
   uint32_t plateaus;
-} friction_commissioning_tick_f32;
+} friction_commissioning_command_f32;
 
 /**
  * What a commissioning tick produced, in `double`.
@@ -375,7 +438,7 @@ typedef struct {
    * Plateaus measured so far (of `2 speeds`).
    */
   uint32_t plateaus;
-} friction_commissioning_tick_f64;
+} friction_commissioning_command_f64;
 
 /**
  * The Stribeck curve `g(v) = fc + (fs - fc) exp(-|v/vs|^exponent)`.
@@ -1080,14 +1143,14 @@ friction_status friction_commissioning_init_f64(friction_commissioning_f64 *out,
  */
 friction_status friction_commissioning_tick_f32(friction_commissioning_f32 *commissioning,
                                                 float x,
-                                                friction_commissioning_tick_f32 *out);
+                                                friction_commissioning_command_f32 *out);
 
 /**
  * [`friction_commissioning_tick_f32`] in `double`.
  */
 friction_status friction_commissioning_tick_f64(friction_commissioning_f64 *commissioning,
                                                 double x,
-                                                friction_commissioning_tick_f64 *out);
+                                                friction_commissioning_command_f64 *out);
 
 /**
  * Where the routine is (a [`friction_phase`] value).

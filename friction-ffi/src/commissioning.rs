@@ -96,7 +96,7 @@ impl From<&friction_commissioning_params> for CommissioningParams {
     }
 }
 
-/// Where a routine is (the values of [`friction_commissioning_tick_f32`]'s
+/// Where a routine is (the values of [`friction_commissioning_command_f32`]'s
 /// `phase` and of [`friction_commissioning_phase_f32`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -173,7 +173,7 @@ fn abort_name(abort: Abort) -> &'static str {
 /// What a commissioning tick produced, in `float`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
-pub struct friction_commissioning_tick_f32 {
+pub struct friction_commissioning_command_f32 {
     /// The command to apply: finite, within `±limit`, 0 once done or
     /// aborted.
     pub command: f32,
@@ -187,7 +187,7 @@ pub struct friction_commissioning_tick_f32 {
 /// What a commissioning tick produced, in `double`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
-pub struct friction_commissioning_tick_f64 {
+pub struct friction_commissioning_command_f64 {
     /// The command to apply: finite, within `±limit`, 0 once done or
     /// aborted.
     pub command: f64,
@@ -522,13 +522,13 @@ pub extern "C" fn friction_commissioning_init_f64(
 pub extern "C" fn friction_commissioning_tick_f32(
     commissioning: Option<&mut friction_commissioning_f32>,
     x: f32,
-    out: Option<&mut friction_commissioning_tick_f32>,
+    out: Option<&mut friction_commissioning_command_f32>,
 ) -> friction_status {
     let Some(out) = out else {
         return friction_status::FRICTION_NULL_POINTER;
     };
     finish(tick(commissioning, x), out, |command, phase, plateaus| {
-        friction_commissioning_tick_f32 {
+        friction_commissioning_command_f32 {
             command,
             phase,
             plateaus,
@@ -541,13 +541,13 @@ pub extern "C" fn friction_commissioning_tick_f32(
 pub extern "C" fn friction_commissioning_tick_f64(
     commissioning: Option<&mut friction_commissioning_f64>,
     x: f64,
-    out: Option<&mut friction_commissioning_tick_f64>,
+    out: Option<&mut friction_commissioning_command_f64>,
 ) -> friction_status {
     let Some(out) = out else {
         return friction_status::FRICTION_NULL_POINTER;
     };
     finish(tick(commissioning, x), out, |command, phase, plateaus| {
-        friction_commissioning_tick_f64 {
+        friction_commissioning_command_f64 {
             command,
             phase,
             plateaus,

@@ -157,7 +157,7 @@ fn same_result(c: &friction_commissioned, r: &Commissioned) {
 /// through the core, each on its own plant: the same command every tick,
 /// the same phase, the same result, bit for bit. Returns the result.
 macro_rules! commission_both {
-    ($scalar:ty, $object:ident, $words:expr, $init:ident, $tick:ident, $tick_ty:ident,
+    ($scalar:ty, $object:ident, $words:expr, $init:ident, $tick:ident, $command_ty:ident,
      $phase:ident, $abort:ident, $result:ident) => {{
         let p = params();
         let mut c = $object {
@@ -175,7 +175,7 @@ macro_rules! commission_both {
         let mut state = CommissioningState::<$scalar>::default();
         let plant = LuGreParams::OLSSON_1998;
         let (mut a, mut b) = (Plant::new(&plant), Plant::new(&plant));
-        let mut t = $tick_ty {
+        let mut t = $command_ty {
             command: 0.0,
             phase: -1,
             plateaus: 0,
@@ -253,7 +253,7 @@ fn commissions_a_lugre_plant_as_the_core_does_then_retunes_a_servo_f32() {
         FRICTION_COMMISSIONING_F32_WORDS,
         friction_commissioning_init_f32,
         friction_commissioning_tick_f32,
-        friction_commissioning_tick_f32,
+        friction_commissioning_command_f32,
         friction_commissioning_phase_f32,
         friction_commissioning_abort_f32,
         friction_commissioning_result_f32
@@ -332,7 +332,7 @@ fn commissions_a_lugre_plant_as_the_core_does_then_retunes_a_servo_f64() {
         FRICTION_COMMISSIONING_F64_WORDS,
         friction_commissioning_init_f64,
         friction_commissioning_tick_f64,
-        friction_commissioning_tick_f64,
+        friction_commissioning_command_f64,
         friction_commissioning_phase_f64,
         friction_commissioning_abort_f64,
         friction_commissioning_result_f64
@@ -464,7 +464,7 @@ fn null_and_never_initialised_objects_are_refused() {
     let mut c = friction_commissioning_f32 {
         opaque: [0; FRICTION_COMMISSIONING_F32_WORDS],
     };
-    let mut t = friction_commissioning_tick_f32 {
+    let mut t = friction_commissioning_command_f32 {
         command: 1.0,
         phase: -1,
         plateaus: 9,
@@ -533,7 +533,7 @@ fn an_axis_that_never_moves_aborts_and_nan_is_refused() {
         friction_commissioning_init_f32(Some(&mut c), Some(&params()), None),
         FRICTION_OK
     );
-    let mut t = friction_commissioning_tick_f32 {
+    let mut t = friction_commissioning_command_f32 {
         command: 0.0,
         phase: -1,
         plateaus: 0,
