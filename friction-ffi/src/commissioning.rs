@@ -391,7 +391,10 @@ where
     let (Some(object), Some(out)) = (object, out) else {
         return report(
             error,
-            Refusal::new(friction_status::FRICTION_NULL_POINTER, "commissioning or out"),
+            Refusal::new(
+                friction_status::FRICTION_NULL_POINTER,
+                "commissioning or out",
+            ),
         );
     };
     let (c, s) = match routine(object) {

@@ -283,7 +283,14 @@ fn commissions_a_lugre_plant_as_the_core_does_then_retunes_a_servo_f32() {
         opaque: [0; FRICTION_SERVO_F32_WORDS],
     };
     assert_eq!(
-        friction_servo_init_f32(Some(&mut servo), Some(&SERVO), Some(&old), 200.0, None, None),
+        friction_servo_init_f32(
+            Some(&mut servo),
+            Some(&SERVO),
+            Some(&old),
+            200.0,
+            None,
+            None
+        ),
         FRICTION_OK
     );
     let r = friction_setpoint_f32 {
@@ -424,10 +431,7 @@ fn refusals_name_the_parameter_and_leave_the_object() {
         ),
         (
             friction_commissioning_params {
-                servo: friction_servo_params {
-                    kd: -1.0,
-                    ..SERVO
-                },
+                servo: friction_servo_params { kd: -1.0, ..SERVO },
                 ..params()
             },
             FRICTION_NEGATIVE,
@@ -514,7 +518,8 @@ fn null_and_never_initialised_objects_are_refused() {
     let mut f = friction_commissioning_f32 {
         opaque: [0; FRICTION_COMMISSIONING_F32_WORDS],
     };
-    f.opaque.copy_from_slice(&d.opaque[..FRICTION_COMMISSIONING_F32_WORDS]);
+    f.opaque
+        .copy_from_slice(&d.opaque[..FRICTION_COMMISSIONING_F32_WORDS]);
     assert_eq!(
         friction_commissioning_tick_f32(Some(&mut f), 0.0, Some(&mut t)),
         FRICTION_NOT_INITIALISED
@@ -571,10 +576,7 @@ fn an_axis_that_never_moves_aborts_and_nan_is_refused() {
         ticks += 1;
         assert!(ticks < 20_000, "the ramp reaches the limit in 10 s");
     }
-    assert_eq!(
-        (t.phase, t.command),
-        (FRICTION_PHASE_ABORTED as i32, 0.0)
-    );
+    assert_eq!((t.phase, t.command), (FRICTION_PHASE_ABORTED as i32, 0.0));
     let mut abort = -1;
     friction_commissioning_abort_f32(Some(&mut c), Some(&mut abort));
     assert_eq!(abort, friction_abort::FRICTION_ABORT_NO_BREAKAWAY as i32);

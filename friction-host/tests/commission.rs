@@ -31,7 +31,10 @@ fn commissions_the_olsson_servo_and_compensates_with_the_result() {
 
 /// Commissions a shipped actuator file; returns the run.
 fn actuator(name: &str) -> friction_host::commission::CommissionRun {
-    let path = format!("{}/../params/actuators/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+    let path = format!(
+        "{}/../params/actuators/{name}.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
     let file = ParamFile::load(Path::new(&path)).unwrap();
     let run = commission(&file, &path, false).unwrap();
     println!("{name}:\n{}", run.table());
@@ -67,4 +70,3 @@ fn commissions_the_emps_levels() {
         }
     }
 }
-

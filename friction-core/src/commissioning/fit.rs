@@ -568,7 +568,7 @@ fn step_overshoot(params: &CommissioningParams, model: LuGreParams, a: f64) -> f
     // a loop faster than 100 kHz (or a period C's memory garbled) would
     // make the fit's up to 71 simulations of the hold unbounded in time:
     // sigma1 is then not identified (the NaN ratio fails every check)
-    if !(periods <= MAX_SIMULATED_PERIODS) {
+    if periods.is_nan() || periods > MAX_SIMULATED_PERIODS {
         return f64::NAN;
     }
     let periods = periods as u32;
