@@ -136,9 +136,9 @@ fn saturated_product(a: i32, b: i32) -> i32 {
 /// (`a < 0`), and `b` alike; `(A + 1)(B + 1) < 2^15` then bounds
 /// `|a b| <= 2^47 - 2^32`, so the result is within `i32` and the sum
 /// `a bh + ah bl + (al bl + 2^15) >> 16`, equal to it modulo 2^32
-/// (`a bh = ah bh 2^16 + al bh`), is exact in wrapping arithmetic. About 18
-/// instructions on ARMv6-M, against 27 for four partial products summed
-/// with an overflow test each.
+/// (`a bh = ah bh 2^16 + al bh`), is exact in wrapping arithmetic. ARMv6-M
+/// has only a 32-bit multiply: three products and one test of the high
+/// halves replace four partial products summed with an overflow test each.
 #[cfg(any(test, all(target_arch = "arm", not(target_has_atomic = "32"))))]
 #[inline]
 fn split_saturated_product(a: i32, b: i32) -> i32 {
@@ -248,9 +248,9 @@ fn integer_part(n: u32, d: u32) -> (u32, u32) {
 }
 
 /// `(n / d, n % d)` for `n < 16 d` in four shift-subtract steps (the test
-/// `r >> s >= d` is `r >= d << s`, without its overflow): about 40
-/// instructions on a Cortex-M0 instead of a `u32` division call and its
-/// set-up, about 95 (tested on the host against the division).
+/// `r >> s >= d` is `r >= d << s`, without its overflow): cheaper on a
+/// Cortex-M0, which has no divide instruction, than a `u32` division call
+/// and its set-up (tested on the host against the division).
 #[cfg(any(test, all(target_arch = "arm", not(target_has_atomic = "32"))))]
 #[inline]
 fn small_quotient(n: u32, d: u32) -> (u32, u32) {
@@ -281,8 +281,8 @@ const RECIPROCAL_SEED: [u16; 64] = {
 
 /// For a byte `t` in `1..256`, the left shift that brings its leading one
 /// to bit 7 (0 for `t = 0`): with two conditional shifts before it, a
-/// divisor's normalization on a Cortex-M0 in about 12 instructions instead
-/// of five conditional shifts' 30.
+/// divisor's normalization on a Cortex-M0 (no count-leading-zeros
+/// instruction) without five conditional shifts.
 // evaluated at compile time: an index out of range fails the build
 #[allow(clippy::indexing_slicing)]
 const LEADING_SHIFT: [u8; 256] = {
@@ -356,10 +356,10 @@ impl Divisor {
 }
 
 /// `floor(r 2^17 / d)` for `r < d <= 2^31`, the fraction bits of a
-/// quotient (and one rounding bit), on ARM: about 60 instructions on a
-/// Cortex-M0 (no divide instruction) instead of a 17-step shift-subtract
-/// loop of about 200, and cheaper than the loop on a Cortex-M4 too (the
-/// `q16-div` cost row 135 -> 89). The same bits: tested on the host against
+/// quotient (and one rounding bit), on ARM: two digits instead of a
+/// 17-step shift-subtract loop, several times cheaper on a Cortex-M0 (no
+/// divide instruction) and cheaper on a Cortex-M4 too (the cost guide's
+/// `q16-div` row). The same bits: tested on the host against
 /// the loop, and on both cores by the cost benchmark against a 64-bit
 /// division. `d` is shifted into [`Divisor`]'s range, `r` with it, and the
 /// quotient formed in two digits of 9 and 8 bits.
@@ -380,9 +380,8 @@ fn fraction_quotient(r: u32, d: u32) -> u32 {
 /// larger `d`: with `D = d 2^s` (`s >= 4`), the whole part is the digit
 /// `floor((n 2^(s - 4)) 2^4 / D)` (`n 2^(s - 4) < D`), whose remainder is
 /// `r 2^s`, and the 17 fraction bits two more digits, as in
-/// [`fraction_quotient`]. About 10 instructions fewer than
-/// `small_quotient` and the fraction on a Cortex-M0; the same bits (tested
-/// on the host).
+/// [`fraction_quotient`]. One digit in place of `small_quotient`'s four
+/// steps, cheaper on a Cortex-M0; the same bits (tested on the host).
 #[cfg(any(test, all(target_arch = "arm", not(target_has_atomic = "32"))))]
 #[inline]
 fn small_quotient_digits(n: u32, d: u32) -> Option<u32> {
@@ -446,7 +445,7 @@ impl Div for Fixed32 {
     /// part by a `u32` division, none below 1 and on ARMv6-M none below 16;
     /// the fraction by a 17-step long division, on ARM by two digits from a
     /// 16-bit reciprocal): a Cortex-M0 has no divide instruction, and
-    /// a 64-bit division costs it about 580 instructions.
+    /// a 64-bit division is a long library call there.
     #[inline]
     fn div(self, rhs: Self) -> Self {
         let (a, b) = (self.to_bits(), rhs.to_bits());
@@ -468,7 +467,7 @@ impl Div for Fixed32 {
             }
         }
         // a quotient below 1 (common: forces over forces) needs no u32
-        // division, a call of about 90 instructions on a Cortex-M0
+        // division, a library call on a Cortex-M0
         let (whole, r) = if n < d { (0, n) } else { integer_part(n, d) };
         // |quotient| >= 2^15 saturates
         if whole >= 1 << 15 {
