@@ -469,8 +469,8 @@ fn term<S: Scalar>(k: Gain<S>, x: S, b: S) -> S {
 
 /// [`term`] for a finite `x`, where `0 x = 0` needs no test: floating point
 /// forms the product and the clamp alone (a test and a branch fewer a term
-/// in the tick); fixed point still skips the product when `k = 0` (a
-/// product costs tens of instructions on a core without a 64-bit multiply).
+/// in the tick); fixed point still skips the product when `k = 0` (its
+/// product is several 32-bit products on a core without a 64-bit multiply).
 #[inline]
 fn term_of_finite<S: Scalar>(k: Gain<S>, x: S, b: S) -> S {
     if S::SCALES_FORCES && k.is_zero() {

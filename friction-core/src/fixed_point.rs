@@ -111,19 +111,24 @@ impl Mul for Fixed32 {
     }
 }
 
-/// `(a b + 2^15) >> 16` saturated to `i32`.
-#[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
-#[inline]
-fn saturated_product(a: i32, b: i32) -> i32 {
-    clamp_i32(rounded_product(a, b))
-}
+/// Whether the target is ARMv6-M (Cortex-M0, M0+; told apart from ARMv7-M
+/// by its missing 32-bit atomics): no divide instruction, no count of
+/// leading zeros, and a multiplier that keeps only the low 32 bits of a
+/// product, so the kernels below take their ARMv6-M forms there. One
+/// constant instead of a `cfg` at every use: both forms compile on every
+/// target (the ARMv6-M kernels are tested on the host), and the compiler
+/// drops the branch not taken.
+const ARMV6M: bool = cfg!(all(target_arch = "arm", not(target_has_atomic = "32")));
 
-/// `(a b + 2^15) >> 16` saturated to `i32` on ARMv6-M (Cortex-M0, M0+;
-/// told apart from ARMv7-M by its missing 32-bit atomics).
-#[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+/// `(a b + 2^15) >> 16` saturated to `i32`: from three 32-bit products on
+/// ARMv6-M, from the 64-bit product elsewhere.
 #[inline]
 fn saturated_product(a: i32, b: i32) -> i32 {
-    split_saturated_product(a, b)
+    if ARMV6M {
+        split_saturated_product(a, b)
+    } else {
+        clamp_i32(rounded_product(a, b))
+    }
 }
 
 /// `(a b + 2^15) >> 16` saturated, from three 32-bit products where the
@@ -136,10 +141,9 @@ fn saturated_product(a: i32, b: i32) -> i32 {
 /// (`a < 0`), and `b` alike; `(A + 1)(B + 1) < 2^15` then bounds
 /// `|a b| <= 2^47 - 2^32`, so the result is within `i32` and the sum
 /// `a bh + ah bl + (al bl + 2^15) >> 16`, equal to it modulo 2^32
-/// (`a bh = ah bh 2^16 + al bh`), is exact in wrapping arithmetic. About 18
-/// instructions on ARMv6-M, against 27 for four partial products summed
-/// with an overflow test each.
-#[cfg(any(test, all(target_arch = "arm", not(target_has_atomic = "32"))))]
+/// (`a bh = ah bh 2^16 + al bh`), is exact in wrapping arithmetic. ARMv6-M
+/// has only a 32-bit multiply: three products and one test of the high
+/// halves replace four partial products summed with an overflow test each.
 #[inline]
 fn split_saturated_product(a: i32, b: i32) -> i32 {
     let magnitude_a = ((a >> 16) ^ (a >> 31)) as u32 + 1;
@@ -154,7 +158,6 @@ fn split_saturated_product(a: i32, b: i32) -> i32 {
 
 /// `(a b + 2^15) >> 16` modulo 2^32 from three 32-bit products:
 /// `a bh + ah bl + (al bl + 2^15) >> 16` (`a bh = ah bh 2^16 + al bh`).
-#[cfg(any(test, all(target_arch = "arm", not(target_has_atomic = "32"))))]
 #[inline]
 fn wrapping_split_product(a: i32, b: i32) -> i32 {
     let (ah, al) = (a >> 16, (a as u32) & 0xffff);
@@ -175,11 +178,11 @@ fn wrapping_product(a: i32, b: i32) -> i32 {
         i32::try_from(split_product(a, b)).is_ok(),
         "mul_bounded out of range: {a} x {b} (bits)"
     );
-    #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
-    let p = wrapping_split_product(a, b);
-    #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
-    let p = rounded_product(a, b) as i32;
-    p
+    if ARMV6M {
+        wrapping_split_product(a, b)
+    } else {
+        rounded_product(a, b) as i32
+    }
 }
 
 /// `(a b + 2^15) >> 16` for a fraction `0 <= b < 2^16` (below 1 in Q16.16)
@@ -187,7 +190,6 @@ fn wrapping_product(a: i32, b: i32) -> i32 {
 /// of `ah b 2^16` are whole, so only `al b` is rounded, exactly as in
 /// [`split_product`]. `|ah b| < 2^31`, `al b + 2^15 < 2^32`, and the result's
 /// magnitude is at most `|a|`: no sum overflows (tested on the host).
-#[cfg(any(test, all(target_arch = "arm", not(target_has_atomic = "32"))))]
 #[inline]
 fn fraction_product(a: i32, b: u32) -> i32 {
     let (ah, al) = (a >> 16, (a as u32) & 0xffff);
@@ -196,7 +198,6 @@ fn fraction_product(a: i32, b: u32) -> i32 {
 
 /// The rare case of [`split_saturated_product`], out of line: the common
 /// case then keeps its values in registers.
-#[cfg(any(test, all(target_arch = "arm", not(target_has_atomic = "32"))))]
 #[cold]
 #[inline(never)]
 fn saturated_split_product(a: i32, b: i32) -> i32 {
@@ -211,7 +212,6 @@ fn clamp_i32(x: i64) -> i32 {
 
 /// `(a b + 2^15) >> 16` exactly, where the core multiplies 32 by 32 bits
 /// into 64.
-#[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
 #[inline]
 fn rounded_product(a: i32, b: i32) -> i64 {
     (i64::from(a) * i64::from(b) + 0x8000) >> 16
@@ -223,7 +223,6 @@ fn rounded_product(a: i32, b: i32) -> i64 {
 /// (`ah` signed, `al` in `0..2^16`) and `b` alike, the low 16 bits of the
 /// high and middle products are whole, so only `al bl` is rounded, and one
 /// 64-bit shift remains (tested on the host against the 64-bit product).
-#[cfg(any(test, all(target_arch = "arm", not(target_has_atomic = "32"))))]
 #[inline]
 fn split_product(a: i32, b: i32) -> i64 {
     let (ah, al) = (a >> 16, (a as u32) & 0xffff);
@@ -240,18 +239,16 @@ fn split_product(a: i32, b: i32) -> i64 {
 /// `small_quotient` instead of the `u32` division call.
 #[inline]
 fn integer_part(n: u32, d: u32) -> (u32, u32) {
-    #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
-    if n >> 4 < d {
+    if ARMV6M && n >> 4 < d {
         return small_quotient(n, d);
     }
     (n / d, n % d)
 }
 
 /// `(n / d, n % d)` for `n < 16 d` in four shift-subtract steps (the test
-/// `r >> s >= d` is `r >= d << s`, without its overflow): about 40
-/// instructions on a Cortex-M0 instead of a `u32` division call and its
-/// set-up, about 95 (tested on the host against the division).
-#[cfg(any(test, all(target_arch = "arm", not(target_has_atomic = "32"))))]
+/// `r >> s >= d` is `r >= d << s`, without its overflow): cheaper on a
+/// Cortex-M0, which has no divide instruction, than a `u32` division call
+/// and its set-up (tested on the host against the division).
 #[inline]
 fn small_quotient(n: u32, d: u32) -> (u32, u32) {
     let (mut q, mut r) = (0, n);
@@ -281,8 +278,8 @@ const RECIPROCAL_SEED: [u16; 64] = {
 
 /// For a byte `t` in `1..256`, the left shift that brings its leading one
 /// to bit 7 (0 for `t = 0`): with two conditional shifts before it, a
-/// divisor's normalization on a Cortex-M0 in about 12 instructions instead
-/// of five conditional shifts' 30.
+/// divisor's normalization on a Cortex-M0 (no count-leading-zeros
+/// instruction) without five conditional shifts.
 // evaluated at compile time: an index out of range fails the build
 #[allow(clippy::indexing_slicing)]
 const LEADING_SHIFT: [u8; 256] = {
@@ -356,10 +353,10 @@ impl Divisor {
 }
 
 /// `floor(r 2^17 / d)` for `r < d <= 2^31`, the fraction bits of a
-/// quotient (and one rounding bit), on ARM: about 60 instructions on a
-/// Cortex-M0 (no divide instruction) instead of a 17-step shift-subtract
-/// loop of about 200, and cheaper than the loop on a Cortex-M4 too (the
-/// `q16-div` cost row 135 -> 89). The same bits: tested on the host against
+/// quotient (and one rounding bit), on ARM: two digits instead of a
+/// 17-step shift-subtract loop, several times cheaper on a Cortex-M0 (no
+/// divide instruction) and cheaper on a Cortex-M4 too (the cost guide's
+/// `q16-div` row). The same bits: tested on the host against
 /// the loop, and on both cores by the cost benchmark against a 64-bit
 /// division. `d` is shifted into [`Divisor`]'s range, `r` with it, and the
 /// quotient formed in two digits of 9 and 8 bits.
@@ -380,10 +377,8 @@ fn fraction_quotient(r: u32, d: u32) -> u32 {
 /// larger `d`: with `D = d 2^s` (`s >= 4`), the whole part is the digit
 /// `floor((n 2^(s - 4)) 2^4 / D)` (`n 2^(s - 4) < D`), whose remainder is
 /// `r 2^s`, and the 17 fraction bits two more digits, as in
-/// [`fraction_quotient`]. About 10 instructions fewer than
-/// `small_quotient` and the fraction on a Cortex-M0; the same bits (tested
-/// on the host).
-#[cfg(any(test, all(target_arch = "arm", not(target_has_atomic = "32"))))]
+/// `fraction_quotient`. One digit in place of `small_quotient`'s four
+/// steps, cheaper on a Cortex-M0; the same bits (tested on the host).
 #[inline]
 fn small_quotient_digits(n: u32, d: u32) -> Option<u32> {
     if n >> 4 >= d || d >= 1 << 27 {
@@ -446,7 +441,7 @@ impl Div for Fixed32 {
     /// part by a `u32` division, none below 1 and on ARMv6-M none below 16;
     /// the fraction by a 17-step long division, on ARM by two digits from a
     /// 16-bit reciprocal): a Cortex-M0 has no divide instruction, and
-    /// a 64-bit division costs it about 580 instructions.
+    /// a 64-bit division is a long library call there.
     #[inline]
     fn div(self, rhs: Self) -> Self {
         let (a, b) = (self.to_bits(), rhs.to_bits());
@@ -461,14 +456,13 @@ impl Div for Fixed32 {
         let (n, d) = (a.unsigned_abs(), b.unsigned_abs());
         // ARMv6-M: a quotient from 1 to 16 in three digits, its whole part
         // the first (one digit instead of `small_quotient`'s four steps)
-        #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
-        if n >= d {
+        if ARMV6M && n >= d {
             if let Some(q) = small_quotient_digits(n, d) {
                 return Self::from_bits(rounded_quotient(q, negative));
             }
         }
         // a quotient below 1 (common: forces over forces) needs no u32
-        // division, a call of about 90 instructions on a Cortex-M0
+        // division, a library call on a Cortex-M0
         let (whole, r) = if n < d { (0, n) } else { integer_part(n, d) };
         // |quotient| >= 2^15 saturates
         if whole >= 1 << 15 {
@@ -785,8 +779,7 @@ impl Scalar for Fixed32 {
     /// same value either way.
     #[inline]
     fn mul_fraction(self, f: Self) -> Self {
-        #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
-        {
+        if ARMV6M {
             let b = f.to_bits() as u32;
             if b < 1 << 16 {
                 return Self::from_bits(fraction_product(self.to_bits(), b));

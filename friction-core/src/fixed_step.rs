@@ -73,8 +73,8 @@ pub(crate) fn period(h: f64) -> Result<f64, crate::ParamError> {
 /// `±S::VELOCITY_LIMIT` when `v` is finite, `None` when it is not. Within the
 /// limit (the common case) it costs one comparison: a NaN fails it, and
 /// `is_finite` is asked only beyond the limit. Fixed point, always finite,
-/// clamps (the same value; a saturating `|v|` and the clamp cost the
-/// Cortex-M0 about 20 instructions).
+/// clamps (the same value, without a saturating `|v|` before the clamp,
+/// which the Cortex-M0 would pay on every step).
 #[inline]
 pub(crate) fn checked_velocity<S: Scalar>(v: S) -> Option<S> {
     let limit = S::VELOCITY_LIMIT;
@@ -96,8 +96,8 @@ pub(crate) fn checked_velocity<S: Scalar>(v: S) -> Option<S> {
 /// nothing there).
 #[inline]
 pub(crate) fn signed<S: Scalar>(v: S, x: S) -> S {
-    // on ARM the comparison itself: through the trait method, GMS(4) in f32
-    // on a Cortex-M4F took 244 -> 268 instructions (the compiler's inlining)
+    // on ARM the comparison itself: through the trait method the compiler
+    // inlines GMS's f32 step worse on a Cortex-M4F (see the cost guide)
     if cfg!(target_arch = "arm") {
         if v < S::ZERO {
             -x

@@ -152,8 +152,8 @@ pub trait Scalar:
     /// `self * b` where the caller has shown the product within the scalar's
     /// range, with a margin, for every input a model accepts (by the checks
     /// of its `build_at` and the clamp of its velocity): fixed point then skips
-    /// its overflow test (on ARMv6-M three 32-bit products, about 10
-    /// instructions instead of 18). The product whenever it is within the
+    /// its overflow test (on ARMv6-M three 32-bit products without the test
+    /// of the operands' high halves). The product whenever it is within the
     /// range; beyond it, fixed point wraps instead of saturating (never a
     /// panic). This crate's own tests assert the bound at every call.
     #[inline]
@@ -167,8 +167,8 @@ pub trait Scalar:
     /// without rounding `self 2^exp` first. The same value as the quotient
     /// `2^-exp / self` ([`Scalar::rescale_pow2`] of 1) for any `self`; fixed
     /// point overrides it with a reciprocal in digits of a 16-bit estimate,
-    /// which has no whole part to divide first (on a Cortex-M0 about 60
-    /// instructions fewer than the quotient; see the cost guide).
+    /// which has no whole part to divide first (cheaper than the quotient on
+    /// a Cortex-M0, which has no divide instruction; see the cost guide).
     #[inline]
     fn reciprocal_rescaled(self, exp: i8) -> Self {
         Self::ONE.rescale_pow2(exp.saturating_neg()) / self
@@ -178,8 +178,9 @@ pub trait Scalar:
     /// `0 <= f < 1` (such as `e^-x`, `1 - e^-x`, a ratio below its bound):
     /// the same value as the product for any `f`. Fixed point on ARMv6-M
     /// overrides it with two 16 by 16-bit partial products instead of four
-    /// and no saturation, which cannot occur (about 12 instructions instead
-    /// of 27 on a Cortex-M0); any other `f` takes the full product.
+    /// and no saturation, which cannot occur (a Cortex-M0 has only a 32-bit
+    /// multiply, so each partial product saved counts); any other `f` takes
+    /// the full product.
     #[inline]
     fn mul_fraction(self, f: Self) -> Self {
         self * f
@@ -217,8 +218,8 @@ pub trait Scalar:
     /// `[0, 1]`: the elasto-plastic transition zone's rate factor, from 2.47
     /// at 0 to 1 at 1. Default: the series of `sin(phi) / phi` in
     /// `(phi/2)^2`, squared; fixed point evaluates a table of cubic segments
-    /// built at compile time instead (the zone rate on a Cortex-M0: about
-    /// 125 -> 84 instructions).
+    /// built at compile time instead (one segment's cubic in place of the
+    /// series and its square, cheaper on a Cortex-M0; see the cost guide).
     #[inline]
     fn zone_curve(self) -> Self {
         crate::models::elasto_plastic::zone_curve_series(self)
@@ -393,14 +394,14 @@ pub(crate) fn inverse_scale_exp(k: f64) -> i8 {
 
 /// Whether floating-point arithmetic runs on a floating-point unit: not on
 /// an ARM target with the soft-float ABI (Cortex-M0, or M3), where each
-/// operation is a library call of tens of instructions.
+/// operation is a library call.
 const FLOAT_UNIT: bool = !cfg!(all(target_arch = "arm", not(target_abi = "eabihf")));
 
 /// Whether every value is finite. With a floating-point unit `x - x` is 0
 /// for a finite `x` and NaN for an infinite or NaN one, so one comparison of
-/// the sum tests them all (in place of a test of the exponent bits each:
-/// about 20 instructions fewer for the servo tick's four inputs on the
-/// Cortex-M4F); soft float tests the bits; fixed point is always finite.
+/// the sum tests them all (in place of a test of each value's exponent
+/// bits, a move out of the FPU and an integer test per value);
+/// soft float tests the bits; fixed point is always finite.
 #[inline]
 #[allow(clippy::eq_op)] // `x - x` is the test
 pub(crate) fn all_finite<S: Scalar, const N: usize>(xs: [S; N]) -> bool {
@@ -419,9 +420,9 @@ pub(crate) fn all_finite<S: Scalar, const N: usize>(xs: [S; N]) -> bool {
 /// `|x| > a`, then `a` with the sign of `x` (`x` is then neither 0 nor
 /// NaN). The same value as `x.min(a).max(-a)`, NaN and `-0` included
 /// (`|x| > a` is false for a NaN `x` or `a`, which leaves `x`); on the
-/// Cortex-M4F a value within the bound costs one comparison instead of two
-/// compare-and-moves, and one beyond it about as much as before (servo tick
-/// 328 -> 273 instructions).
+/// Cortex-M4F (FPv4 has no min or max) a value within the bound costs one
+/// comparison instead of two compare-and-moves, and one beyond it about as
+/// much as the two.
 #[inline]
 fn sat_by_magnitude<S: Scalar>(x: S, a: S) -> S {
     if x.abs() > a {
@@ -556,7 +557,7 @@ fn exp_m1_small(t: f64) -> f64 {
 /// correction), `e^-r - 1` by [`exp_m1_small`], `2^-(n/64)` from a table of 64 and the
 /// exponent bits ([`times_table`]): within 1 unit in the last place of
 /// `libm::exp` over its whole range, subnormal results included (tested),
-/// about half its instructions; 0 beyond 746, where `e^-x` rounds to 0.
+/// and cheaper; 0 beyond 746, where `e^-x` rounds to 0.
 #[inline]
 fn exp_neg_f64(x: f64) -> f64 {
     const SIXTY_FOUR_LOG2E: f64 = 64.0 * core::f64::consts::LOG2_E;

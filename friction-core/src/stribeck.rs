@@ -148,16 +148,16 @@ impl<S: Scalar> StribeckCurve<S> {
     /// `g(v)` as [`Self::eval`], with the exponential of the fixed-step forms
     /// ([`Scalar::exp2_neg`] in floating point; in fixed point
     /// [`Scalar::exp_neg_square`] for `delta = 2`, else [`Scalar::exp_neg`]).
-    /// Always inlined: on the Cortex-M0 the call
-    /// and its register saves cost Q16.16 LuGre 1 % of its step.
+    /// Always inlined: on the Cortex-M0 the call and its register saves
+    /// cost more than the body saves by being shared.
     #[inline(always)]
     pub fn eval_fast(&self, v: S) -> S {
         let r = (v * self.inv_vs_fast).abs();
         let shape = self.shape.get();
         let e = match shape {
-            // fixed point: a table of cubic segments in r (about 30
-            // instructions on a Cortex-M0 instead of the product r r and
-            // e^-x, about 90)
+            // fixed point: a table of cubic segments in r (no product r r
+            // and no e^-x with its range reduction: a fraction of their
+            // cost on a Cortex-M0)
             Shape::Square if !S::EXP2_FOLDS => r.exp_neg_square(),
             _ => {
                 let p = match shape {

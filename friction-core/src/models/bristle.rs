@@ -31,8 +31,9 @@
 //! re-bonded strain is uniform, so a bristle travels `delta_s` between snaps
 //! on average: the bound bites when `|v| h` approaches `2 delta_s` (for
 //! haessig1991-bristle, 20 mm/s at 1 kHz, 0.2 m/s at 10 kHz), where held
-//! bristles raise the force towards `N sigma0 delta_s`. A draw costs about
-//! 31 instructions on a Cortex-M4F (f32).
+//! bristles raise the force towards `N sigma0 delta_s`. A draw is a 32-bit
+//! counter-based hash (`crate::random`), cheap beside the step on a
+//! Cortex-M.
 //!
 //! `N` must be at least 1:
 //!

@@ -46,8 +46,9 @@
 //! more for the damping term, one division per sub-step, and one `exp` and
 //! one `exp_m1` in the tail. The elastic part and the region above `z_max`
 //! cost no evaluation; steady sliding (`u <= 0.01`) one, plus the tail.
-//! Measured: 2,885 instructions on a Cortex-M4F for the worst case (f32),
-//! against 84,238 for the former implicit-Euler step with `sinf`.
+//! The cost guide gives the measured worst case, and the former
+//! implicit-Euler step's with `sinf`, which was dearer by an order of
+//! magnitude.
 
 use crate::fixed_step::{checked_velocity, signed, FixedStepModel, FixedStepObservable};
 use crate::model::{checked_inputs, convert, magnitude, FrictionModel, ParamError};
@@ -410,8 +411,8 @@ pub(crate) fn zone_curve_series<S: Scalar>(u: S) -> S {
 
 /// `sin(phi) / phi` from `y = (phi/2)^2 <= (pi/4)^2`: the Taylor series
 /// `sum_n (-4y)^n / (2n + 1)!` with `4^n` folded into the coefficients, so
-/// that in fixed point every product is with the fraction `y` (Cortex-M0,
-/// Q16.16: about 12 instructions instead of 27). Its terms run to `phi^12`
+/// that in fixed point every product is with the fraction `y`
+/// ([`Scalar::mul_fraction`], cheaper on a Cortex-M0). Its terms run to `phi^12`
 /// in `f64` (error below `(pi/2)^14 / 15! = 4.3e-10`), to `phi^10` in a
 /// scalar that cannot tell `1 + 1e-9` from 1 (`f32`: below `3.6e-8`, under
 /// half its unit at 1) and to `phi^8` in one that cannot tell `1 + 4e-6`
@@ -572,15 +573,16 @@ impl<S: Scalar> ElastoPlasticAt<S> {
     /// every distance and zone shape (`eps` 0.01 to 1), the state `w` is off
     /// by at most 14.5 % of the zone's width `g(v) - sigma0 z_ba` with
     /// `k = 0`, 8.7 % with 1 (5.0 % with 2, 2.8 % with 3, 1.5 % with 4,
-    /// 0.4 % with 6, 7e-5 with 12). The worst step on a Cortex-M4F (f32)
-    /// costs 259 instructions with `k = 0` (2.5x the average), 382 with
-    /// `k = 1` (3.7x, both within the 4x a real-time loop is sized by) and
-    /// 622 with `k = 3` (6.0x), against 2,067 (20x; the entry, the tail's
-    /// exponential and the damping term's zone rate stay); in Q16.16 on a
-    /// Cortex-M0 2,066 with `k = 0` (3.8x), 2,956 with `k = 1` (5.5x: seven
-    /// divisions of about 130 instructions there) and 4,738 with `k = 3`,
-    /// against 13,206 (the cost table's `elasto-plastic-k0`, `-k1` and
-    /// `-k3` rows). The damping term `sigma1 |v| dW/dX` carries the
+    /// 0.4 % with 6, 7e-5 with 12). Each sub-step costs four evaluations of
+    /// the zone polynomial and a division (dear on a Cortex-M0, which has no
+    /// divide instruction); the entry, the tail's exponential and the
+    /// damping term's zone rate stay. A real-time loop is sized by its worst
+    /// step: with `k = 0` the worst step stays within 4x the average on both
+    /// cores and scalars the cost guide measures, with `k = 1` on a
+    /// Cortex-M4F in `f32`, while the full step's worst is an order of
+    /// magnitude dearer than its average (the cost table's
+    /// `elasto-plastic-k0`, `-k1`, `-k3` and `-full` rows give the figures).
+    /// The damping term `sigma1 |v| dW/dX` carries the
     /// state's error into the force: from rest, at a speed that crosses
     /// the zone in one step, by up to 49 Fs with `k = 0` (35 Fs with 1, 12
     /// Fs with 3), one step's transient.
@@ -736,10 +738,10 @@ impl<S: Scalar> ElastoPlasticAt<S> {
         // scaled
         let w_max = lugre.curve().eval_fast(v);
         // 1/g unscaled, g >= Fc > 0, by the quotient: LuGre's reciprocal
-        // (`inverse_unscaled`, the same bits) would take the Q16.16 step on
-        // a Cortex-M0 445.5 -> 425.4 on average and its `k = 0` worst step
-        // 1,702.5 -> 1,682.5, 3.95x the average against the 4x enforced:
-        // closer than a compiler's layout can be trusted to stay
+        // (`inverse_unscaled`, the same bits) makes the Q16.16 average on a
+        // Cortex-M0 cheaper than it makes the `k = 0` worst step, which then
+        // sits closer to the enforced 4x than a compiler's layout can be
+        // trusted to stay (figures in the cost guide)
         let inv_w_max = lugre.scale_s() / w_max;
         let mut w = state.w;
         let xi = lugre.sigma0_h() * v.abs();

@@ -637,9 +637,9 @@ impl<S: Scalar, const N: usize> GmsAt<S, N> {
 
 /// `n / d`, divided on first use and kept (at once where a division is one
 /// instruction, [`Scalar::CHEAP_DIVISION`]): GMS's `1/g`, which only a
-/// slipping element needs. Q16.16 GMS(4) on a Cortex-M0 over the cost
-/// table's sweep, where every element sticks: 1,219 -> 921 instructions
-/// (856 with the sticking elements' damping summed, below).
+/// slipping element needs: a step where every element sticks (the common
+/// case) then divides not at all, which matters on a core without a divide
+/// instruction (Q16.16 on a Cortex-M0; see the cost guide).
 struct Reciprocal<S> {
     n: S,
     d: S,
@@ -672,9 +672,9 @@ impl<S: Scalar> Reciprocal<S> {
 /// One element over the period: [`element_step`] with the time left for
 /// slipping counted in periods.
 // always inlined into the model's step: no call and argument shuffle per
-// element (Cortex-M4F, f32: GMS(4) 297 -> 246 instructions a step, GMS(16)
-// 1,137 -> 966; Q16.16 on the M0 1,711 -> 1,542; soft-float f32 on the M0
-// 6 % dearer on average)
+// element (cheaper in f32 on a Cortex-M4F and in Q16.16 on a Cortex-M0;
+// soft-float f32 on a Cortex-M0 is slightly dearer, a trade the cost
+// guide records)
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn element_step_at<S: Scalar>(

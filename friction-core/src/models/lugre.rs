@@ -413,9 +413,11 @@ pub(crate) fn phi_series<S: Scalar>(x: S) -> S {
     phi_series_inlined(x)
 }
 
-/// [`phi_series`], always inlined: LuGre's fixed step on the Cortex-M0
-/// (Q16.16) takes 1,003 -> 970 instructions with it inlined, while Dahl's,
-/// which the compiler then evaluates on every step, 344 -> 577.
+/// [`phi_series`], always inlined: LuGre's fixed step (cheaper with it
+/// inlined on a Cortex-M0). Dahl's and the elasto-plastic step call
+/// [`phi_series`] instead: inlined into Dahl's, the compiler evaluates the
+/// series on every step rather than only where it is used (see the cost
+/// guide).
 #[inline(always)]
 fn phi_series_inlined<S: Scalar>(x: S) -> S {
     let c = |n: f64| S::from_f64(1.0 / n);
@@ -509,8 +511,7 @@ impl<S: Scalar> LuGreAt<S> {
     }
 
     // always inlined: the model's step (c = 0, damping on) then carries no
-    // correction or damping-switch branch and no call (Cortex-M4F, f32:
-    // 124.7 -> 108.7 instructions a step, the observer 187.7 -> 174.7)
+    // correction or damping-switch branch and no call
     // CORRECTED: the observer's step, with its correction `c` (the model's
     // step has c = 0 and forms none of its terms: in floating point
     // `d * 0` is not folded away, and a run-time test costs the observer)

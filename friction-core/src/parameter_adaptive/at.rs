@@ -360,7 +360,7 @@ impl<S: Scalar> ParameterAdaptiveAt<S> {
         let w = ratio * g;
         let dw = w - state.w;
         // ζ G: W' itself within the bristle's bound, else ±G (one product
-        // fewer, tens of instructions in Q16.16 on a Cortex-M0)
+        // fewer: a Q16.16 product is several 32-bit ones on a Cortex-M0)
         state.w = if ratio == zeta {
             w
         } else if ratio > S::ZERO {

@@ -2,6 +2,7 @@
 
 use super::solve::{self, Estimate, FitFailure};
 use super::{FullRate, Signals};
+use crate::models::sign;
 use friction_core::{FrictionModel, LuGreParams, LuGreState, StribeckParams};
 use indicatif::ProgressBar;
 
@@ -30,16 +31,6 @@ pub enum Friction {
     },
     /// LuGre.
     LuGre(LuGreParams),
-}
-
-fn sign(v: f64) -> f64 {
-    if v > 0.0 {
-        1.0
-    } else if v < 0.0 {
-        -1.0
-    } else {
-        0.0
-    }
 }
 
 /// `exp(-|v/vs|^delta)`, the Stribeck shape.

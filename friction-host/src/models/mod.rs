@@ -515,15 +515,12 @@ pub(crate) fn curve_g(c: &friction_core::StribeckParams, v: f64) -> f64 {
     stribeck(c.fc, c.fs, c.vs, c.exponent, v)
 }
 
-/// `sign(v)`: -1, 0 or 1.
+/// `sign(v)`: -1, 0 or 1 (0 at zero and for NaN): the core's
+/// [`Scalar::sign`](friction_core::Scalar::sign), so that the host's
+/// references and fits take the sign exactly as the core's models do.
+#[inline]
 pub(crate) fn sign(v: f64) -> f64 {
-    if v > 0.0 {
-        1.0
-    } else if v < 0.0 {
-        -1.0
-    } else {
-        0.0
-    }
+    friction_core::Scalar::sign(v)
 }
 
 /// Declares a model's file struct: its own keys, `deny_unknown_fields`, and
