@@ -13,7 +13,7 @@ const LAYERS: &[&[&str]] = &[
     &["params"],
     &["sim"],
     &["experiments", "servo", "identify"],
-    &["validate", "fuzzing", "online"],
+    &["validate", "fuzzing", "online", "commission"],
 ];
 
 /// The crate's exported macros (`crate::outln!`) and the module defining each.
