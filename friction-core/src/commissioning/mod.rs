@@ -13,13 +13,15 @@
 //!    break-away level), the axis in stick throughout: the two rest
 //!    positions give the stiffness of a reversal, the step's overshoot the
 //!    damping.
-//! 3. **Plateaus**: at `speeds` log-spaced speeds from `min_speed` to
-//!    `max_speed`, a trapezoidal move forward then back through the
+//! 3. **Plateaus**: at `speeds` log-spaced speeds from `max_speed` down to
+//!    `min_speed`, a trapezoidal move forward then back through the
 //!    position loop (the [`Compensator`]'s PID without compensation, with
-//!    the gains of `servo`). Over each cruise, after `settle`, the mean
-//!    command is the friction at the mean speed: with the command held, the
-//!    net force over a stretch that starts and ends at the same speed is
-//!    zero on average.
+//!    the gains of `servo`), the friction measured at the speed before fed
+//!    forward. Over each cruise, after `settle`, the mean command is the
+//!    friction at the mean speed: with the command held, the net force over
+//!    a stretch that starts and ends at the same speed is zero on average.
+//!    A plateau the loop could not hold (stick-slip, or lagging the
+//!    reference) is left out of the fit.
 //!
 //! [`Commissioning::result`] then fits the steady curve (see [`fit`]) and
 //! returns the LuGre parameters with their quality figures.
