@@ -806,7 +806,7 @@ impl<S: Scalar> Commissioning<S> {
             }
         }
         state.block = state.block + command;
-        state.block_len += 1;
+        state.block_len = state.block_len.saturating_add(1);
         if state.block_len >= BLOCK || last {
             let r = speed
                 .inv_step
