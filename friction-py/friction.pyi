@@ -91,6 +91,56 @@ class Compensator:
         """The supervisor's mode after the last tick: "primary", "fallback"
         or "off"; None without a supervisor."""
 
+Phase = Literal["breakaway", "presliding", "plateaus", "done", "aborted"]
+AbortReason = Literal["travel", "timeout", "stall", "no_breakaway", "reversed_sign", "non_finite"]
+
+class Commissioning:
+    """The core's commissioning routine for a notebook's own plant: break-away
+    ramps, a presliding reversal and velocity plateaus through the loop's
+    PID, then a LuGre fit."""
+
+    def __init__(
+        self,
+        h: float,
+        kp: float,
+        kd: float,
+        inertia: float,
+        travel: float,
+        max_speed: float,
+        ki: float = 0.0,
+        torque_constant: float = 1.0,
+        limit: float = 1e3,
+        scalar: Literal["f64", "f32"] = "f64",
+        **settings: float,
+    ) -> None:
+        """The routine for the loop (`h`, gains, inertia, torque constant,
+        command limit), a travel window and a top speed. `settings` override
+        the defaults: duration, min_speed, speeds, plateau, settle,
+        acceleration, ramp_rate, breakaway_travel, resolution. ValueError
+        naming an invalid setting, TypeError for an unknown one."""
+    def tick(self, x: float) -> float:
+        """One period with measured position `x`: the command (within the
+        limit; 0 once done or aborted; a NaN `x` aborts)."""
+    @property
+    def phase(self) -> Phase:
+        """Where the routine is."""
+    @property
+    def abort(self) -> Optional[AbortReason]:
+        """Why it stopped; None unless aborted."""
+    @property
+    def ticks(self) -> int:
+        """Periods run so far."""
+    def plateau_points(self) -> list[tuple[float, float, bool]]:
+        """(speed, force, steady) of every plateau measured so far."""
+    def result(self) -> dict:
+        """The fit of a finished run: "model" (a lugre Model), fc, fs, vs,
+        stribeck_exponent, sigma0, sigma1, sigma2, the levels per direction
+        (fc_pos, fc_neg, fs_pos, fs_neg, sigma2_pos, sigma2_neg,
+        breakaway_pos, breakaway_neg), "identified" (dict of bools:
+        coulomb, stribeck, viscous, stiffness, damping), "residual",
+        "speed_range" and "plateaus". RuntimeError with the reason when the
+        run gives none (not finished, aborted, too few plateaus, poor fit)."""
+
 def load(path: Union[str, PathLike]) -> Model:
     """A parameter file exactly as the command line reads it (ValueError
     with the file, line and key when it is invalid)."""

@@ -3,7 +3,9 @@
 //! (`friction-ffi/tests/fuzz_corpus.rs`).
 //!
 //! The first byte picks the object type (model, observer or servo, in
-//! `float` or `double`); the rest are the object's bytes (cut, or padded
+//! `float` or `double`, by its value modulo 6; a commissioning routine for
+//! `0x20..=0x27`, `float` when even, values the committed corpus never
+//! starts with, so that its inputs keep their types); the rest are the object's bytes (cut, or padded
 //! with zeros, to its size), sent through every call that reads that type.
 //! Besides "no crash, no hang", it asserts that an object whose tag word
 //! (its first 4 bytes) is not one its type's constructors write gets no
@@ -126,13 +128,70 @@ macro_rules! servos {
     }};
 }
 
+/// Every call that reads a commissioning routine, on `words`.
+macro_rules! routines {
+    ($bytes:expr, $ty:ident, $scalar:ty, $tick:ident, $out:ident, $phase:ident, $abort:ident,
+     $reset:ident, $result:ident) => {{
+        let mut c = $ty {
+            opaque: words($bytes),
+        };
+        let mut t = $out {
+            command: 0.0,
+            phase: 0,
+            plateaus: 0,
+        };
+        let zero = friction_stribeck {
+            fc: 0.0,
+            fs: 0.0,
+            vs: 0.0,
+            exponent: 0.0,
+        };
+        let mut r = friction_commissioned {
+            model: friction_lugre_params {
+                curve: zero,
+                sigma0: 0.0,
+                sigma1: 0.0,
+                sigma2: 0.0,
+                vd: 0.0,
+            },
+            fc: [0.0; 2],
+            fs: [0.0; 2],
+            sigma2: [0.0; 2],
+            breakaway: [0.0; 2],
+            identified_coulomb: 0,
+            identified_stribeck: 0,
+            identified_viscous: 0,
+            identified_stiffness: 0,
+            identified_damping: 0,
+            plateaus: 0,
+            residual: 0.0,
+            speed_range: [0.0; 2],
+        };
+        let (mut phase, mut abort) = (0, 0);
+        vec![
+            $tick(Some(&mut c), 0.0, Some(&mut t)),
+            $tick(Some(&mut c), 1e-3, Some(&mut t)),
+            $tick(Some(&mut c), <$scalar>::NAN, Some(&mut t)),
+            $phase(Some(&mut c), Some(&mut phase)),
+            $abort(Some(&mut c), Some(&mut abort)),
+            $result(Some(&mut c), Some(&mut r), None),
+            $reset(Some(&mut c)),
+        ]
+    }};
+}
+
 /// Sends `data` through the ABI (see the module's doc).
 pub fn run(data: &[u8]) {
     let Some((&which, bytes)) = data.split_first() else {
         return;
     };
+    // the object type: 0 to 5 as ever, 6 and 7 the commissioning routines
+    let kind = match which {
+        0x20..=0x27 => 6 + which % 2,
+        _ => which % 6,
+    };
     // the tag a constructor of that type writes (see friction-ffi's slot.rs)
-    let (tag, statuses) = match which % 6 {
+    let (tag, statuses) = match kind {
         0 => (
             0xB1B1_B1B1u32,
             models!(
@@ -195,7 +254,7 @@ pub fn run(data: &[u8]) {
                 friction_servo_retune_f32
             ),
         ),
-        _ => (
+        5 => (
             0xB6B6_B6B6,
             servos!(
                 bytes,
@@ -209,16 +268,45 @@ pub fn run(data: &[u8]) {
                 friction_servo_retune_f64
             ),
         ),
+        6 => (
+            0xB7B7_B7B7,
+            routines!(
+                bytes,
+                friction_commissioning_f32,
+                f32,
+                friction_commissioning_tick_f32,
+                friction_commissioning_command_f32,
+                friction_commissioning_phase_f32,
+                friction_commissioning_abort_f32,
+                friction_commissioning_reset_f32,
+                friction_commissioning_result_f32
+            ),
+        ),
+        _ => (
+            0xB8B8_B8B8,
+            routines!(
+                bytes,
+                friction_commissioning_f64,
+                f64,
+                friction_commissioning_tick_f64,
+                friction_commissioning_command_f64,
+                friction_commissioning_phase_f64,
+                friction_commissioning_abort_f64,
+                friction_commissioning_reset_f64,
+                friction_commissioning_result_f64
+            ),
+        ),
     };
     // the tag word: the first 32 bits (friction-ffi's slot.rs)
     let head: [u8; 4] = std::array::from_fn(|k| bytes.get(k).copied().unwrap_or(0));
     let head = u32::from_ne_bytes(head);
     // a constructor writes the tag plus a kind (1 to 3 for a model, 1 or 2
-    // for an observer, 1 to 6 for a servo)
-    let kinds = match which % 6 {
+    // for an observer, 1 to 7 for a servo, 1 for a routine)
+    let kinds = match kind {
         0 | 1 => 3,
         2 | 3 => 2,
-        _ => 6,
+        4 | 5 => 7,
+        _ => 1,
     };
     if !(1..=kinds).contains(&head.wrapping_sub(tag)) {
         assert!(

@@ -15,6 +15,17 @@
 #include <stdint.h>
 
 /**
+ * Words (8 bytes each) of a `float` commissioning object, room for the
+ * routine and its state (a compile-time check keeps it so).
+ */
+#define FRICTION_COMMISSIONING_F32_WORDS 264
+
+/**
+ * Words (8 bytes each) of a `double` commissioning object.
+ */
+#define FRICTION_COMMISSIONING_F64_WORDS 400
+
+/**
  * Words (8 bytes each) of a `float` model object, room for the largest
  * value it holds (a compile-time check keeps it so).
  */
@@ -68,6 +79,42 @@
 #define FRICTION_NAME_LEN 32
 
 /**
+ * Why a routine stopped early (the values of
+ * [`friction_commissioning_abort_f32`]).
+ */
+typedef enum {
+  /**
+   * Not aborted.
+   */
+  FRICTION_ABORT_NONE = 0,
+  /**
+   * The axis left the travel window.
+   */
+  FRICTION_ABORT_TRAVEL = 1,
+  /**
+   * The programme ran longer than `duration`.
+   */
+  FRICTION_ABORT_TIMEOUT = 2,
+  /**
+   * The position loop held its command at the limit for 50 ms.
+   */
+  FRICTION_ABORT_STALL = 3,
+  /**
+   * A break-away ramp reached the command limit without moving the axis.
+   */
+  FRICTION_ABORT_NO_BREAKAWAY = 4,
+  /**
+   * The axis moved against the command (motor or encoder sign reversed).
+   */
+  FRICTION_ABORT_REVERSED_SIGN = 5,
+  /**
+   * A measured position was NaN or infinite (the core's routine; the
+   * ABI refuses such a position before the routine sees it).
+   */
+  FRICTION_ABORT_NON_FINITE = 6,
+} friction_abort;
+
+/**
  * Which compensation the supervisor applies.
  */
 typedef enum {
@@ -84,6 +131,33 @@ typedef enum {
    */
   FRICTION_MODE_OFF = 2,
 } friction_mode;
+
+/**
+ * Where a routine is (the values of [`friction_commissioning_command_f32`]'s
+ * `phase` and of [`friction_commissioning_phase_f32`]).
+ */
+typedef enum {
+  /**
+   * The break-away ramps, forward then backward.
+   */
+  FRICTION_PHASE_BREAKAWAY = 0,
+  /**
+   * The presliding reversal.
+   */
+  FRICTION_PHASE_PRESLIDING = 1,
+  /**
+   * The velocity plateaus.
+   */
+  FRICTION_PHASE_PLATEAUS = 2,
+  /**
+   * Finished: `friction_commissioning_result_*` fits the parameters.
+   */
+  FRICTION_PHASE_DONE = 3,
+  /**
+   * Stopped by a limit or a fault; the command is 0 from now on.
+   */
+  FRICTION_PHASE_ABORTED = 4,
+} friction_phase;
 
 /**
  * What a call did: `FRICTION_OK` (0) or why it refused. Values are stable;
@@ -167,10 +241,317 @@ enum friction_status
    * (or the servo's safe zero command).
    */
   FRICTION_INPUT_REJECTED = 16,
+  /**
+   * A commissioning routine has not finished: no result yet.
+   */
+  FRICTION_NOT_FINISHED = 17,
+  /**
+   * A commissioning routine stopped early (the error names the limit).
+   */
+  FRICTION_ABORTED = 18,
+  /**
+   * A commissioning run had fewer than three steady plateaus in a
+   * direction.
+   */
+  FRICTION_TOO_FEW_PLATEAUS = 19,
+  /**
+   * A commissioning fit missed its plateaus by more than 10 % of `fc`
+   * RMS.
+   */
+  FRICTION_POOR_FIT = 20,
+  /**
+   * A commissioning fit found no positive Coulomb level.
+   */
+  FRICTION_NO_FRICTION = 21,
 };
 #ifndef __cplusplus
 typedef int32_t friction_status;
 #endif // __cplusplus
+
+/**
+ * The servo loop around the compensation: a PID with acceleration
+ * feed-forward (`friction_core::CompensatorParams`).
+ */
+typedef struct {
+  /**
+   * Sample period `h > 0` (s).
+   */
+  double h;
+  /**
+   * Proportional gain `kp >= 0`.
+   */
+  double kp;
+  /**
+   * Integral gain `ki >= 0`.
+   */
+  double ki;
+  /**
+   * Derivative gain `kd >= 0`.
+   */
+  double kd;
+  /**
+   * Inertia (or mass) `>= 0` of the feed-forward `J a_ref`.
+   */
+  double inertia;
+  /**
+   * Force per command unit `> 0` (1 for a torque command).
+   */
+  double torque_constant;
+  /**
+   * Command limit `> 0`.
+   */
+  double limit;
+} friction_servo_params;
+
+/**
+ * The commissioning programme's settings
+ * (`friction_core::CommissioningParams`);
+ * [`friction_commissioning_defaults`] fills them from a loop, a travel
+ * window and a top speed.
+ */
+typedef struct {
+  /**
+   * The position loop that drives the plateaus: its `limit` is the
+   * command limit of the whole routine, its `inertia` the one `sigma1`
+   * is damped against.
+   */
+  friction_servo_params servo;
+  /**
+   * Largest excursion `> 0` from the starting position.
+   */
+  double travel;
+  /**
+   * Longest run `> 0` (s).
+   */
+  double duration;
+  /**
+   * Slowest plateau speed `> 0`.
+   */
+  double min_speed;
+  /**
+   * Fastest plateau speed `>= min_speed`.
+   */
+  double max_speed;
+  /**
+   * Number of plateau speeds, 2 to 16 (each run in both directions).
+   */
+  uint32_t speeds;
+  /**
+   * Measuring time `> 0` of a plateau (s).
+   */
+  double plateau;
+  /**
+   * Time `>= 0` (s) a plateau cruises before it is measured.
+   */
+  double settle;
+  /**
+   * Acceleration `> 0` of the plateau moves.
+   */
+  double acceleration;
+  /**
+   * Rate `> 0` of the break-away and presliding command ramps (command
+   * units per second).
+   */
+  double ramp_rate;
+  /**
+   * Displacement `> 0` (below `travel`) that counts as breaking away.
+   */
+  double breakaway_travel;
+  /**
+   * The encoder's count `>= 0` (position units; 0: exact).
+   */
+  double resolution;
+} friction_commissioning_params;
+
+/**
+ * A commissioning routine with its state, in `float` (caller-allocated;
+ * see [`friction_commissioning_init_f32`]).
+ */
+typedef struct {
+  /**
+   * Private: written by the constructor, read by the other calls.
+   */
+  uint64_t opaque[FRICTION_COMMISSIONING_F32_WORDS];
+} friction_commissioning_f32;
+
+/**
+ * What a constructor refused, for the caller to print: the status and the
+ * offending parameter's name (NUL-terminated, empty when none applies).
+ */
+typedef struct {
+  /**
+   * The status the constructor returned (a `friction_status` value; an
+   * `int32_t`, so that any bits C leaves here are valid).
+   */
+  int32_t status;
+  /**
+   * The parameter's name as in the parameter files (`fs`, `sigma0`, ...).
+   */
+  uint8_t parameter[FRICTION_NAME_LEN];
+} friction_error;
+
+/**
+ * A commissioning routine with its state, in `double` (caller-allocated;
+ * see [`friction_commissioning_init_f64`]).
+ */
+typedef struct {
+  /**
+   * Private: written by the constructor, read by the other calls.
+   */
+  uint64_t opaque[FRICTION_COMMISSIONING_F64_WORDS];
+} friction_commissioning_f64;
+
+/**
+ * What a commissioning tick produced, in `float`.
+ */
+typedef struct {
+  /**
+   * The command to apply: finite, within `±limit`, 0 once done or
+   * aborted.
+   */
+  float command;
+  /**
+   * Where the routine is after the tick (a [`friction_phase`] value; an
+   * `int32_t`).
+   */
+  int32_t phase;
+  /**
+   * Plateaus measured so far (of `2 speeds`).
+   */
+  uint32_t plateaus;
+} friction_commissioning_command_f32;
+
+/**
+ * What a commissioning tick produced, in `double`.
+ */
+typedef struct {
+  /**
+   * The command to apply: finite, within `±limit`, 0 once done or
+   * aborted.
+   */
+  double command;
+  /**
+   * Where the routine is after the tick (a [`friction_phase`] value).
+   */
+  int32_t phase;
+  /**
+   * Plateaus measured so far (of `2 speeds`).
+   */
+  uint32_t plateaus;
+} friction_commissioning_command_f64;
+
+/**
+ * The Stribeck curve `g(v) = fc + (fs - fc) exp(-|v/vs|^exponent)`.
+ */
+typedef struct {
+  /**
+   * Coulomb force `fc > 0` (N).
+   */
+  double fc;
+  /**
+   * Static force `fs >= fc` (N).
+   */
+  double fs;
+  /**
+   * Stribeck velocity `vs > 0` (m/s).
+   */
+  double vs;
+  /**
+   * Stribeck exponent `> 0` (2 is usual).
+   */
+  double exponent;
+} friction_stribeck;
+
+/**
+ * The LuGre model (Canudas de Wit et al. 1995).
+ */
+typedef struct {
+  /**
+   * The Stribeck curve.
+   */
+  friction_stribeck curve;
+  /**
+   * Bristle stiffness `sigma0 > 0` (N/m).
+   */
+  double sigma0;
+  /**
+   * Micro-damping `sigma1 >= 0` (N s/m).
+   */
+  double sigma1;
+  /**
+   * Viscous coefficient `sigma2 >= 0` (N s/m).
+   */
+  double sigma2;
+  /**
+   * Velocity scale `vd` of `sigma1(v) = sigma1 exp(-(v/vd)^2)`; 0: constant `sigma1`.
+   */
+  double vd;
+} friction_lugre_params;
+
+/**
+ * A commissioning run's result (`friction_core::Commissioned`), always in
+ * `double`: the LuGre model for `friction_lugre_init_*` (its `vd` 0), the
+ * levels per direction and the quality figures. The `identified` flags
+ * are 1 where the run measured the parameter and 0 where it is the
+ * documented fallback.
+ */
+typedef struct {
+  /**
+   * The LuGre model (levels and viscous coefficient the means of the
+   * two directions).
+   */
+  friction_lugre_params model;
+  /**
+   * Coulomb levels forward and backward (force units, both positive).
+   */
+  double fc[2];
+  /**
+   * Static levels forward and backward.
+   */
+  double fs[2];
+  /**
+   * Viscous coefficients forward and backward.
+   */
+  double sigma2[2];
+  /**
+   * Break-away levels of the ramps, forward and backward.
+   */
+  double breakaway[2];
+  /**
+   * 1: `fc` measured (per direction).
+   */
+  int32_t identified_coulomb;
+  /**
+   * 1: `fs`, `vs` and the exponent measured.
+   */
+  int32_t identified_stribeck;
+  /**
+   * 1: `sigma2` measured.
+   */
+  int32_t identified_viscous;
+  /**
+   * 1: `sigma0` measured.
+   */
+  int32_t identified_stiffness;
+  /**
+   * 1: `sigma1` measured.
+   */
+  int32_t identified_damping;
+  /**
+   * Plateaus fitted.
+   */
+  uint32_t plateaus;
+  /**
+   * RMS of the curve fit over the plateaus, relative to the mean `fc`
+   * (also written alone when the result is refused as
+   * `FRICTION_POOR_FIT`).
+   */
+  double residual;
+  /**
+   * Slowest and fastest fitted plateau speed.
+   */
+  double speed_range[2];
+} friction_commissioned;
 
 /**
  * A model in `float` (caller-allocated; initialise with a constructor
@@ -196,22 +577,6 @@ typedef struct {
    */
   double sigma2;
 } friction_coulomb_viscous_params;
-
-/**
- * What a constructor refused, for the caller to print: the status and the
- * offending parameter's name (NUL-terminated, empty when none applies).
- */
-typedef struct {
-  /**
-   * The status the constructor returned (a `friction_status` value; an
-   * `int32_t`, so that any bits C leaves here are valid).
-   */
-  int32_t status;
-  /**
-   * The parameter's name as in the parameter files (`fs`, `sigma0`, ...).
-   */
-  uint8_t parameter[FRICTION_NAME_LEN];
-} friction_error;
 
 /**
  * A model in `double` (caller-allocated; initialise with a constructor
@@ -247,28 +612,6 @@ typedef struct {
    */
   double sigma2_neg;
 } friction_asymmetric_coulomb_viscous_params;
-
-/**
- * The Stribeck curve `g(v) = fc + (fs - fc) exp(-|v/vs|^exponent)`.
- */
-typedef struct {
-  /**
-   * Coulomb force `fc > 0` (N).
-   */
-  double fc;
-  /**
-   * Static force `fs >= fc` (N).
-   */
-  double fs;
-  /**
-   * Stribeck velocity `vs > 0` (m/s).
-   */
-  double vs;
-  /**
-   * Stribeck exponent `> 0` (2 is usual).
-   */
-  double exponent;
-} friction_stribeck;
 
 /**
  * The static Stribeck map `F = g(v) sign(v) + sigma2 v`.
@@ -354,32 +697,6 @@ typedef struct {
    */
   double sigma2;
 } friction_dahl_params;
-
-/**
- * The LuGre model (Canudas de Wit et al. 1995).
- */
-typedef struct {
-  /**
-   * The Stribeck curve.
-   */
-  friction_stribeck curve;
-  /**
-   * Bristle stiffness `sigma0 > 0` (N/m).
-   */
-  double sigma0;
-  /**
-   * Micro-damping `sigma1 >= 0` (N s/m).
-   */
-  double sigma1;
-  /**
-   * Viscous coefficient `sigma2 >= 0` (N s/m).
-   */
-  double sigma2;
-  /**
-   * Velocity scale `vd` of `sigma1(v) = sigma1 exp(-(v/vd)^2)`; 0: constant `sigma1`.
-   */
-  double vd;
-} friction_lugre_params;
 
 /**
  * The elasto-plastic model (Dupont et al. 2002).
@@ -533,41 +850,6 @@ typedef struct {
    */
   uint64_t opaque[FRICTION_SERVO_F32_WORDS];
 } friction_servo_f32;
-
-/**
- * The servo loop around the compensation: a PID with acceleration
- * feed-forward (`friction_core::CompensatorParams`).
- */
-typedef struct {
-  /**
-   * Sample period `h > 0` (s).
-   */
-  double h;
-  /**
-   * Proportional gain `kp >= 0`.
-   */
-  double kp;
-  /**
-   * Integral gain `ki >= 0`.
-   */
-  double ki;
-  /**
-   * Derivative gain `kd >= 0`.
-   */
-  double kd;
-  /**
-   * Inertia (or mass) `>= 0` of the feed-forward `J a_ref`.
-   */
-  double inertia;
-  /**
-   * Force per command unit `> 0` (1 for a torque command).
-   */
-  double torque_constant;
-  /**
-   * Command limit `> 0`.
-   */
-  double limit;
-} friction_servo_params;
 
 /**
  * The theta-adaptive observer's adaptation (`friction_core::AdaptiveParams`):
@@ -840,6 +1122,119 @@ typedef struct {
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
+
+/**
+ * The defaults for the loop `servo`, a travel window `travel` and a top
+ * speed `max_speed` (`friction_core::CommissioningParams::new`): 30 s at
+ * most, 10 speeds down to `max_speed / 1000`, plateaus of 0.8 s after
+ * 0.15 s of settling, the top speed reached in 0.1 s (or slower, so that
+ * accelerating the inertia takes at most a quarter of the limit), command
+ * ramps of a tenth of the limit per second, break-away at a hundredth of
+ * the travel, an exact encoder (set `resolution` to the encoder's count).
+ * Nothing is checked until a constructor uses them.
+ */
+friction_status friction_commissioning_defaults(const friction_servo_params *servo,
+                                                double travel,
+                                                double max_speed,
+                                                friction_commissioning_params *out);
+
+/**
+ * A commissioning routine in `float` from `params`, ready for its first
+ * tick (the position at that tick is the start of the travel window).
+ * Checks every setting and that the programme fits the travel and the
+ * duration (`FRICTION_NOT_BELOW` naming `max_speed` or `plateau`
+ * otherwise).
+ */
+friction_status friction_commissioning_init_f32(friction_commissioning_f32 *out,
+                                                const friction_commissioning_params *params,
+                                                friction_error *error);
+
+/**
+ * [`friction_commissioning_init_f32`] in `double`.
+ */
+friction_status friction_commissioning_init_f64(friction_commissioning_f64 *out,
+                                                const friction_commissioning_params *params,
+                                                friction_error *error);
+
+/**
+ * One control period of the routine with measured position `x`: writes
+ * the command to apply, the phase and the plateaus measured. Call it in
+ * the control interrupt until the phase is `FRICTION_PHASE_DONE` (then
+ * `friction_commissioning_result_f32`) or `FRICTION_PHASE_ABORTED` (the
+ * command is 0 from then on). A NaN or infinite `x`:
+ * `FRICTION_INPUT_REJECTED`, a zero command and the state unchanged (the
+ * routine waits; it neither advances nor times out).
+ */
+friction_status friction_commissioning_tick_f32(friction_commissioning_f32 *commissioning,
+                                                float x,
+                                                friction_commissioning_command_f32 *out);
+
+/**
+ * [`friction_commissioning_tick_f32`] in `double`.
+ */
+friction_status friction_commissioning_tick_f64(friction_commissioning_f64 *commissioning,
+                                                double x,
+                                                friction_commissioning_command_f64 *out);
+
+/**
+ * Where the routine is (a [`friction_phase`] value).
+ */
+friction_status friction_commissioning_phase_f32(friction_commissioning_f32 *commissioning,
+                                                 int32_t *phase);
+
+/**
+ * [`friction_commissioning_phase_f32`] in `double`.
+ */
+friction_status friction_commissioning_phase_f64(friction_commissioning_f64 *commissioning,
+                                                 int32_t *phase);
+
+/**
+ * Why the routine stopped (a [`friction_abort`] value;
+ * `FRICTION_ABORT_NONE` unless its phase is `FRICTION_PHASE_ABORTED`).
+ */
+friction_status friction_commissioning_abort_f32(friction_commissioning_f32 *commissioning,
+                                                 int32_t *abort);
+
+/**
+ * [`friction_commissioning_abort_f32`] in `double`.
+ */
+friction_status friction_commissioning_abort_f64(friction_commissioning_f64 *commissioning,
+                                                 int32_t *abort);
+
+/**
+ * Puts the routine back before its first tick (a new run from wherever
+ * the axis is), keeping its settings.
+ */
+friction_status friction_commissioning_reset_f32(friction_commissioning_f32 *commissioning);
+
+/**
+ * [`friction_commissioning_reset_f32`] in `double`.
+ */
+friction_status friction_commissioning_reset_f64(friction_commissioning_f64 *commissioning);
+
+/**
+ * Fits the LuGre parameters to a finished routine, in `double` (bounded:
+ * a few thousand least-squares solves and up to 71 simulations of the
+ * presliding hold; run it outside the control interrupt). Refusals, the
+ * error naming what to look at: `FRICTION_NOT_FINISHED` (still running),
+ * `FRICTION_ABORTED` (naming the limit: `travel`, `duration`, `limit` for
+ * a stall, `ramp_rate` for no break-away, `torque_constant` for a
+ * reversed sign), `FRICTION_TOO_FEW_PLATEAUS` (fewer than 3 steady
+ * plateaus in a direction), `FRICTION_POOR_FIT` (the relative RMS above
+ * 10 %: written to `out->residual`, nothing else), `FRICTION_NO_FRICTION`,
+ * or a parameter status for a model that does not build. `out` is
+ * otherwise written only on `FRICTION_OK`.
+ */
+friction_status friction_commissioning_result_f32(friction_commissioning_f32 *commissioning,
+                                                  friction_commissioned *out,
+                                                  friction_error *error);
+
+/**
+ * [`friction_commissioning_result_f32`] for a `double` routine.
+ */
+friction_status friction_commissioning_result_f64(friction_commissioning_f64 *commissioning,
+                                                  friction_commissioned *out,
+                                                  friction_error *error);
 
 /**
  * Coulomb plus viscous friction in `float`.

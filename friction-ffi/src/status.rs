@@ -46,6 +46,18 @@ pub enum friction_status {
     /// or `h < 0`: the state is unchanged, the output is the held force
     /// (or the servo's safe zero command).
     FRICTION_INPUT_REJECTED = 16,
+    /// A commissioning routine has not finished: no result yet.
+    FRICTION_NOT_FINISHED = 17,
+    /// A commissioning routine stopped early (the error names the limit).
+    FRICTION_ABORTED = 18,
+    /// A commissioning run had fewer than three steady plateaus in a
+    /// direction.
+    FRICTION_TOO_FEW_PLATEAUS = 19,
+    /// A commissioning fit missed its plateaus by more than 10 % of `fc`
+    /// RMS.
+    FRICTION_POOR_FIT = 20,
+    /// A commissioning fit found no positive Coulomb level.
+    FRICTION_NO_FRICTION = 21,
 }
 
 impl friction_status {
@@ -171,6 +183,11 @@ pub extern "C" fn friction_status_name(status: i32) -> *const core::ffi::c_char 
         14 => c"a parameter must be below another",
         15 => c"not supported by this model",
         16 => c"an input was NaN or infinite (or h < 0): state unchanged",
+        17 => c"the commissioning routine has not finished",
+        18 => c"the commissioning routine was aborted by a limit or a fault",
+        19 => c"too few steady plateaus to fit",
+        20 => c"the friction curve fits the plateaus poorly (residual above 10 %)",
+        21 => c"no positive Coulomb friction was measured",
         _ => c"unknown status",
     };
     text.as_ptr()

@@ -1413,7 +1413,7 @@ fn an_adaptive_bound_out_of_range_is_named() {
 
 #[test]
 fn every_status_has_a_distinct_name() {
-    let names: Vec<String> = (0..=16)
+    let names: Vec<String> = (0..=21)
         .map(|s| {
             let p = friction_status_name(s);
             unsafe { std::ffi::CStr::from_ptr(p) }
@@ -1426,9 +1426,10 @@ fn every_status_has_a_distinct_name() {
         assert!(!n.is_empty() && n != "unknown status", "{i}");
         assert_eq!(names.iter().filter(|m| *m == n).count(), 1, "{n}");
     }
-    let unknown = unsafe { std::ffi::CStr::from_ptr(friction_status_name(17)) };
+    let unknown = unsafe { std::ffi::CStr::from_ptr(friction_status_name(22)) };
     assert_eq!(unknown.to_str().unwrap(), "unknown status");
     assert_eq!(FRICTION_INPUT_REJECTED as i32, 16);
+    assert_eq!(FRICTION_NO_FRICTION as i32, 21);
 }
 
 /// A small deterministic generator (SplitMix64) for the hostile-input sweep.

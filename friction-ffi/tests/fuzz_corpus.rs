@@ -20,7 +20,7 @@ fn fuzz_corpus_replays() {
     // a corpus lost or emptied is a failure, not a pass
     assert!(
         files.len() >= 450,
-        "{} corpus files in {} (499 committed)",
+        "{} corpus files in {} (501 committed)",
         files.len(),
         dir.display()
     );

@@ -406,6 +406,131 @@ macro_rules! servo_calls {
     };
 }
 
+fn commissioning_params() -> friction_commissioning_params {
+    let mut p = friction_commissioning_params {
+        servo: servo_params(),
+        travel: 0.0,
+        duration: 0.0,
+        min_speed: 0.0,
+        max_speed: 0.0,
+        speeds: 0,
+        plateau: 0.0,
+        settle: 0.0,
+        acceleration: 0.0,
+        ramp_rate: 0.0,
+        breakaway_travel: 0.0,
+        resolution: 0.0,
+    };
+    assert_eq!(
+        friction_commissioning_defaults(Some(&servo_params()), 1.0, 2.0, Some(&mut p)),
+        FRICTION_OK
+    );
+    p
+}
+
+fn commissioned() -> friction_commissioned {
+    let zero = friction_stribeck {
+        fc: 0.0,
+        fs: 0.0,
+        vs: 0.0,
+        exponent: 0.0,
+    };
+    friction_commissioned {
+        model: friction_lugre_params {
+            curve: zero,
+            sigma0: 0.0,
+            sigma1: 0.0,
+            sigma2: 0.0,
+            vd: 0.0,
+        },
+        fc: [0.0; 2],
+        fs: [0.0; 2],
+        sigma2: [0.0; 2],
+        breakaway: [0.0; 2],
+        identified_coulomb: 0,
+        identified_stribeck: 0,
+        identified_viscous: 0,
+        identified_stiffness: 0,
+        identified_damping: 0,
+        plateaus: 0,
+        residual: 0.0,
+        speed_range: [0.0; 2],
+    }
+}
+
+macro_rules! commissioning_calls {
+    ($ty:ident, $words:expr, $tag:expr, $init:ident, $tick:ident, $out:ident, $phase:ident,
+     $abort:ident, $reset:ident, $result:ident) => {
+        [
+            Call {
+                name: stringify!($tick),
+                bytes: 8 * $words,
+                tag: $tag,
+                run: |b| {
+                    let mut t = $out {
+                        command: 0.0,
+                        phase: 0,
+                        plateaus: 0,
+                    };
+                    $tick(Some(&mut $ty { opaque: words(b) }), 0.0, Some(&mut t))
+                },
+                writes_only: false,
+            },
+            Call {
+                name: stringify!($phase),
+                bytes: 8 * $words,
+                tag: $tag,
+                run: |b| $phase(Some(&mut $ty { opaque: words(b) }), Some(&mut 0)),
+                writes_only: false,
+            },
+            Call {
+                name: stringify!($abort),
+                bytes: 8 * $words,
+                tag: $tag,
+                run: |b| $abort(Some(&mut $ty { opaque: words(b) }), Some(&mut 0)),
+                writes_only: false,
+            },
+            Call {
+                name: stringify!($reset),
+                bytes: 8 * $words,
+                tag: $tag,
+                run: |b| $reset(Some(&mut $ty { opaque: words(b) })),
+                writes_only: false,
+            },
+            Call {
+                name: stringify!($result),
+                bytes: 8 * $words,
+                tag: $tag,
+                run: |b| {
+                    let mut r = commissioned();
+                    $result(Some(&mut $ty { opaque: words(b) }), Some(&mut r), None)
+                },
+                writes_only: false,
+            },
+            Call {
+                name: concat!(stringify!($init), " (out)"),
+                bytes: 8 * $words,
+                tag: $tag,
+                run: |b| {
+                    let mut c = $ty { opaque: words(b) };
+                    let status = $init(Some(&mut c), Some(&commissioning_params()), None);
+                    let mut t = $out {
+                        command: 0.0,
+                        phase: 0,
+                        plateaus: 0,
+                    };
+                    // the object is now a routine: it ticks
+                    match $tick(Some(&mut c), 0.0, Some(&mut t)) {
+                        FRICTION_OK => status,
+                        other => other,
+                    }
+                },
+                writes_only: true,
+            },
+        ]
+    };
+}
+
 /// Every call of the ABI that reads or writes a caller's object.
 fn calls() -> Vec<Call> {
     let mut all = Vec::new();
@@ -488,6 +613,30 @@ fn calls() -> Vec<Call> {
         friction_servo_parameter_adaptive_init_f64,
         friction_servo_retune_f64,
         friction_servo_parameter_adaptive_retune_f64
+    ));
+    all.extend(commissioning_calls!(
+        friction_commissioning_f32,
+        FRICTION_COMMISSIONING_F32_WORDS,
+        0xB7B7_B7B7,
+        friction_commissioning_init_f32,
+        friction_commissioning_tick_f32,
+        friction_commissioning_command_f32,
+        friction_commissioning_phase_f32,
+        friction_commissioning_abort_f32,
+        friction_commissioning_reset_f32,
+        friction_commissioning_result_f32
+    ));
+    all.extend(commissioning_calls!(
+        friction_commissioning_f64,
+        FRICTION_COMMISSIONING_F64_WORDS,
+        0xB8B8_B8B8,
+        friction_commissioning_init_f64,
+        friction_commissioning_tick_f64,
+        friction_commissioning_command_f64,
+        friction_commissioning_phase_f64,
+        friction_commissioning_abort_f64,
+        friction_commissioning_reset_f64,
+        friction_commissioning_result_f64
     ));
     all
 }
@@ -752,7 +901,7 @@ fn garbage_objects_get_a_status_never_a_crash() {
 fn garbage_in_process() {
     for call in calls() {
         let mut bytes = vec![0u8; call.bytes];
-        let some = [0x00, 0xB1, 0xB2, 0xB3, 0xB4, 0xB5, 0xB6, 0xFF]
+        let some = [0x00, 0xB1, 0xB2, 0xB3, 0xB4, 0xB5, 0xB6, 0xB7, 0xB8, 0xFF]
             .into_iter()
             .chain(FILLS..FILLS + 4)
             .chain(FILLS + RANDOM..FILLS + RANDOM + 4);
@@ -899,6 +1048,28 @@ mod allowed {
         FRICTION_OK,
         FRICTION_NOT_INITIALISED,
         FRICTION_NOT_SUPPORTED,
+    ];
+    pub const READ: &[friction_status] = &[FRICTION_OK, FRICTION_NOT_INITIALISED];
+    /// A commissioning result: the fit's refusals, or a parameter status
+    /// for a fitted model that does not build.
+    pub const RESULT: &[friction_status] = &[
+        FRICTION_OK,
+        FRICTION_NOT_INITIALISED,
+        FRICTION_NOT_FINISHED,
+        FRICTION_ABORTED,
+        FRICTION_TOO_FEW_PLATEAUS,
+        FRICTION_POOR_FIT,
+        FRICTION_NO_FRICTION,
+        FRICTION_NOT_FINITE,
+        FRICTION_NOT_POSITIVE,
+        FRICTION_NEGATIVE,
+        FRICTION_STATIC_BELOW_COULOMB,
+        FRICTION_NOT_REPRESENTABLE,
+        FRICTION_UNDERFLOW,
+        FRICTION_FORCE_OVERFLOW,
+        FRICTION_OUT_OF_RANGE,
+        FRICTION_BELOW_ONE,
+        FRICTION_NOT_BELOW,
     ];
 }
 
@@ -1151,6 +1322,74 @@ object_types!(
     friction_servo_theta_f64,
     friction_servo_retune_f64,
     friction_lugre_init_f64
+);
+
+macro_rules! commissioning_object {
+    ($ty:ident, $tick:ident, $out:ident, $phase:ident, $abort:ident, $reset:ident,
+     $result:ident) => {
+        impl Object for $ty {
+            fn zeroed() -> Self {
+                Self {
+                    opaque: [0; core::mem::size_of::<$ty>() / 8],
+                }
+            }
+            fn calls() -> Vec<CallOf<Self>> {
+                vec![
+                    (
+                        stringify!($tick),
+                        |c| {
+                            let mut t = $out {
+                                command: 0.0,
+                                phase: 0,
+                                plateaus: 0,
+                            };
+                            let first = $tick(Some(&mut *c), 0.0, Some(&mut t));
+                            match $tick(Some(c), 1e-3, Some(&mut t)) {
+                                FRICTION_OK => first,
+                                other => other,
+                            }
+                        },
+                        allowed::TICK,
+                    ),
+                    (
+                        stringify!($phase),
+                        |c| $phase(Some(c), Some(&mut 0)),
+                        allowed::READ,
+                    ),
+                    (
+                        stringify!($abort),
+                        |c| $abort(Some(c), Some(&mut 0)),
+                        allowed::READ,
+                    ),
+                    (
+                        stringify!($result),
+                        |c| $result(Some(c), Some(&mut commissioned()), None),
+                        allowed::RESULT,
+                    ),
+                    (stringify!($reset), |c| $reset(Some(c)), allowed::RESET),
+                ]
+            }
+        }
+    };
+}
+
+commissioning_object!(
+    friction_commissioning_f32,
+    friction_commissioning_tick_f32,
+    friction_commissioning_command_f32,
+    friction_commissioning_phase_f32,
+    friction_commissioning_abort_f32,
+    friction_commissioning_reset_f32,
+    friction_commissioning_result_f32
+);
+commissioning_object!(
+    friction_commissioning_f64,
+    friction_commissioning_tick_f64,
+    friction_commissioning_command_f64,
+    friction_commissioning_phase_f64,
+    friction_commissioning_abort_f64,
+    friction_commissioning_reset_f64,
+    friction_commissioning_result_f64
 );
 
 /// Overwrites `object` but its first 32 bits (the tag word) with pattern
@@ -1486,6 +1725,16 @@ fn subjects() -> Vec<Subject> {
         friction_gms_init_f64,
         friction_xiong_init_f64
     );
+    // the commissioning routine, fresh (the garbage reaches its state,
+    // its loop and its settings, which the fit reads)
+    all.push(subject::<friction_commissioning_f32>(
+        "f32 commissioning".into(),
+        |c| friction_commissioning_init_f32(Some(c), Some(&commissioning_params()), None),
+    ));
+    all.push(subject::<friction_commissioning_f64>(
+        "f64 commissioning".into(),
+        |c| friction_commissioning_init_f64(Some(c), Some(&commissioning_params()), None),
+    ));
     all
 }
 

@@ -746,6 +746,286 @@ impl Compensator {
     }
 }
 
+/// The routine and its state in the scalar the notebook chose.
+// one per Python object, built once and never moved in a loop: the f32
+// variant's unused 440 bytes cost nothing a box would save
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Copy)]
+enum Routine {
+    F64(
+        friction_core::Commissioning<f64>,
+        friction_core::CommissioningState<f64>,
+    ),
+    F32(
+        friction_core::Commissioning<f32>,
+        friction_core::CommissioningState<f32>,
+    ),
+}
+
+/// Commissioning(h, kp, kd, inertia, travel, max_speed, ki=0,
+/// torque_constant=1, limit=1e3, scalar="f64", **settings): the core's
+/// commissioning routine (`friction_core::commissioning`) for a notebook's
+/// own plant. Each `tick(x)` takes the measured position and returns the
+/// command, one call per period `h`, until `phase` is "done" (then
+/// `result()` fits the LuGre parameters) or "aborted" (`abort` says why;
+/// the command is 0 from then on). `settings` override the defaults of
+/// `CommissioningParams::new`: duration, min_speed, speeds, plateau,
+/// settle, acceleration, ramp_rate, breakaway_travel, resolution.
+/// `scalar="f32"` runs the routine in `float`, as firmware does. Invalid
+/// settings raise ValueError naming the setting.
+#[pyclass(module = "friction")]
+struct Commissioning {
+    routine: Routine,
+}
+
+/// The phase's name.
+fn phase_name(phase: friction_core::Phase) -> &'static str {
+    use friction_core::Phase;
+    match phase {
+        Phase::Breakaway => "breakaway",
+        Phase::Presliding => "presliding",
+        Phase::Plateaus => "plateaus",
+        Phase::Done => "done",
+        Phase::Aborted => "aborted",
+    }
+}
+
+/// The abort reason's name.
+fn abort_name(abort: friction_core::Abort) -> &'static str {
+    use friction_core::Abort;
+    match abort {
+        Abort::NonFiniteMeasurement => "non_finite",
+        Abort::Travel => "travel",
+        Abort::Timeout => "timeout",
+        Abort::Stall => "stall",
+        Abort::NoBreakaway => "no_breakaway",
+        Abort::ReversedSign => "reversed_sign",
+    }
+}
+
+/// `(speed, force, steady)` of every plateau measured so far.
+type Points = Vec<(f64, f64, bool)>;
+
+impl Routine {
+    fn phase(&self) -> friction_core::Phase {
+        match self {
+            Self::F64(_, s) => s.phase(),
+            Self::F32(_, s) => s.phase(),
+        }
+    }
+
+    fn abort(&self) -> Option<friction_core::Abort> {
+        match self {
+            Self::F64(_, s) => s.abort(),
+            Self::F32(_, s) => s.abort(),
+        }
+    }
+
+    fn points(&self) -> Points {
+        let points = match self {
+            Self::F64(c, s) => c.plateau_points(s),
+            Self::F32(c, s) => c.plateau_points(s),
+        };
+        points
+            .iter()
+            .flatten()
+            .map(|p| (p.speed, p.force, p.steady))
+            .collect()
+    }
+}
+
+#[pymethods]
+impl Commissioning {
+    #[new]
+    #[pyo3(signature = (h, kp, kd, inertia, travel, max_speed, ki = 0.0, torque_constant = 1.0, limit = 1e3, scalar = "f64", **settings))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        h: f64,
+        kp: f64,
+        kd: f64,
+        inertia: f64,
+        travel: f64,
+        max_speed: f64,
+        ki: f64,
+        torque_constant: f64,
+        limit: f64,
+        scalar: &str,
+        settings: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        let servo = CompensatorParams {
+            h,
+            kp,
+            ki,
+            kd,
+            inertia,
+            torque_constant,
+            limit,
+        };
+        let mut p = friction_core::CommissioningParams::new(servo, travel, max_speed);
+        for (key, value) in settings.into_iter().flat_map(|d| d.iter()) {
+            let key: String = key.extract()?;
+            let number = |v: &Bound<'_, PyAny>| -> PyResult<f64> {
+                v.extract::<f64>()
+                    .map_err(|_| PyValueError::new_err(format!("`{key}`: expected a number")))
+            };
+            match key.as_str() {
+                "duration" => p.duration = number(&value)?,
+                "min_speed" => p.min_speed = number(&value)?,
+                "plateau" => p.plateau = number(&value)?,
+                "settle" => p.settle = number(&value)?,
+                "acceleration" => p.acceleration = number(&value)?,
+                "ramp_rate" => p.ramp_rate = number(&value)?,
+                "breakaway_travel" => p.breakaway_travel = number(&value)?,
+                "resolution" => p.resolution = number(&value)?,
+                "speeds" => {
+                    // a count beyond a byte is out of range as 255 is
+                    let n: i64 = value
+                        .extract()
+                        .map_err(|_| PyValueError::new_err("`speeds`: expected a whole number"))?;
+                    p.speeds = u8::try_from(n.clamp(0, 255)).unwrap_or(u8::MAX);
+                }
+                other => {
+                    return Err(PyTypeError::new_err(format!(
+                        "Commissioning: unexpected keyword argument `{other}`"
+                    )))
+                }
+            }
+        }
+        let refused = |e: friction_core::ParamError| PyValueError::new_err(e.to_string());
+        let routine = match scalar {
+            "f64" => Routine::F64(p.build().map_err(refused)?, Default::default()),
+            "f32" => Routine::F32(p.build().map_err(refused)?, Default::default()),
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "scalar={other:?}: one of \"f64\", \"f32\""
+                )))
+            }
+        };
+        Ok(Self { routine })
+    }
+
+    /// tick(x) -> command: one period with measured position `x` (a NaN
+    /// or infinite `x` aborts the run, as the core does: "non_finite").
+    fn tick(&mut self, x: f64) -> f64 {
+        match &mut self.routine {
+            Routine::F64(c, s) => c.tick(s, x).command,
+            // the position as the float firmware would read it
+            Routine::F32(c, s) => f64::from(c.tick(s, x as f32).command),
+        }
+    }
+
+    /// Where the routine is: "breakaway", "presliding", "plateaus", "done"
+    /// or "aborted".
+    #[getter]
+    fn phase(&self) -> &'static str {
+        phase_name(self.routine.phase())
+    }
+
+    /// Why it stopped ("travel", "timeout", "stall", "no_breakaway",
+    /// "reversed_sign", "non_finite"); None unless aborted.
+    #[getter]
+    fn abort(&self) -> Option<&'static str> {
+        self.routine.abort().map(abort_name)
+    }
+
+    /// Periods run so far.
+    #[getter]
+    fn ticks(&self) -> u32 {
+        match &self.routine {
+            Routine::F64(_, s) => s.ticks(),
+            Routine::F32(_, s) => s.ticks(),
+        }
+    }
+
+    /// plateau_points() -> [(speed, force, steady), ...]: every plateau
+    /// measured so far (fastest first, forward first), for a plot of the
+    /// friction curve; only steady ones are fitted.
+    fn plateau_points(&self) -> Points {
+        self.routine.points()
+    }
+
+    /// result() -> dict: the fit of a finished run (`Commissioning::result`):
+    /// "model" (a `friction.Model("lugre", ...)` for `compensator` or
+    /// `Compensator.retune`), its parameters ("fc", "fs", "vs",
+    /// "stribeck_exponent", "sigma0", "sigma1", "sigma2"), the levels per
+    /// direction ("fc_pos", "fc_neg", "fs_pos", "fs_neg", "sigma2_pos",
+    /// "sigma2_neg", "breakaway_pos", "breakaway_neg"), "identified" (a
+    /// dict of bools: coulomb, stribeck, viscous, stiffness, damping; the
+    /// others are documented fallbacks), "residual" (relative RMS of the
+    /// curve fit), "speed_range" (slowest, fastest) and "plateaus".
+    /// RuntimeError when there is none: not finished, aborted (with the
+    /// reason), too few plateaus, a poor fit (with the residual), no
+    /// friction.
+    fn result<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let r = match &self.routine {
+            Routine::F64(c, s) => c.result(s),
+            Routine::F32(c, s) => c.result(s),
+        };
+        let r = r.map_err(|e| {
+            use friction_core::CommissionError as E;
+            PyRuntimeError::new_err(match e {
+                E::NotFinished => "commissioning not finished".to_string(),
+                E::Aborted(why) => format!("commissioning aborted: {}", abort_name(why)),
+                E::TooFewPlateaus => "too few steady plateaus in a direction".to_string(),
+                E::PoorFit(residual) => {
+                    format!("poor fit: residual {residual:.3} of fc (at most 0.1)")
+                }
+                E::NoFriction => "no positive Coulomb level".to_string(),
+                E::Invalid(e) => format!("the fitted model does not build: {e}"),
+            })
+        })?;
+        let m = r.model;
+        let out = PyDict::new(py);
+        let params = PyDict::new(py);
+        for (name, value) in [
+            ("fc", m.curve.fc),
+            ("fs", m.curve.fs),
+            ("vs", m.curve.vs),
+            ("stribeck_exponent", m.curve.exponent),
+            ("sigma0", m.sigma0),
+            ("sigma1", m.sigma1),
+            ("sigma2", m.sigma2),
+        ] {
+            out.set_item(name, value)?;
+            params.set_item(name, value)?;
+        }
+        out.set_item("model", Model::new("lugre", Some(&params))?)?;
+        for (name, [pos, neg]) in [
+            ("fc", r.fc),
+            ("fs", r.fs),
+            ("sigma2", r.sigma2),
+            ("breakaway", r.breakaway),
+        ] {
+            out.set_item(format!("{name}_pos"), pos)?;
+            out.set_item(format!("{name}_neg"), neg)?;
+        }
+        let i = r.identified;
+        let identified = PyDict::new(py);
+        for (name, flag) in [
+            ("coulomb", i.coulomb),
+            ("stribeck", i.stribeck),
+            ("viscous", i.viscous),
+            ("stiffness", i.stiffness),
+            ("damping", i.damping),
+        ] {
+            identified.set_item(name, flag)?;
+        }
+        out.set_item("identified", identified)?;
+        out.set_item("residual", r.residual)?;
+        out.set_item("speed_range", (r.speed_range[0], r.speed_range[1]))?;
+        out.set_item("plateaus", r.plateaus)?;
+        Ok(out)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "<friction.Commissioning {} after {} ticks>",
+            self.phase(),
+            self.ticks()
+        )
+    }
+}
+
 /// load(path) -> Model: a parameter file exactly as the command line reads it.
 #[pyfunction]
 fn load(path: PathBuf) -> PyResult<Model> {
@@ -865,6 +1145,7 @@ fn friction(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Model>()?;
     m.add_class::<Observer>()?;
     m.add_class::<Compensator>()?;
+    m.add_class::<Commissioning>()?;
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(servo, m)?)?;
     m.add_function(wrap_pyfunction!(identify, m)?)?;

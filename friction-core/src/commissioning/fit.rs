@@ -54,7 +54,9 @@
 //! `sigma_c / 100`, the first value whose overshoot reaches the measured
 //! one, then 30 bisections. Where
 //! the step moved less than 16 counts, its overshoot is under 2 counts (or
-//! absent: overdamped), or `sigma0` was not measured, `sigma1` is not
+//! absent: overdamped), `sigma0` was not measured, or the loop runs
+//! faster than 100 kHz (the simulations are bounded at 20,000 periods of
+//! the hold, so the fit stays bounded in time), `sigma1` is not
 //! identified and is Canudas de Wit et al. 1995's rule of thumb, the
 //! bristle critically damped on the inertia: `sigma_c`.
 
@@ -142,6 +144,9 @@ const STEADY: f64 = 0.09;
 const REACHED: f64 = 0.9;
 /// Presliding shorter than this many counts is not measured.
 const MIN_COUNTS: f64 = 8.0;
+/// The most loop periods of the presliding hold the damping fit simulates
+/// (the hold at 100 kHz); a faster loop leaves `sigma1` not identified.
+const MAX_SIMULATED_PERIODS: f64 = 20_000.0;
 
 #[derive(Clone, Copy, Default)]
 struct Point {
@@ -570,7 +575,14 @@ fn step_overshoot(params: &CommissioningParams, model: LuGreParams, a: f64) -> f
         z: a / model.sigma0,
     };
     let (mut x, mut v, mut lowest) = (0.0f64, 0.0f64, 0.0f64);
-    let periods = libm::ceil(super::PRESLIDING_HOLD / params.servo.h) as u32;
+    let periods = libm::ceil(super::PRESLIDING_HOLD / params.servo.h);
+    // a loop faster than 100 kHz (or a period C's memory garbled) would
+    // make the fit's up to 71 simulations of the hold unbounded in time:
+    // sigma1 is then not identified (the NaN ratio fails every check)
+    if periods.is_nan() || periods > MAX_SIMULATED_PERIODS {
+        return f64::NAN;
+    }
+    let periods = periods as u32;
     for _ in 0..periods {
         for _ in 0..SUBSTEPS {
             let f = crate::FrictionModel::step(&lugre, &mut z, v, h);

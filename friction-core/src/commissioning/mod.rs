@@ -806,6 +806,7 @@ impl<S: Scalar> Commissioning<S> {
             }
         }
         state.block = state.block + command;
+        // saturating: a state C's memory holds may carry any count here
         state.block_len = state.block_len.saturating_add(1);
         if state.block_len >= BLOCK || last {
             let r = speed
