@@ -587,7 +587,10 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
 
     /// One tick with measured position `x` towards the setpoint `r`; see the
     /// [module documentation](self) for the control law and the guarantees.
-    #[inline]
+    // Always inlined, with the helpers it calls: it is the interrupt's hot
+    // path, and a second caller of the same instance (commissioning ticks the
+    // uncompensated servo) must not move it out of line in the servo tick.
+    #[inline(always)]
     pub fn tick(&self, state: &mut CompensatorState<S, C::State>, x: S, r: Setpoint<S>) -> Tick<S> {
         if !all_finite([x, r.x, r.v, r.a]) {
             Self::skip(state);
@@ -686,7 +689,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
 
     /// A tick with a non-finite input: the gap counts toward the next
     /// velocity, and no friction sample spans it.
-    #[inline]
+    #[inline(always)]
     fn skip(state: &mut CompensatorState<S, C::State>) {
         if state.since_last > 0 {
             state.since_last = state.since_last.saturating_add(1);
@@ -699,7 +702,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
     /// After an accepted tick: the compensation told the `command` issued,
     /// the velocity observer's next acceleration from it and the friction
     /// estimate `f`, and the command kept for the next friction sample.
-    #[inline]
+    #[inline(always)]
     fn issued(&self, state: &mut CompensatorState<S, C::State>, command: S, f: S) {
         self.compensation.commanded(&mut state.friction, command);
         self.predict_acceleration(state, command, f);
@@ -712,7 +715,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
     /// The measured velocity at position `x`: the backward difference over
     /// the ticks since the last accepted one (0 at the first), through the
     /// velocity filter if there is one.
-    #[inline]
+    #[inline(always)]
     fn velocity(&self, state: &mut CompensatorState<S, C::State>, x: S) -> S {
         if self.observer_alpha != S::ZERO {
             return self.observe_velocity(state, x);
@@ -761,7 +764,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
 
     /// With a velocity observer: the acceleration `(kc u - F^) / J` the
     /// command `u` and the friction estimate `f` give over the next period.
-    #[inline]
+    #[inline(always)]
     fn predict_acceleration(&self, state: &mut CompensatorState<S, C::State>, command: S, f: S) {
         if self.observer_alpha != S::ZERO {
             let force = self.kc.times(command) - f;
@@ -772,7 +775,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
     /// For a compensation that learns: the friction sample ending at `x`
     /// (when the two ticks before were accepted in a row) passed to
     /// [`Compensation::learn`], and the positions kept for the next one.
-    #[inline]
+    #[inline(always)]
     fn measure(&self, state: &mut CompensatorState<S, C::State>, x: S) {
         if state.run >= 2 {
             if let Some(sample) = self.sample(state, x) {
@@ -790,7 +793,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
     /// The friction sample over the last two periods (see
     /// [`FrictionSample`]), from the new position `x` and the state's last
     /// two positions and commands; `None` if it is not finite.
-    #[inline]
+    #[inline(always)]
     fn sample(&self, state: &CompensatorState<S, C::State>, x: S) -> Option<FrictionSample<S>> {
         let second = x - state.last_x - (state.last_x - state.x_before);
         let half = S::from_f64(0.5);
