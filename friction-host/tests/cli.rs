@@ -1364,7 +1364,13 @@ fn commission_bad_settings_and_aborts_exit_2_naming_them() {
         (format!("{olsson}\n[commission]\ntravle = 1\n"), "travle"),
         (format!("{olsson}\n[commission]\ntravel = -1\n"), "`travel`"),
         (format!("{olsson}\n[commission]\nspeeds = 40\n"), "`speeds`"),
-        (stickslip, "Timeout"),
+        // its break-away ramps alone outlast 8 s
+        (
+            format!("{stickslip}\n[commission]\nspeeds = 3\nduration = 8\n"),
+            "Timeout",
+        ),
+        // only its four fastest plateaus hold: refused after the run
+        (stickslip, "TooFewPlateaus"),
     ] {
         let p = dir.path().join("commission.toml");
         std::fs::write(&p, &text).unwrap();

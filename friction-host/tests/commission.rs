@@ -70,3 +70,23 @@ fn commissions_the_emps_levels() {
         }
     }
 }
+
+/// A static map's file (no observer form): the benchmark runs without the
+/// `observer` row, and the per-direction levels and slopes are the map's.
+#[test]
+fn commissions_a_static_map_without_an_observer_row() {
+    let file = param_set("robot-joint-asymmetric").unwrap();
+    let run = commission(&file, "params/robot-joint-asymmetric.toml", false).unwrap();
+    println!("{}", run.table());
+    assert!(run.run("observer").is_none() && run.table().contains("No `observer` row"));
+    let r = &run.result;
+    let within = |value: f64, truth: f64| ((value - truth) / truth).abs() <= 0.05;
+    assert!(within(r.fc[0], 1.2) && within(r.fc[1], 0.9), "{:?}", r.fc);
+    assert!(
+        within(r.sigma2[0], 0.5) && within(r.sigma2[1], 0.35),
+        "{:?}",
+        r.sigma2
+    );
+    let rms = |name: &str| run.run(name).unwrap().rms_half;
+    assert!(rms("commissioned") <= rms("static"));
+}

@@ -21,7 +21,9 @@
 //!    friction at the mean speed: with the command held, the net force over
 //!    a stretch that starts and ends at the same speed is zero on average.
 //!    A plateau the loop could not hold (stick-slip, or lagging the
-//!    reference) is left out of the fit.
+//!    reference) is left out of the fit. A speed whose two plateaus would
+//!    not finish within `duration` is not started: the programme ends there
+//!    with the faster plateaus it has measured.
 //!
 //! [`Commissioning::result`] then fits the steady curve (see [`fit`]) and
 //! returns the LuGre parameters with their quality figures.
@@ -216,6 +218,7 @@ impl CommissioningParams {
             inv_ticks: zero,
             inv_blocks: zero,
             ticks: 0,
+            pair_ticks: 0,
         }; MAX_SPEEDS];
         for (k, slot) in speeds.iter_mut().enumerate() {
             if k < usize::from(self.speeds) {
@@ -228,6 +231,8 @@ impl CommissioningParams {
                     inv_ticks: Gain::new("plateau", 1.0 / f64::from(count))?,
                     inv_blocks: Gain::new("plateau", 1.0 / f64::from(blocks))?,
                     ticks: count,
+                    pair_ticks: ticks(2.0 * (2.0 * v / self.acceleration + 2.0 * self.settle))
+                        .saturating_add(count.saturating_mul(2)),
                 };
             }
         }
@@ -285,6 +290,8 @@ struct Speed<S> {
     inv_ticks: Gain<S>,
     inv_blocks: Gain<S>,
     ticks: u32,
+    /// The ticks of both plateaus at this speed, moves and pauses included.
+    pair_ticks: u32,
 }
 
 /// The loop's hold after a break-away ramp (s).
@@ -754,6 +761,13 @@ impl<S: Scalar> Commissioning<S> {
             state.next_phase(DONE);
             return S::ZERO;
         };
+        // a pair that cannot finish within the duration is not started: the
+        // routine ends with the plateaus it has rather than abort on time
+        let first_tick = forward && state.stage == 0 && state.stage_ticks <= 1;
+        if first_tick && state.ticks.saturating_add(speed.pair_ticks) > self.max_ticks {
+            state.next_phase(DONE);
+            return S::ZERO;
+        }
         let target = if forward { speed.speed } else { -speed.speed };
         let (a, next) = match state.stage {
             0 => self.accelerate(state, target),

@@ -173,6 +173,31 @@ fn commissions_olsson_servo_in_fixed_point() {
     assert!(r.identified.stiffness);
 }
 
+/// Break-away ramps slower than the schedule allows for: the speeds whose
+/// plateaus would not finish within the duration are not started, and the
+/// routine ends `Done` with the faster ones, still within the bounds.
+#[test]
+fn a_late_programme_drops_its_slowest_plateaus_instead_of_aborting() {
+    let mut p = CommissioningParams::new(olsson_servo(), 1.0, 2.0);
+    let spare = p.duration - p.scheduled_time();
+    // the two break-away ramps (and the presliding ramps) eat the spare time
+    // and a third of the plateaus' schedule
+    p.ramp_rate = 2.0 * LuGreParams::OLSSON_1998.curve.fs
+        / p.servo.torque_constant
+        / (spare + p.scheduled_time() / 3.0);
+    let routine = p.build::<f64>().unwrap();
+    let (state, _) = commission(&routine, &LuGreParams::OLSSON_1998, EXACT);
+    assert_eq!(state.phase(), Phase::Done);
+    assert!(f64::from(state.ticks()) * p.servo.h <= p.duration);
+    let measured = routine.plateau_points(&state).iter().flatten().count();
+    assert!(
+        measured >= 4 && measured < 2 * usize::from(p.speeds),
+        "{measured}"
+    );
+    let r = check::<f64>(&p, &LuGreParams::OLSSON_1998, EXACT);
+    assert!(r.plateaus < 2 * p.speeds);
+}
+
 #[test]
 fn the_state_fits_in_two_kibibytes_in_f32() {
     assert!(core::mem::size_of::<CommissioningState<f32>>() <= 2048);
