@@ -1,5 +1,5 @@
 //! The variable-step elasto-plastic model: [`ElastoPlastic`], on a
-//! [`LuGreState`](crate::LuGreState).
+//! [`LuGreState`].
 
 use super::corrected_shift;
 use super::zone::{relaxed_fraction, zone_rate, zone_step, XI_CAP};
