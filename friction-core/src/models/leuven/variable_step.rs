@@ -1,0 +1,471 @@
+//! The Leuven model and its hysteresis memory: [`Leuven`], [`LeuvenState`]
+//! and [`Reversal`].
+
+use crate::bits::Flag;
+use crate::model::{checked_inputs, FrictionModel};
+use crate::observer::Observable;
+use crate::stribeck::StribeckCurve;
+use crate::Scalar;
+
+/// Evaluations of the Newton iteration inside the last branch.
+const MAX_ITER: usize = 30;
+
+/// `rho^n` for the common exponents without `powf`; stored as its `u8`
+/// (see `crate::bits`) and read by [`Power::of`], for which any byte is
+/// one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Power {
+    One = 0,
+    Two = 1,
+    /// `powf` with the model's `n`.
+    Real = 2,
+}
+
+impl Power {
+    /// The power a stored byte stands for: 0 and 1 the common ones, any
+    /// other byte `powf`.
+    #[inline]
+    fn of(byte: u8) -> Self {
+        match byte {
+            0 => Self::One,
+            1 => Self::Two,
+            _ => Self::Real,
+        }
+    }
+}
+
+/// The built Leuven model with a memory of `M` reversal points: immutable,
+/// shared by any number of [`LeuvenState`]s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Leuven<S, const M: usize> {
+    pub(super) curve: StribeckCurve<S>,
+    pub(super) sigma1: S,
+    pub(super) sigma2: S,
+    pub(super) n: S,
+    /// A [`Power`] as its byte.
+    pub(super) shape: u8,
+    pub(super) fs: S,
+    /// `Fm = 2 Fs`: the asymptote of the virgin curve.
+    pub(super) fm: S,
+    /// `2 xs`: the width of the virgin curve.
+    pub(super) width: S,
+    pub(super) inv_width: S,
+    /// `1 - CAP`: a branch goes no farther than this fraction of its asymptote.
+    pub(super) keep: S,
+    /// `Fs / xs`: the slope of every branch at its reversal point.
+    pub(super) stiffness: S,
+    pub(super) tol: S,
+    pub(super) slide: S,
+    /// `max(1, (Fs/Fc)^n - 1)`: the largest `|dz/dt| / |v|` of the model.
+    pub(super) rate_factor: S,
+}
+
+/// A reversal point `(z, F)` of the hysteresis memory.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Reversal<S> {
+    /// The state `z` at the reversal (m).
+    pub z: S,
+    /// The hysteresis force `Fh` at the reversal (N).
+    pub f: S,
+}
+
+/// The Leuven state: `z`, the hysteresis force, the direction of the last
+/// motion of `z`, and the memory of reversal points (the last one is the
+/// origin of the current branch; none: the virgin curve).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LeuvenState<S, const M: usize> {
+    z: S,
+    fh: S,
+    dir: S,
+    len: usize,
+    /// The virgin curve lies below the oldest point (no slide, no drop yet).
+    virgin: Flag,
+    points: [Reversal<S>; M],
+}
+
+impl<S: Scalar, const M: usize> Default for LeuvenState<S, M> {
+    /// At rest, unstrained, on the virgin curve.
+    fn default() -> Self {
+        Self {
+            z: S::ZERO,
+            fh: S::ZERO,
+            dir: S::ZERO,
+            len: 0,
+            virgin: Flag::new(true),
+            points: [Reversal::default(); M],
+        }
+    }
+}
+
+/// The current branch: its origin, and whether it is the virgin curve.
+#[derive(Clone, Copy, Debug)]
+struct Branch<S> {
+    origin: Reversal<S>,
+    virgin: bool,
+}
+
+impl<S: Scalar, const M: usize> LeuvenState<S, M> {
+    /// The state `z` (m), relative to the oldest remembered reversal point
+    /// (to the origin while the virgin curve is remembered).
+    pub fn z(&self) -> S {
+        self.z
+    }
+
+    /// The hysteresis force `Fh(z)` (N), within `±Fs`.
+    pub fn hysteresis_force(&self) -> S {
+        self.fh
+    }
+
+    /// The remembered reversal points, oldest first (0 to `M` of them).
+    pub fn memory(&self) -> &[Reversal<S>] {
+        self.points.get(..self.len).unwrap_or(&[])
+    }
+
+    /// Whether the virgin curve is still remembered below the oldest point.
+    pub fn on_virgin_curve(&self) -> bool {
+        self.virgin.get()
+    }
+
+    /// The current branch.
+    fn branch(&self) -> Branch<S> {
+        match self.len.checked_sub(1).and_then(|i| self.points.get(i)) {
+            Some(&origin) => Branch {
+                origin,
+                virgin: false,
+            },
+            None => Branch {
+                origin: Reversal::default(),
+                virgin: true,
+            },
+        }
+    }
+
+    /// The next wiping-out point ahead: the point below the top, or with
+    /// one point above the virgin curve, that point's mirror on it.
+    fn below(&self) -> Option<Reversal<S>> {
+        match self.len {
+            0 => None,
+            1 if self.virgin.get() => self.points.first().map(|p| Reversal { z: -p.z, f: -p.f }),
+            1 => None,
+            n => self.points.get(n - 2).copied(),
+        }
+    }
+
+    /// Pushes `(z, Fh)`, dropping the oldest point when the memory is full.
+    fn push(&mut self) {
+        if self.len >= M {
+            self.points.rotate_left(1);
+            self.len = M - 1;
+            self.virgin = Flag::new(false);
+            self.rebase();
+        }
+        if let Some(p) = self.points.get_mut(self.len) {
+            *p = Reversal {
+                z: self.z,
+                f: self.fh,
+            };
+            self.len += 1;
+        }
+    }
+
+    /// Wiping-out at the next point: pops it with the top (or, above the
+    /// virgin curve, the last point, back onto the virgin curve); without
+    /// the virgin curve the oldest point is never popped.
+    fn pop(&mut self) {
+        self.len = match (self.len, self.virgin.get()) {
+            (0, _) => 0,
+            (1, true) => 0,
+            (1, false) => 1,
+            (2, false) => 1,
+            (n, _) => n - 2,
+        };
+    }
+
+    /// Keeps only the current branch's origin (sliding).
+    fn clear(&mut self) {
+        if self.len == 0 {
+            return; // sliding on the virgin curve: nothing to forget
+        }
+        let top = self.branch().origin;
+        if let Some(p) = self.points.first_mut() {
+            *p = top;
+        }
+        self.len = 1;
+        self.virgin = Flag::new(false);
+        self.rebase();
+    }
+
+    /// Shifts positions so that the oldest point sits at `z = 0` (keeps `z`
+    /// small: pre-sliding needs its precision in `f32`). Not while the
+    /// virgin curve, centred on `z = 0`, is remembered.
+    fn rebase(&mut self) {
+        if self.virgin.get() {
+            return;
+        }
+        let base = self.points.first().map_or(S::ZERO, |p| p.z);
+        if base != S::ZERO {
+            self.z = self.z - base;
+            for p in self.points.iter_mut().take(self.len) {
+                p.z = p.z - base;
+            }
+        }
+    }
+}
+
+impl<S: Scalar, const M: usize> Leuven<S, M> {
+    /// The Stribeck curve `s(v) = g(v)`.
+    pub fn curve(&self) -> &StribeckCurve<S> {
+        &self.curve
+    }
+
+    /// The memory capacity `M`.
+    pub const fn capacity(&self) -> usize {
+        M
+    }
+
+    /// Steady-state friction `g(v) sign(v) + sigma2 v`.
+    pub fn steady_state(&self, v: S) -> S {
+        self.curve.eval(v) * v.sign() + self.sigma2 * v
+    }
+
+    /// `(k Fm, k 2 xs, 1 / (k 2 xs))` of a branch: `k = 1` for the virgin
+    /// curve, 2 else.
+    #[inline]
+    fn scale(&self, b: Branch<S>) -> (S, S, S) {
+        if b.virgin {
+            (self.fm, self.width, self.inv_width)
+        } else {
+            (
+                self.fm + self.fm,
+                self.width + self.width,
+                self.inv_width * S::from_f64(0.5),
+            )
+        }
+    }
+
+    /// `Fh` on branch `b` at `z`, `Fb + k Fm sign(u) (1 - exp(-|u| / (k 2 xs)))`
+    /// with `u = z - zb`, and its slope `(Fs/xs) exp(-|u| / (k 2 xs))`.
+    #[inline]
+    fn curve_at(&self, b: Branch<S>, z: S) -> (S, S) {
+        let (kf, _, inv_w) = self.scale(b);
+        let u = z - b.origin.z;
+        let em = (-(u.abs() * inv_w)).exp_m1(); // e^{-a} - 1, in (-1, 0]
+        (
+            b.origin.f - kf * u.sign() * em,
+            self.stiffness * (em + S::ONE),
+        )
+    }
+
+    /// `(rho^n, n rho^(n-1))` for `rho = max(0, sign(v) fh / g)`.
+    #[inline]
+    fn rho_pow(&self, fh: S, sv: S, inv_g: S) -> (S, S) {
+        let r = sv * fh * inv_g;
+        if r <= S::ZERO {
+            return (S::ZERO, S::ZERO);
+        }
+        match Power::of(self.shape) {
+            Power::One => (r, S::ONE),
+            Power::Two => (r * r, (S::ONE + S::ONE) * r),
+            Power::Real => {
+                let n = self.n;
+                let p = r.powf(n);
+                (p, n * p / r)
+            }
+        }
+    }
+
+    /// `dz/dt = (v - c) - v rho^n`.
+    #[inline]
+    fn rate(&self, fh: S, v: S, elastic: S, inv_g: S) -> S {
+        elastic - v * self.rho_pow(fh, v.sign(), inv_g).0
+    }
+
+    /// The point ahead on branch `b` (direction `d`) where `|Fh|` reaches
+    /// `Fs`, or where the branch is within `CAP` of its asymptote if it
+    /// never does: `(z, Fh)`.
+    fn bound_point(&self, b: Branch<S>, d: S) -> (S, S) {
+        let (kf, w, _) = self.scale(b);
+        // the position of z relative to the origin counts for the virgin
+        // curve (odd about it); a branch is used on its own side only
+        let room = (self.fs - d * b.origin.f).max(S::ZERO).min(kf * self.keep);
+        // inverse: |u| = -k xs ln(1 - room / (k Fs))
+        let u = -w * (-(room / kf)).ln_1p();
+        (b.origin.z + d * u, b.origin.f + d * room)
+    }
+
+    /// Advances the state over `h` (skipped at `h = 0`, which leaves the
+    /// state bitwise unchanged) with `v - c` straining `z` and `v` driving
+    /// the sliding law; returns the force at the end.
+    fn advance(&self, state: &mut LeuvenState<S, M>, v: S, c: S, h: S, damping: bool) -> S {
+        let g = self.curve.eval(v); // >= Fc > 0
+        let inv_g = S::ONE / g;
+        let elastic = v - c;
+        let rate = if h > S::ZERO {
+            self.integrate(state, v, elastic, inv_g, h)
+        } else {
+            let w = self.rate(state.fh, v, elastic, inv_g);
+            if w.sign() * state.fh >= self.fs {
+                S::ZERO // held at the bound
+            } else {
+                w
+            }
+        };
+        let mut f = state.fh + self.sigma2 * v;
+        if damping {
+            f = f + self.sigma1 * rate;
+        }
+        f
+    }
+
+    /// One implicit Euler step `z1 = z0 + h f(z1)` on the composite branch;
+    /// returns the rate actually taken.
+    fn integrate(&self, state: &mut LeuvenState<S, M>, v: S, elastic: S, inv_g: S, h: S) -> S {
+        let sv = v.sign();
+        let w0 = self.rate(state.fh, v, elastic, inv_g);
+        if w0 == S::ZERO {
+            return S::ZERO;
+        }
+        let d = w0.sign();
+        // a reversal of the elastic input v - c: push the point (or undo a
+        // push not yet left). z may also move against v - c when s(v) falls
+        // below |Fh| (rho > 1): it then relaxes back along the current
+        // branch, which is no reversal (else every acceleration through the
+        // Stribeck zone would start a stiff new branch at the sliding level,
+        // a knife-edge decision that f32 and f64 take differently)
+        let e = if elastic != S::ZERO {
+            elastic.sign()
+        } else {
+            d
+        };
+        if state.dir != S::ZERO && e != state.dir {
+            if state.len == 0 || state.z != state.branch().origin.z {
+                state.push();
+            } else if state.len >= 2 || state.virgin.get() {
+                state.len -= 1; // back at the last point: undo its push
+            }
+        }
+        state.dir = e;
+        let z0 = state.z;
+        // E(s) = s - h d f(z0 + d s), increasing in s; E(0) < 0
+        let e_at = |s: S, fh: S| s - h * d * self.rate(fh, v, elastic, inv_g);
+        // the root lies no farther than h |w0|
+        let s_explicit = h * w0.abs();
+        for _ in 0..M {
+            let top = state.branch();
+            let (zb, fb) = self.bound_point(top, d);
+            let (z_lim, f_lim, wipe) = match state.below() {
+                Some(p) if d == e && d * (p.z - zb) < S::ZERO => (p.z, p.f, true),
+                _ => (zb, fb, false),
+            };
+            let s_now = d * (state.z - z0);
+            let s_lim = d * (z_lim - z0);
+            if s_lim <= s_now {
+                // already there (rounding): wipe, or held at the bound
+                if wipe {
+                    state.z = z_lim;
+                    state.fh = f_lim.sat(self.fs);
+                    state.pop();
+                    continue;
+                }
+                return self.taken(state, z0, d, v, elastic, inv_g, h);
+            }
+            if s_lim <= s_explicit && e_at(s_lim, f_lim) <= S::ZERO {
+                // the root is at or beyond the limit
+                state.z = z_lim;
+                state.fh = f_lim.sat(self.fs);
+                if wipe {
+                    state.pop();
+                    continue;
+                }
+                return self.taken(state, z0, d, v, elastic, inv_g, h);
+            }
+            // the root is inside this branch: safeguarded Newton
+            let (mut lo, mut hi) = (s_now, s_lim.min(s_explicit));
+            let mut s = lo;
+            for _ in 0..MAX_ITER {
+                let (fh, slope) = self.curve_at(top, z0 + d * s);
+                let (p, dp) = self.rho_pow(fh, sv, inv_g);
+                let e = s - h * d * (elastic - v * p);
+                if e > S::ZERO {
+                    hi = s;
+                } else if e < S::ZERO {
+                    lo = s;
+                } else {
+                    break;
+                }
+                let de = S::ONE + h * v.abs() * dp * slope * inv_g;
+                let mut next = s - e / de;
+                if !(next > lo && next < hi) {
+                    next = (lo + hi) * S::from_f64(0.5);
+                }
+                let done = (next - s).abs() <= self.tol;
+                s = next;
+                if done {
+                    break;
+                }
+            }
+            state.z = z0 + d * s;
+            state.fh = self.curve_at(top, state.z).0.sat(self.fs);
+            break;
+        }
+        let rate = self.taken(state, z0, d, v, elastic, inv_g, h);
+        // sliding clears the memory below the top
+        if (state.len > 1 || state.virgin.get()) && d == sv && sv * state.fh * inv_g >= self.slide {
+            state.clear();
+        }
+        rate
+    }
+
+    /// The rate actually taken over the step: `f(z1)`, no more than the
+    /// increment over `h` (the state may be held at a limit).
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn taken(&self, state: &LeuvenState<S, M>, z0: S, d: S, v: S, elastic: S, inv_g: S, h: S) -> S {
+        let end = (d * self.rate(state.fh, v, elastic, inv_g)).max(S::ZERO);
+        let moved = (d * (state.z - z0)).max(S::ZERO) / h; // finite or +inf
+        d * end.min(moved)
+    }
+}
+
+impl<S: Scalar, const M: usize> FrictionModel<S> for Leuven<S, M> {
+    type State = LeuvenState<S, M>;
+
+    #[inline]
+    fn step(&self, state: &mut LeuvenState<S, M>, v: S, h: S) -> S {
+        match checked_inputs(v, h) {
+            Some(v) => self.advance(state, v, S::ZERO, h, true),
+            None => self.hold_force(state),
+        }
+    }
+
+    /// The hysteresis force `Fh`, within `±Fs`.
+    fn hold_force(&self, state: &LeuvenState<S, M>) -> S {
+        state.fh.sat(self.fs)
+    }
+}
+
+/// Observer form: `v - c` strains `z`, the sliding law sees `v`; `|Fh|`
+/// is held at `Fs` when the correction drives it there, with `dz/dt = 0`.
+impl<S: Scalar, const M: usize> Observable<S> for Leuven<S, M> {
+    fn step_corrected(
+        &self,
+        state: &mut LeuvenState<S, M>,
+        v: S,
+        correction: S,
+        h: S,
+        damping: bool,
+    ) -> S {
+        self.advance(state, v, correction, h, damping)
+    }
+
+    /// `Fs + sigma1 |v| max(1, (Fs/Fc)^n - 1) + sigma2 |v|`: `|Fh| <= Fs`;
+    /// `|dz/dt| <= |v|` moving into sliding, `|v| (rho^n - 1)` retreating
+    /// when `s(v)` falls below `|Fh|`.
+    fn force_bound(&self, v: S) -> S {
+        let speed = v.abs();
+        self.fs + (self.sigma1 * self.rate_factor + self.sigma2) * speed
+    }
+}

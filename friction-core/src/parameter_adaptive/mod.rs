@@ -1,0 +1,295 @@
+//! Per-parameter adaptive friction compensation: a LuGre observer whose
+//! friction levels are estimated one by one, each in its own box (after
+//! Canudas de Wit & Lischinsky 1997, Int. J. Adapt. Control Signal Process.
+//! 11(1); Panteley, Ortega & Gäfvert 1998, Syst. Control Lett. 33(5);
+//! robust modifications from Ioannou & Sun 1996, Robust Adaptive Control,
+//! Ch. 8: projection, dead zone, leakage).
+//!
+//! The θ-adaptive observer ([`crate::AdaptiveObserver`]) scales the whole
+//! model: a model whose Coulomb level alone is off is no scaled copy of the
+//! plant, and the error in the Stribeck shape stays. Here the observer is
+//! LuGre's, with the levels of its curve estimated: the steady friction is
+//! linear in them, with the normalized bristle `ζ = sigma0 z / g(v)`
+//! (`|ζ| <= 1`, `ζ = sign v` in steady sliding) as their regressor:
+//!
+//! ```text
+//! g^(v)   = Fc±^ + Ds^ s(v) + mu^ |τ|,  s(v) = exp(-|v / vs|^delta),  Fc+^ for z >= 0, Fc-^ below
+//! dz/dt   = v - k e - sigma0 |v| z / g^(v)                     LuGre observer (gain k)
+//! ζ       = sigma0 z / g^(v), within [-1, 1]                    the normalized bristle
+//! F^      = sigma0 z + sigma1 dz/dt + sigma2^ v
+//! φ       = [max(ζ, 0), min(ζ, 0), s(v) ζ, v, |τ| ζ]            regressors of
+//! θ^      = [Fc+^, Fc-^, Ds^, sigma2^, mu^]                     the estimates
+//! dθ^/dt  = -Γ φ (γ e + γd de/dt) - rho (θ^ - θ0)              per estimate, then
+//! θ^      = clamp(θ^, box)                                      projection
+//! ```
+//!
+//! In steady sliding `sigma0 z = g^(v) ζ` with `ζ = sign v`, so `φ` is the
+//! sensitivity of the steady friction to each estimate; the elastic force
+//! follows a change of the estimates within the bristle's lag
+//! `g / (sigma0 |v|)`.
+//!
+//! `τ` is the torque the transmission carries: the compensator's own last
+//! command times `kc`, less an external torque the user may set
+//! ([`ParameterAdaptive::set_external_torque`]). The adaptation signal is the
+//! θ law's (`γ = a kc kp`, `γd = w γ kd / kp`, the composite error of the
+//! loop's PD part), scaled per estimate by its regressor's size: 1 for the
+//! levels, the reference speed for `sigma2`, the reference torque for `mu`.
+//!
+//! A second law, off by default, learns from the friction the compensator
+//! measures instead of the tracking error ([`ParameterAdaptive::learn`]):
+//! the estimates' prediction `φᵀ θ^` of each measured sample against the
+//! sample (a gradient on the prediction error, as in composite adaptation,
+//! Slotine & Li 1989). It is the one that learns where this compensation
+//! is not in the loop: beside another controller, or on a logged run
+//! replayed through [`Compensator::listen`](crate::Compensator::listen).
+//!
+//! Robust modifications, all optional:
+//! - **dead zone**: no adaptation while `|e|` is within `dead_zone` (one or
+//!   two encoder counts: a quantized error that small carries no
+//!   information about the friction);
+//! - **leakage** `rho` toward the nominal values;
+//! - **excitation**: no adaptation while `|v|` is below `min_speed`;
+//! - **projection** onto each estimate's box (`[θ0 / box, θ0 box]` for the
+//!   Coulomb levels, `[0, box max(Ds0, Fc0)]` for the Stribeck excess, `[0,
+//!   max(box sigma2_0, Fs0 / speed)]` for the viscous coefficient,
+//!   `[0, load_max]` for the load coefficient).
+//!
+//! Bounds, for any finite inputs: every estimate stays in its box, `|ζ| <= 1`,
+//! and the output is finite and within the largest friction the boxes allow
+//! at that speed (see [`ParameterAdaptive::bound`]). A NaN or infinite input
+//! leaves the state untouched.
+//!
+//! The fixed-step form for every scalar, Q16.16 included, is [`at`]
+//! ([`ParameterAdaptiveParams::build_at`]).
+
+pub mod at;
+#[cfg(test)]
+mod tests;
+mod variable_step;
+
+use crate::bits::Flag;
+use crate::compensator::CompensatorParams;
+use crate::model::{convert, non_negative, positive, ParamError};
+use crate::models::lugre::LuGreParams;
+use crate::Scalar;
+pub use at::{ParameterAdaptiveAt, ParameterAdaptiveAtState};
+use variable_step::Estimate;
+pub use variable_step::{ParameterAdaptive, ParameterAdaptiveState};
+
+/// The number of estimates: `Fc+`, `Fc-`, `Ds`, `sigma2`, `mu`.
+pub const ESTIMATES: usize = 5;
+
+/// Design-time parameters of the per-parameter adaptation, in `f64`.
+///
+/// ```
+/// use friction_core::{CompensatorParams, LuGreParams, ParameterAdaptiveParams};
+/// let servo = CompensatorParams { h: 1e-3, kp: 60.0, ki: 200.0, kd: 1.2,
+///     inertia: 0.0023, torque_constant: 1.02, limit: 10.0 };
+/// let p = ParameterAdaptiveParams::new(LuGreParams::OLSSON_1998, 20.0);
+/// let adaptive = p.build::<f32>(&servo)?;
+/// # let _ = adaptive;
+/// # Ok::<(), friction_core::ParamError>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ParameterAdaptiveParams {
+    /// The nominal model: its `fc` (both directions), `fs - fc` and `sigma2`
+    /// start the estimates and are the leakage targets; `vs`, the exponent,
+    /// `sigma0` and `sigma1` are used as they are. `vd` is ignored.
+    pub model: LuGreParams,
+    /// Observer gain `k >= 0` (1/s).
+    pub observer_gain: f64,
+    /// Adaptation rate `a >= 0` (1/s): `γ = a kc kp`.
+    pub rate: f64,
+    /// Weight `w >= 0` of the error's rate: `γd = w γ kd / kp`.
+    pub derivative_weight: f64,
+    /// Leakage `rho >= 0` (1/s) toward the nominal values.
+    pub leakage: f64,
+    /// Box factor `>= 1` of the projection (see the [module docs](self)).
+    pub box_factor: f64,
+    /// Dead zone `>= 0` on `|e|` (position units).
+    pub dead_zone: f64,
+    /// Adaptation only while `|v| >= min_speed >= 0`.
+    pub min_speed: f64,
+    /// Reference speed `> 0` of the viscous estimate (e.g. the peak speed).
+    pub speed: f64,
+    /// Nominal load coefficient `mu0 >= 0` (friction per unit of
+    /// transmitted torque).
+    pub load: f64,
+    /// Upper bound `load_max >= mu0` of the load coefficient (0: no load term).
+    pub load_max: f64,
+    /// Rate `>= 0` (1/s) of the prediction-error law (0: off), which
+    /// learns from the friction the compensator measures (see the
+    /// [module docs](self)); `prediction_rate h <= 1`.
+    pub prediction_rate: f64,
+}
+
+impl ParameterAdaptiveParams {
+    /// Defaults around `model` with observer gain `k`: rate 4 1/s, `w = 1`,
+    /// no leakage, box factor 5, no dead zone, no speed threshold,
+    /// reference speed 1, no load term, no prediction-error law.
+    pub const fn new(model: LuGreParams, observer_gain: f64) -> Self {
+        Self {
+            model,
+            observer_gain,
+            rate: 4.0,
+            derivative_weight: 1.0,
+            leakage: 0.0,
+            box_factor: 5.0,
+            dead_zone: 0.0,
+            min_speed: 0.0,
+            speed: 1.0,
+            load: 0.0,
+            load_max: 0.0,
+            prediction_rate: 0.0,
+        }
+    }
+
+    /// Checks the model and every setting; the error names the parameter.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        self.model.validate()?;
+        non_negative("observer_gain", self.observer_gain)?;
+        non_negative("rate", self.rate)?;
+        non_negative("derivative_weight", self.derivative_weight)?;
+        non_negative("leakage", self.leakage)?;
+        positive("box_factor", self.box_factor)?;
+        if self.box_factor < 1.0 {
+            return Err(ParamError::BelowOne("box_factor"));
+        }
+        non_negative("dead_zone", self.dead_zone)?;
+        non_negative("min_speed", self.min_speed)?;
+        positive("speed", self.speed)?;
+        non_negative("load", self.load)?;
+        non_negative("load_max", self.load_max)?;
+        non_negative("prediction_rate", self.prediction_rate)?;
+        if self.load > self.load_max {
+            return Err(ParamError::NotBelow {
+                name: "load",
+                limit: "load_max",
+            });
+        }
+        Ok(())
+    }
+
+    /// The nominal estimates `[Fc, Fc, Fs - Fc, sigma2, mu0]`.
+    pub fn nominal(&self) -> [f64; ESTIMATES] {
+        let c = &self.model.curve;
+        [c.fc, c.fc, c.fs - c.fc, self.model.sigma2, self.load]
+    }
+
+    /// The projection boxes `(low, high)` of the estimates.
+    pub fn boxes(&self) -> [(f64, f64); ESTIMATES] {
+        let b = self.box_factor;
+        let c = &self.model.curve;
+        let excess = c.fs - c.fc;
+        [
+            (c.fc / b, c.fc * b),
+            (c.fc / b, c.fc * b),
+            (0.0, b * excess.max(c.fc)),
+            (0.0, (b * self.model.sigma2).max(c.fs / self.speed)),
+            (0.0, self.load_max),
+        ]
+    }
+
+    /// Validates and builds the compensation for a compensator with
+    /// `servo`'s period, gains and torque constant.
+    pub fn build<S: Scalar>(
+        &self,
+        servo: &CompensatorParams,
+    ) -> Result<ParameterAdaptive<S>, ParamError> {
+        self.validate()?;
+        servo.validate()?;
+        let h = servo.h;
+        let gamma = self.rate * servo.torque_constant * servo.kp;
+        let gamma_d = if servo.kp > 0.0 {
+            self.derivative_weight * gamma * servo.kd / servo.kp
+        } else {
+            0.0
+        };
+        // the regressor sizes: 1 for the levels, the speed for sigma2, a
+        // quarter of the largest command torque for mu; sigma2 at a tenth of
+        // the rate: on a smooth reference its regressor v is nearly
+        // collinear with the Coulomb levels' sign(v), and at equal rates the
+        // two shared a level error and parted only slowly
+        let torque = 0.25 * servo.torque_constant * servo.limit;
+        let size = [1.0, 1.0, 1.0, self.speed * VISCOUS_SLOWDOWN, torque];
+        let nominal = self.nominal();
+        let boxes = self.boxes();
+        if self.prediction_rate * h > 1.0 {
+            return Err(ParamError::NotBelow {
+                name: "prediction_rate",
+                limit: "1 / h",
+            });
+        }
+        let zero = Estimate {
+            gamma_h: S::ZERO,
+            gamma_p: S::ZERO,
+            gamma_d: S::ZERO,
+            nominal: S::ZERO,
+            low: S::ZERO,
+            high: S::ZERO,
+        };
+        let mut per = [zero; ESTIMATES];
+        // the prediction law's sizes: without the slowdown, which helps the
+        // tracking law only (its levels and viscous term share one error)
+        let predicted_size = [1.0, 1.0, 1.0, self.speed, torque];
+        for ((((slot, size), predicted_size), nominal), (low, high)) in per
+            .iter_mut()
+            .zip(size)
+            .zip(predicted_size)
+            .zip(nominal)
+            .zip(boxes)
+        {
+            let scale = 1.0 / (size * size);
+            *slot = Estimate {
+                gamma_h: convert_or_zero("rate", gamma * h * scale)?,
+                gamma_d: convert_or_zero("derivative_weight", gamma_d * scale)?,
+                gamma_p: convert_or_zero(
+                    "prediction_rate",
+                    self.prediction_rate * h / (predicted_size * predicted_size),
+                )?,
+                nominal: convert_or_zero("fc", nominal)?,
+                low: convert_or_zero("box_factor", low)?,
+                high: convert_or_zero("box_factor", high)?,
+            };
+        }
+        Ok(ParameterAdaptive {
+            per,
+            leakage_h: convert_or_zero("leakage", (self.leakage * h).min(1.0))?,
+            sigma0_h: convert("sigma0", self.model.sigma0 * h)?,
+            sigma0: convert("sigma0", self.model.sigma0)?,
+            h: convert("h", h)?,
+            inv_h: convert("h", 1.0 / h)?,
+            sigma1: convert_or_zero("sigma1", self.model.sigma1)?,
+            observer_gain: convert_or_zero("observer_gain", self.observer_gain)?,
+            inv_vs: convert("vs", 1.0 / self.model.curve.vs)?,
+            exponent: convert("stribeck_exponent", self.model.curve.exponent)?,
+            square: Flag::new(self.model.curve.exponent == 2.0),
+            dead_zone: convert_or_zero("dead_zone", self.dead_zone)?,
+            min_speed: convert_or_zero("min_speed", self.min_speed)?,
+            torque_constant: convert("torque_constant", servo.torque_constant)?,
+            torque_limit: convert("limit", 4.0 * servo.torque_constant * servo.limit)?,
+            signal_limit: S::from_f64(SIGNAL_LIMIT),
+            centre: convert("speed", 0.5 * self.speed)?,
+            params: *self,
+            period: h,
+        })
+    }
+}
+
+/// `x` in the scalar, where 0 is allowed.
+fn convert_or_zero<S: Scalar>(name: &'static str, x: f64) -> Result<S, ParamError> {
+    if x == 0.0 {
+        Ok(S::ZERO)
+    } else {
+        convert(name, x)
+    }
+}
+
+/// `sqrt(10)`: the viscous estimate's gain is a tenth of the levels'
+/// (relative to its regressor's size).
+const VISCOUS_SLOWDOWN: f64 = 3.162_277_660_168_379_5;
+
+/// The bound on the scaled adaptation signal, so that its product with a
+/// regressor stays finite.
+const SIGNAL_LIMIT: f64 = 1e6;

@@ -1,0 +1,330 @@
+//! The variable-step per-parameter adaptive observer: [`ParameterAdaptive`]
+//! and its state.
+
+use super::{ParameterAdaptiveParams, ESTIMATES};
+use crate::bits::Flag;
+use crate::compensator::{Compensation, FrictionSample};
+use crate::fixed_step::carried;
+use crate::Scalar;
+
+/// The state: the bristle, the estimates, the last error, the transmitted
+/// torque. The compensator's state starts from `Default` (estimates 0, not
+/// yet `started`): the first step sets the estimates to their nominal
+/// values, as [`ParameterAdaptive::initial`] does.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ParameterAdaptiveState<S> {
+    /// The bristle deflection `z`, within `g^(v) / sigma0`.
+    pub z: S,
+    /// The estimates `[Fc+, Fc-, Ds, sigma2, mu]`.
+    estimates: [S; ESTIMATES],
+    last_error: S,
+    /// The transmitted torque `kc u - τ_ext`.
+    pub(super) torque: S,
+    /// The external torque the user set.
+    external: S,
+    started: Flag,
+    primed: Flag,
+}
+
+impl<S: Scalar> ParameterAdaptiveState<S> {
+    /// The estimates `[Fc+, Fc-, Fs - Fc, sigma2, mu]`: 0 in a `Default`
+    /// state until its first step sets them to the nominal values
+    /// ([`ParameterAdaptive::initial`] starts there).
+    pub fn estimates(&self) -> [S; ESTIMATES] {
+        self.estimates
+    }
+}
+
+/// One estimate's gains (per tick), nominal value and box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub(super) struct Estimate<S> {
+    pub(super) gamma_h: S,
+    pub(super) gamma_d: S,
+    /// The prediction-error law's gain per tick (0: off).
+    pub(super) gamma_p: S,
+    pub(super) nominal: S,
+    pub(super) low: S,
+    pub(super) high: S,
+}
+
+/// The built per-parameter adaptive observer: immutable, shared by any
+/// number of [`ParameterAdaptiveState`]s; a [`Compensation`] for the
+/// [`Compensator`](crate::Compensator) at the period it was built for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ParameterAdaptive<S> {
+    pub(super) per: [Estimate<S>; ESTIMATES],
+    pub(super) leakage_h: S,
+    pub(super) sigma0_h: S,
+    pub(super) sigma0: S,
+    pub(super) h: S,
+    pub(super) inv_h: S,
+    pub(super) sigma1: S,
+    pub(super) observer_gain: S,
+    pub(super) inv_vs: S,
+    pub(super) exponent: S,
+    pub(super) square: Flag,
+    pub(super) dead_zone: S,
+    pub(super) min_speed: S,
+    pub(super) torque_constant: S,
+    pub(super) torque_limit: S,
+    pub(super) signal_limit: S,
+    /// Half the reference speed: the prediction law's centre.
+    pub(super) centre: S,
+    pub(super) params: ParameterAdaptiveParams,
+    pub(super) period: f64,
+}
+
+impl<S: Scalar> ParameterAdaptive<S> {
+    /// The parameters it was built from.
+    pub fn params(&self) -> &ParameterAdaptiveParams {
+        &self.params
+    }
+
+    /// A state at rest with the nominal estimates.
+    pub fn initial(&self) -> ParameterAdaptiveState<S> {
+        ParameterAdaptiveState {
+            estimates: self.per.map(|k| k.nominal),
+            started: Flag::new(true),
+            ..Default::default()
+        }
+    }
+
+    /// Sets a `Default` state's estimates to their nominal values (once),
+    /// keeping the rest of it (an external torque already set).
+    #[inline]
+    fn start(&self, state: &mut ParameterAdaptiveState<S>) {
+        if !state.started.get() {
+            state.estimates = self.per.map(|k| k.nominal);
+            state.started = Flag::new(true);
+        }
+    }
+
+    /// Sets the estimates of `state` (e.g. restored after a power cycle),
+    /// each projected onto its box; a non-finite value leaves that estimate
+    /// as it is.
+    pub fn set_estimates(&self, state: &mut ParameterAdaptiveState<S>, values: [f64; ESTIMATES]) {
+        self.start(state);
+        for ((x, v), k) in state.estimates.iter_mut().zip(values).zip(&self.per) {
+            if v.is_finite() {
+                *x = S::from_f64(v).max(k.low).min(k.high);
+            }
+        }
+    }
+
+    /// Sets the external torque `τ_ext` (gravity, a load) the transmission
+    /// carries besides the motor's; a non-finite value is ignored.
+    pub fn set_external_torque(&self, state: &mut ParameterAdaptiveState<S>, torque: S) {
+        if torque.is_finite() {
+            state.external = torque.sat(self.torque_limit);
+        }
+    }
+
+    /// `s(v) = exp(-|v / vs|^delta)`, in `[0, 1]`.
+    #[inline]
+    fn shape(&self, v: S) -> S {
+        let r = (v * self.inv_vs).abs();
+        let p = if self.square.get() {
+            r * r
+        } else {
+            r.powf(self.exponent)
+        };
+        (-p).exp().min(S::ONE).max(S::ZERO)
+    }
+
+    /// The largest `|F^|` at speed `v` the boxes allow: the elastic force
+    /// within `g^ <= Fc_max + Ds_max + mu_max |τ|_max`, the damping term
+    /// clamped to `Fc_max + Ds_max`, and `sigma2_max |v|`.
+    pub fn bound(&self, v: S) -> S {
+        let level = self.per[0].high.max(self.per[1].high) + self.per[2].high;
+        level + level + self.per[4].high * self.torque_limit + self.per[3].high * v.abs()
+    }
+
+    /// One step with measured velocity `v` and position error `e` (see the
+    /// [module documentation](self)); returns `F^`.
+    #[inline]
+    pub fn step(&self, state: &mut ParameterAdaptiveState<S>, v: S, e: S) -> S {
+        self.start(state);
+        if !(v.is_finite() && e.is_finite()) {
+            return self.force(state, S::ZERO, S::ZERO);
+        }
+        let v = v.sat(S::VELOCITY_LIMIT);
+        let e = e.sat(S::VELOCITY_LIMIT);
+        let s = self.shape(v);
+        let g = self.level(state, s);
+        // LuGre's observer, implicit Euler: z' = (z + h (v - k e)) / (1 + sigma0 h |v| / g)
+        let drive = (v - (self.observer_gain * e).sat(S::VELOCITY_LIMIT)).sat(S::VELOCITY_LIMIT);
+        let z = (state.z + self.h * drive) / (S::ONE + self.sigma0_h * v.abs() / g);
+        let zeta = (self.sigma0 * z / g).min(S::ONE).max(-S::ONE);
+        // the damping term carries the correction -k e, as Canudas de Wit's
+        // observer does: without it the loops with a stiff sigma1 lost the
+        // damping sigma1 k e gives and did up to 9x worse than none
+        let z_dot = (z - state.z) * self.inv_h;
+        state.z = zeta * g / self.sigma0;
+        // adaptation
+        let de = if state.primed.get() {
+            (e - state.last_error).sat(self.signal_limit)
+        } else {
+            S::ZERO
+        };
+        state.last_error = e;
+        state.primed = Flag::new(true);
+        let adapting = e.abs() > self.dead_zone && v.abs() >= self.min_speed;
+        let phi = Self::regressors(state, zeta, s, v);
+        for ((x, p), k) in state.estimates.iter_mut().zip(phi).zip(&self.per) {
+            let mut next = *x;
+            if adapting {
+                let signal = (k.gamma_h * e).sat(self.signal_limit)
+                    + (k.gamma_d * de).sat(self.signal_limit);
+                next = next - (signal.sat(self.signal_limit) * p).sat(self.signal_limit);
+            }
+            if self.leakage_h != S::ZERO {
+                next = next - self.leakage_h * (next - k.nominal);
+            }
+            *x = next.max(k.low).min(k.high);
+        }
+        self.force(state, v, z_dot)
+    }
+
+    /// `g^(v)` at the bristle's side (`Fc+^` for `z >= 0`), with the
+    /// Stribeck shape `s = s(v)`; at least the smallest Coulomb level of
+    /// the boxes.
+    #[inline]
+    fn level(&self, state: &ParameterAdaptiveState<S>, s: S) -> S {
+        let th = &state.estimates;
+        let coulomb = if state.z >= S::ZERO { th[0] } else { th[1] };
+        (coulomb + th[2] * s + th[4] * state.torque.abs()).max(self.per[0].low.min(self.per[1].low))
+    }
+
+    /// The regressors `φ` at normalized bristle `ζ`, shape `s` and speed `v`.
+    #[inline]
+    fn regressors(state: &ParameterAdaptiveState<S>, zeta: S, s: S, v: S) -> [S; ESTIMATES] {
+        [
+            zeta.max(S::ZERO),
+            zeta.min(S::ZERO),
+            s * zeta,
+            v,
+            state.torque.abs() * zeta,
+        ]
+    }
+
+    /// The prediction-error law: the steady friction `φᵀ θ^` the estimates
+    /// predict for a measured sample (`φ` at the sample's mean velocity
+    /// with `ζ = sign v`) against the measured force,
+    ///
+    /// ```text
+    /// ε       = force - φᵀ θ^
+    /// Δsigma2 = γp3 (v - c sign v) ε                the viscous term centred at c
+    /// ΔFc±    = γp φ± ε - c |φ±| Δsigma2             each level as the friction at c
+    /// ΔDs, Δmu = γp φ ε,  then projection onto the boxes
+    /// ```
+    ///
+    /// with `γp` the prediction rate times `h` over each regressor's size
+    /// squared (1 for the levels, the reference speed for `sigma2`, a
+    /// quarter of the largest command torque for `mu`) and `c` half the
+    /// reference speed: in one direction `sign v` and `v` are nearly
+    /// collinear, and a plain gradient on them crawls along their shared
+    /// direction. A no-op when the rate is 0, for a sample slower
+    /// than `min_speed` (at rest the measured force is whatever holds the
+    /// load, not the curve: set `min_speed` above the speeds of reversals)
+    /// or a non-finite one. The [`Compensator`](crate::Compensator)
+    /// calls it through [`Compensation::learn`], in a tick or while it
+    /// listens ([`Compensator::listen`](crate::Compensator::listen)), where
+    /// the tracking error is another controller's and only this law can learn.
+    pub fn learn(&self, state: &mut ParameterAdaptiveState<S>, sample: FrictionSample<S>) {
+        if self.per.iter().all(|k| k.gamma_p == S::ZERO)
+            || !(sample.force.is_finite() && sample.v.is_finite())
+        {
+            return;
+        }
+        self.start(state);
+        let v = sample.v.sat(S::VELOCITY_LIMIT);
+        if v.abs() < self.min_speed {
+            return;
+        }
+        // the steady curve's regressors: above min_speed the sample is
+        // sliding friction, and the bristle's lag behind a changing speed
+        // (its ζ a little short of ±1) would bias the levels
+        let sign = if v > S::ZERO {
+            S::ONE
+        } else if v < S::ZERO {
+            -S::ONE
+        } else {
+            S::ZERO
+        };
+        let phi = Self::regressors(state, sign, self.shape(v), v);
+        let mut predicted = S::ZERO;
+        for (x, p) in state.estimates.iter().zip(phi) {
+            predicted = predicted + (*x * p).sat(self.signal_limit);
+        }
+        let error = (sample.force.sat(self.signal_limit) - predicted).sat(self.signal_limit);
+        let lim = self.signal_limit;
+        // centred at c (see above): the viscous step first, then each
+        // level's, less what the viscous step moved the friction at c
+        let viscous = ((self.per[3].gamma_p * error).sat(lim) * (v - self.centre * sign)).sat(lim);
+        let mut step = [S::ZERO; ESTIMATES];
+        for ((d, p), k) in step.iter_mut().zip(phi).zip(&self.per) {
+            *d = ((k.gamma_p * error).sat(lim) * p).sat(lim);
+        }
+        step[3] = viscous;
+        let shift = (self.centre * viscous).sat(lim);
+        step[0] = step[0] - phi[0] * shift;
+        step[1] = step[1] + phi[1] * shift;
+        for ((x, d), k) in state.estimates.iter_mut().zip(step).zip(&self.per) {
+            *x = (*x + d).max(k.low).min(k.high);
+        }
+    }
+
+    /// `F^ = sigma0 z + mu^ |τ| ζ + sigma1 dz/dt + sigma2^ v` from the
+    /// state and the step's `dz/dt` (0 when holding).
+    #[inline]
+    fn force(&self, state: &ParameterAdaptiveState<S>, v: S, z_dot: S) -> S {
+        let cap = self.per[0].high.max(self.per[1].high) + self.per[2].high;
+        let damping = (self.sigma1 * z_dot).sat(cap);
+        self.sigma0 * state.z + damping + state.estimates[3] * v
+    }
+}
+
+impl<S: Scalar> Compensation<S> for ParameterAdaptive<S> {
+    type State = ParameterAdaptiveState<S>;
+    const USES_H: bool = false;
+    const LEARNS: bool = true;
+    #[inline]
+    fn learn(&self, state: &mut Self::State, sample: FrictionSample<S>) {
+        ParameterAdaptive::learn(self, state, sample);
+    }
+    #[inline]
+    fn estimate(&self, state: &mut Self::State, v: S, e: S, _h: S) -> S {
+        self.step(state, v, e)
+    }
+    fn period(&self) -> Option<f64> {
+        Some(self.period)
+    }
+    #[inline]
+    fn commanded(&self, state: &mut Self::State, command: S) {
+        state.torque = (self.torque_constant * command - state.external).sat(self.torque_limit);
+    }
+
+    /// The estimates restart at this law's nominal values (the new model is
+    /// the new nominal); the elastic force `sigma0 z` is kept (`z = z_old
+    /// sigma0_old / sigma0`) within the nominal `max(Fc+, Fc-) + Ds + mu
+    /// |τ|`; the last error and the torques are kept (within this law's
+    /// torque limit).
+    fn carry_over(&self, old: &Self, state: &mut Self::State) {
+        let torque = state.torque.sat(self.torque_limit);
+        let fresh = self.initial();
+        let [fc_pos, fc_neg, excess, _, load] = fresh.estimates;
+        let level = fc_pos.max(fc_neg) + excess + load * torque.abs();
+        let ratio = old.sigma0.to_f64() / self.sigma0.to_f64();
+        *state = ParameterAdaptiveState {
+            z: carried(state.z, ratio, level / self.sigma0),
+            torque,
+            external: state.external.sat(self.torque_limit),
+            last_error: state.last_error,
+            primed: state.primed,
+            ..fresh
+        };
+    }
+}
