@@ -261,7 +261,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
     }
 
     /// One tick with measured position `x` towards the setpoint `r`; see the
-    /// [module documentation](self) for the control law and the guarantees.
+    /// [module documentation](crate::compensator) for the control law and the guarantees.
     #[inline]
     pub fn tick(&self, state: &mut CompensatorState<S, C::State>, x: S, r: Setpoint<S>) -> Tick<S> {
         if !all_finite([x, r.x, r.v, r.a]) {
