@@ -1,7 +1,7 @@
 /*
  * A hand-written C LuGre step in double precision, the reference for the
  * host comparison (`cargo bench -p friction-bench-c`). Same algorithm as
- * friction-core's `LuGre::step` (src/models/lugre.rs, `advance`): Stribeck
+ * friction-core's `LuGre::step` (src/models/lugre/variable_step.rs, `advance`): Stribeck
  * curve with exponent 2, dz/dt = v - a z with a = sigma0 |v| / g(v) solved
  * exactly for the held v (exponential relaxation, expm1 for small a h), z
  * clamped to +-Fs/sigma0, force at the end of the step with the damping term

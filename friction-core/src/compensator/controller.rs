@@ -261,7 +261,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
     }
 
     /// One tick with measured position `x` towards the setpoint `r`; see the
-    /// [module documentation](super) for the control law and the guarantees.
+    /// [module documentation](crate::compensator) for the control law and the guarantees.
     // Always inlined, with the helpers it calls: it is the interrupt's hot
     // path, and a second caller of the same instance (commissioning ticks the
     // uncompensated servo) must not move it out of line in the servo tick.

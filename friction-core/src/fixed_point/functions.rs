@@ -139,10 +139,11 @@ const ZONE_SEGMENTS: [[i32; 4]; ZONE_SEGMENT_COUNT] = {
 };
 
 /// [`Scalar::zone_curve`](crate::Scalar::zone_curve) in Q16.16 for `u` in
-/// Q16.16: the segment of `u` (bits 12 and up) by Horner in its 12-bit fraction `t`, all in `i32` (the
-/// partial sums before `a` are within 2^19 in Q0.20, so `sum t < 2^31`);
-/// `u <= 0` is the value at 0, `u >= 1` the value at 1, which is 1. Within
-/// 0.7 Q16.16 steps of the exact value (0.68, tested for every `u`).
+/// Q16.16: the segment of `u` (bits 12 and up) by Horner in its 12-bit
+/// fraction `t`, all in `i32` (the partial sums before `a` are within 2^19
+/// in Q0.20, so `sum t < 2^31`); `u <= 0` is the value at 0, `u >= 1` the
+/// value at 1, which is 1. Within 0.7 Q16.16 steps of the exact value
+/// (0.68, tested for every `u`).
 #[inline]
 pub(super) fn zone_curve_bits(u: i32) -> i32 {
     let u = u.max(0) as u32;

@@ -143,7 +143,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
     }
 
     /// One step with measured velocity `v` and position error `e` (see the
-    /// [module documentation](super)); returns `F^`.
+    /// [module documentation](crate::parameter_adaptive)); returns `F^`.
     #[inline]
     pub fn step(&self, state: &mut ParameterAdaptiveState<S>, v: S, e: S) -> S {
         self.start(state);

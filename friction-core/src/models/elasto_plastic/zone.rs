@@ -5,6 +5,7 @@
 use crate::models::lugre::phi_series;
 use crate::Scalar;
 
+/// `alpha = 1 - sin^2(pi u / 2) = 1 - (pi/2)^2 u^2 (sin(phi)/phi)^2` at the
 /// normalised zone position `u` in `[0, 1]`.
 #[inline]
 pub(super) fn relaxed_fraction<S: Scalar>(u: S) -> S {
