@@ -370,11 +370,7 @@ fn run_in(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Out
 /// means "the steady state is the model's map" (for the bristle model: its
 /// sliding mean).
 pub fn expectation(model: &ModelSpec, experiment: &str) -> Option<bool> {
-    let row = model.host().expectations();
-    NAMES
-        .iter()
-        .position(|n| *n == experiment)
-        .and_then(|i| row[i])
+    model.host().expectations().of(experiment).flatten()
 }
 
 pub(crate) fn core(spec: &ModelSpec) -> Result<Box<dyn Stepper>> {

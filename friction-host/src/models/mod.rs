@@ -193,6 +193,59 @@ pub const N: Expect = Some(false);
 /// Not judged (figures reported only).
 pub const U: Expect = None;
 
+/// What a model is known to show, one named field per experiment of
+/// [`crate::experiments::NAMES`] ([`Expectations::of`] reads one by name).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Expectations {
+    /// `stribeck`: the steady state is the model's map (for the bristle
+    /// model: its sliding mean).
+    pub stribeck: Expect,
+    /// `presliding`: hysteresis before sliding.
+    pub presliding: Expect,
+    /// `frictional-lag`: the force lags a varying velocity.
+    pub frictional_lag: Expect,
+    /// `breakaway`: the break-away force varies with the force rate.
+    pub breakaway: Expect,
+    /// `stick-slip`: stick-slip on a spring.
+    pub stick_slip: Expect,
+    /// `drift`: creep under a force cycling below break-away.
+    pub drift: Expect,
+    /// `rate-independence`: the hysteresis loops do not depend on the rate.
+    pub rate_independence: Expect,
+    /// `nonlocal-memory`: the force depends on past turning points.
+    pub nonlocal_memory: Expect,
+}
+
+impl Expectations {
+    /// The steady curve expected, nothing else judged (the default).
+    pub const STEADY_CURVE_ONLY: Self = Self {
+        stribeck: Y,
+        presliding: U,
+        frictional_lag: U,
+        breakaway: U,
+        stick_slip: U,
+        drift: U,
+        rate_independence: U,
+        nonlocal_memory: U,
+    };
+
+    /// The expectation for the experiment called `experiment`; `None` for
+    /// a name that is no experiment.
+    pub fn of(&self, experiment: &str) -> Option<Expect> {
+        Some(match experiment {
+            "stribeck" => self.stribeck,
+            "presliding" => self.presliding,
+            "frictional-lag" => self.frictional_lag,
+            "breakaway" => self.breakaway,
+            "stick-slip" => self.stick_slip,
+            "drift" => self.drift,
+            "rate-independence" => self.rate_independence,
+            "nonlocal-memory" => self.nonlocal_memory,
+            _ => return None,
+        })
+    }
+}
+
 /// Everything the host knows of one model.
 pub trait HostModel {
     /// Validates the parameters (the core's checks), naming the offending one.
@@ -262,10 +315,9 @@ pub trait HostModel {
     fn stochastic(&self) -> bool {
         false
     }
-    /// What the model is known to show, per experiment of
-    /// [`crate::experiments::NAMES`], in that order.
-    fn expectations(&self) -> [Expect; 8] {
-        [Y, U, U, U, U, U, U, U]
+    /// What the model is known to show in each experiment.
+    fn expectations(&self) -> Expectations {
+        Expectations::STEADY_CURVE_ONLY
     }
     /// RMS force error bound (fraction of the static force) against the
     /// reference at step `h` (1 or 10 kHz); `None`: reported, not judged.
@@ -564,4 +616,19 @@ pub(crate) fn from_toml<T: serde::de::DeserializeOwned>(
 /// The default Stribeck exponent for file structs.
 pub(crate) fn default_exponent() -> f64 {
     friction_core::StribeckParams::DEFAULT_EXPONENT
+}
+
+#[cfg(test)]
+mod tests {
+    /// Every experiment has its named field in [`super::Expectations`].
+    #[test]
+    fn every_experiment_has_an_expectation() {
+        for name in crate::experiments::NAMES {
+            assert!(
+                super::Expectations::STEADY_CURVE_ONLY.of(name).is_some(),
+                "{name}"
+            );
+        }
+        assert_eq!(super::Expectations::STEADY_CURVE_ONLY.of("none"), None);
+    }
 }
