@@ -203,6 +203,10 @@ impl HostModel for BristleSpec {
             nonlocal_memory: N,
         }
     }
+    /// Its bristles snap.
+    fn switching(&self) -> bool {
+        true
+    }
 }
 
 /// Splits the signal's displacement over `[a, b]` at its velocity reversals

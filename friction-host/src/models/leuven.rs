@@ -243,6 +243,10 @@ impl HostModel for LeuvenSpec {
             nonlocal_memory: U,
         }
     }
+    /// Plotted against the reference.
+    fn validation_plots(&self) -> bool {
+        true
+    }
     /// 3 % at 1 kHz, 1 % at 10 kHz.
     fn accuracy_bound(&self, h: f64) -> Option<f64> {
         Some(if h >= 1e-3 { 0.03 } else { 0.01 })

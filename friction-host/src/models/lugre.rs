@@ -165,6 +165,14 @@ impl HostModel for LuGreParams {
             nonlocal_memory: N,
         }
     }
+    /// Plotted against the reference.
+    fn validation_plots(&self) -> bool {
+        true
+    }
+    /// The drift and servo sets, reported.
+    fn reported_sets(&self) -> &'static [&'static str] {
+        &["astrom2008-drift", "olsson1998-servo"]
+    }
     /// The `sigma1(v)` form with `vd = vs` (reported), and the three static
     /// maps on the same curve (bounded).
     fn validation_variants(&self) -> Vec<super::Variant> {

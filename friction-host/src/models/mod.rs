@@ -354,6 +354,23 @@ pub trait HostModel {
     fn validates_itself(&self) -> bool {
         true
     }
+    /// Whether the force jumps (a bond breaking, a bristle snapping), so
+    /// that an RMS over all samples is mostly a count of misplaced jumps:
+    /// `friction validate` then reports the model's figures without
+    /// judging them.
+    fn switching(&self) -> bool {
+        false
+    }
+    /// Whether `friction validate` plots the core against the reference at
+    /// 1 kHz when this is the model's primary set (one model of each kind).
+    fn validation_plots(&self) -> bool {
+        false
+    }
+    /// The model's other shipped sets `friction validate` measures beside
+    /// the primary one (reported, not judged), in order.
+    fn reported_sets(&self) -> &'static [&'static str] {
+        &[]
+    }
     /// The core observer around this model (plain or θ-adaptive, as
     /// `request` says) with its friction level scaled by `request.scale`,
     /// in the loop `setup`; `None` where the model has no observer form.

@@ -154,4 +154,12 @@ impl HostModel for ResetIntegratorParams {
             nonlocal_memory: N,
         }
     }
+    /// Its bond breaks and re-forms.
+    fn switching(&self) -> bool {
+        true
+    }
+    /// Plotted against the reference.
+    fn validation_plots(&self) -> bool {
+        true
+    }
 }
