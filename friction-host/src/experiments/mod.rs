@@ -108,8 +108,8 @@ fn unresolved_rig(name: &str, file: &ParamFile, h: f64) -> Option<Refusal> {
         0.0
     };
     let (k, c, m) = (
-        file.model.rest_stiffness() + spring,
-        file.model.rest_damping(),
+        file.model.host().rest_stiffness() + spring,
+        file.model.host().rest_damping(),
         mass(file),
     );
     let omega = (k / m).sqrt();
@@ -235,7 +235,7 @@ fn refusal(name: &str, file: &ParamFile) -> Option<Refusal> {
             )));
         }
     }
-    if name != "stribeck" && !file.model.has_state() {
+    if name != "stribeck" && !file.model.host().has_state() {
         return Some(Refusal(format!(
             "experiment `{name}` does not apply to the static map `{}`: it needs a model with internal state",
             file.model.name()
@@ -374,7 +374,7 @@ pub fn expectation(model: &ModelSpec, experiment: &str) -> Option<bool> {
 }
 
 pub(crate) fn core(spec: &ModelSpec) -> Result<Box<dyn Stepper>> {
-    Ok(spec.stepper(ScalarKind::F64)?)
+    Ok(spec.host().stepper(ScalarKind::F64)?)
 }
 
 pub(crate) fn mass(file: &ParamFile) -> f64 {
@@ -401,7 +401,7 @@ pub(crate) fn rig_pair(
     dir: &Path,
 ) -> Result<(Trace, Option<Trace>)> {
     let tr = rig_core(core(&file.model)?.as_mut(), rig, h, duration);
-    let rf = match file.model.continuous() {
+    let rf = match file.model.host().continuous() {
         Some(c) => Some(rig_reference(c.as_ref(), rig, &tr.t)?),
         None => None,
     };

@@ -497,46 +497,6 @@ macro_rules! registry {
 friction_core::model_list!(registry);
 
 impl ModelSpec {
-    /// See [`HostModel::max_static_force`].
-    pub fn max_static_force(&self) -> f64 {
-        self.host().max_static_force()
-    }
-    /// See [`HostModel::presliding_scale`].
-    pub fn presliding_scale(&self) -> f64 {
-        self.host().presliding_scale()
-    }
-    /// See [`HostModel::rest_stiffness`].
-    pub fn rest_stiffness(&self) -> f64 {
-        self.host().rest_stiffness()
-    }
-    /// See [`HostModel::stribeck_velocity`].
-    pub fn stribeck_velocity(&self) -> Option<f64> {
-        self.host().stribeck_velocity()
-    }
-    /// See [`HostModel::lag_time`].
-    pub fn lag_time(&self, v: f64) -> f64 {
-        self.host().lag_time(v)
-    }
-    /// See [`HostModel::rest_damping`].
-    pub fn rest_damping(&self) -> f64 {
-        self.host().rest_damping()
-    }
-    /// See [`HostModel::sigma2`].
-    pub fn sigma2(&self) -> f64 {
-        self.host().sigma2()
-    }
-    /// See [`HostModel::has_state`].
-    pub fn has_state(&self) -> bool {
-        self.host().has_state()
-    }
-    /// See [`HostModel::validate`].
-    pub fn validate(&self) -> Result<(), ParamError> {
-        self.host().validate()
-    }
-    /// See [`HostModel::stepper`].
-    pub fn stepper(&self, scalar: ScalarKind) -> Result<Box<dyn Stepper>, ParamError> {
-        self.host().stepper(scalar)
-    }
     /// See [`HostModel::fixed_stepper`]; an error names the model when it
     /// has no fixed-point form.
     pub fn fixed_stepper(&self, h: f64) -> anyhow::Result<Box<dyn Stepper>> {
@@ -548,18 +508,6 @@ impl ModelSpec {
                 FIXED_POINT_MODELS.join(", ")
             ),
         }
-    }
-    /// See [`HostModel::continuous`].
-    pub fn continuous(&self) -> Option<Box<dyn Continuous>> {
-        self.host().continuous()
-    }
-    /// See [`HostModel::observer_controller`].
-    pub fn observer_controller(
-        &self,
-        setup: &Loop,
-        request: &ObserverRequest,
-    ) -> Option<Result<Box<dyn Controller>, ParamError>> {
-        self.host().observer_controller(setup, request)
     }
 }
 

@@ -271,7 +271,7 @@ pub fn adaptation(cfg: &ServoConfig, static_force: f64) -> AdaptiveParams {
 pub fn static_map(spec: &ModelSpec, scale: f64) -> CoulombViscousParams {
     CoulombViscousParams {
         fc: scale * spec.host().coulomb_level(),
-        sigma2: spec.sigma2(),
+        sigma2: spec.host().sigma2(),
     }
 }
 
@@ -311,14 +311,14 @@ fn supervisor_tolerance(cfg: &ServoConfig, spec: &ModelSpec) -> f64 {
 pub fn lugre_nominal(spec: &ModelSpec, scale: f64, stiffness: f64) -> LuGreParams {
     let host = spec.host();
     let fc = scale * host.coulomb_level();
-    let fs = (scale * spec.max_static_force()).max(fc);
-    let sigma2 = spec.sigma2();
-    let rest = spec.rest_stiffness();
+    let fs = (scale * spec.host().max_static_force()).max(fc);
+    let sigma2 = spec.host().sigma2();
+    let rest = spec.host().rest_stiffness();
     LuGreParams {
         curve: StribeckParams {
             fc,
             fs,
-            vs: spec.stribeck_velocity().unwrap_or(1.0),
+            vs: spec.host().stribeck_velocity().unwrap_or(1.0),
             exponent: host.stribeck_exponent().unwrap_or(2.0),
         },
         // a model without a finite stiffness at rest (none here) deflects
@@ -329,7 +329,7 @@ pub fn lugre_nominal(spec: &ModelSpec, scale: f64, stiffness: f64) -> LuGreParam
             } else {
                 fs / 1e-3
             },
-        sigma1: (spec.rest_damping() - sigma2).max(0.0),
+        sigma1: (spec.host().rest_damping() - sigma2).max(0.0),
         sigma2,
         vd: None,
     }
@@ -395,7 +395,7 @@ pub fn build_controller(
                 adaptive: None,
                 supervisor: None,
             };
-            spec.observer_controller(&setup, &request)?
+            spec.host().observer_controller(&setup, &request)?
         }
         Row::Adaptive {
             scale,
@@ -407,17 +407,17 @@ pub fn build_controller(
                 stiffness,
                 gain: cfg.observer_gain,
                 damping: true,
-                adaptive: Some(adaptation(cfg, scale * spec.max_static_force())),
+                adaptive: Some(adaptation(cfg, scale * spec.host().max_static_force())),
                 supervisor: fallback(cfg, spec, scale),
             };
-            spec.observer_controller(&setup, &request)?
+            spec.host().observer_controller(&setup, &request)?
         }
         Row::Adaptive {
             scale,
             stiffness,
             law: Law::Parameters,
         } => {
-            if !spec.has_state() {
+            if !spec.host().has_state() {
                 return None;
             }
             parameter_controller(cfg, spec, &setup, scale, stiffness)
@@ -490,7 +490,7 @@ impl Plant {
     fn new(cfg: &ServoConfig, spec: &ModelSpec) -> Result<Self> {
         Ok(match &cfg.plant_bam {
             Some(p) => Plant::Bam(Box::new(BamPlant::new(p, cfg)?)),
-            None => Plant::Model(spec.stepper(crate::models::ScalarKind::F64)?),
+            None => Plant::Model(spec.host().stepper(crate::models::ScalarKind::F64)?),
         })
     }
 

@@ -32,7 +32,7 @@ pub fn accuracy_on(
     bounded: bool,
     plot_dir: Option<&Path>,
 ) -> Result<Vec<AccuracyRow>> {
-    let fs = spec.max_static_force();
+    let fs = spec.host().max_static_force();
     let mut rows = Vec::new();
     for (i, s) in signals.iter().enumerate() {
         // the reference once, on the 10 kHz grid; the 1 kHz grid is every
@@ -49,8 +49,8 @@ pub fn accuracy_on(
                     .map_or_else(|| drive_reference(spec, s, &t), Ok)?
             };
             let fr = &reference.force;
-            let f64_ = drive_core(spec.stepper(ScalarKind::F64)?.as_mut(), &t, &v);
-            let f32_ = drive_core(spec.stepper(ScalarKind::F32)?.as_mut(), &t, &v);
+            let f64_ = drive_core(spec.host().stepper(ScalarKind::F64)?.as_mut(), &t, &v);
+            let f32_ = drive_core(spec.host().stepper(ScalarKind::F32)?.as_mut(), &t, &v);
             // fixed point where the model has that form and the set builds in it
             let fixed_rms = spec
                 .host()
@@ -58,7 +58,7 @@ pub fn accuracy_on(
                 .and_then(Result::ok)
                 .map(|mut m| rms_diff(&drive_core(m.as_mut(), &t, &v), fr) / fs);
             let fm = drive_core(
-                spec.stepper(ScalarKind::F64)?.as_mut(),
+                spec.host().stepper(ScalarKind::F64)?.as_mut(),
                 &t,
                 &s.mean_velocities(&t),
             );
@@ -157,7 +157,7 @@ pub(super) fn drift_comparison(dir: &Path) -> Result<PathBuf> {
         };
         let cycles = f64::from(file.rig.cycles.unwrap_or(10));
         let tr = crate::sim::rig_core(
-            file.model.stepper(ScalarKind::F64)?.as_mut(),
+            file.model.host().stepper(ScalarKind::F64)?.as_mut(),
             &rig,
             1e-3,
             cycles / freq,
@@ -203,6 +203,7 @@ pub fn bristle_convergence() -> Result<Vec<BristleConvergence>> {
             params,
             bristles: n,
         })
+        .host()
         .stepper(ScalarKind::F64)?;
         let h = 0.05; // v = 1: 1/20 of delta_s a step
         for _ in 0..1000 {

@@ -151,7 +151,7 @@ mod tests {
                     fixed,
                     "{label}: the host's fixed-point form of `{name}` against the list"
                 );
-                spec.validate().unwrap();
+                spec.host().validate().unwrap();
             }
         }
     }
