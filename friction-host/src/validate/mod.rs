@@ -2,10 +2,11 @@
 //! solver, f32 against f64, and every phenomenon experiment judged, into a
 //! printed table and a Markdown report with plots.
 //!
-//! Three stages: [`plan`] says what runs, from the model list and each
-//! model's host module (its sets, variants, bounds and plots); [`mod@run`]
-//! measures it in parallel and times each section; [`report`] renders the
-//! console lines and `report.md`, its bounds read from the models.
+//! Three stages: `plan.rs` says what runs, from the model list and each
+//! model's host module (its sets, variants, bounds and plots); `run.rs`
+//! measures it in parallel (`measure.rs`) and times each section;
+//! `report.rs` renders the console lines and `report.md`, its bounds read
+//! from the models.
 
 mod measure;
 mod plan;
