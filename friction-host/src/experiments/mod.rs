@@ -432,3 +432,17 @@ pub(crate) fn plot_pair(
         ),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    /// Every experiment has its named field in
+    /// [`crate::models::Expectations`].
+    #[test]
+    fn every_experiment_has_an_expectation() {
+        let row = crate::models::Expectations::STEADY_CURVE_ONLY;
+        for name in super::NAMES {
+            assert!(row.of(name).is_some(), "{name}");
+        }
+        assert_eq!(row.of("none"), None);
+    }
+}

@@ -193,8 +193,8 @@ pub const N: Expect = Some(false);
 /// Not judged (figures reported only).
 pub const U: Expect = None;
 
-/// What a model is known to show, one named field per experiment of
-/// [`crate::experiments::NAMES`] ([`Expectations::of`] reads one by name).
+/// What a model is known to show, one named field per experiment
+/// ([`Expectations::of`] reads one by the experiment's name).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Expectations {
     /// `stribeck`: the steady state is the model's map (for the bristle
@@ -581,19 +581,4 @@ pub(crate) fn from_toml<T: serde::de::DeserializeOwned>(
 /// The default Stribeck exponent for file structs.
 pub(crate) fn default_exponent() -> f64 {
     friction_core::StribeckParams::DEFAULT_EXPONENT
-}
-
-#[cfg(test)]
-mod tests {
-    /// Every experiment has its named field in [`super::Expectations`].
-    #[test]
-    fn every_experiment_has_an_expectation() {
-        for name in crate::experiments::NAMES {
-            assert!(
-                super::Expectations::STEADY_CURVE_ONLY.of(name).is_some(),
-                "{name}"
-            );
-        }
-        assert_eq!(super::Expectations::STEADY_CURVE_ONLY.of("none"), None);
-    }
 }
