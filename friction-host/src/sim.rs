@@ -56,7 +56,11 @@ impl Simulation {
                 } else {
                     crate::models::ScalarKind::F64
                 };
-                (spec.stepper(kind)?, friction_core::VELOCITY_LIMIT, None)
+                (
+                    spec.host().stepper(kind)?,
+                    friction_core::VELOCITY_LIMIT,
+                    None,
+                )
             }
             SimScalar::Fixed => {
                 let h = match period {
@@ -160,6 +164,7 @@ pub fn drive_reference(spec: &ModelSpec, signal: &Signal, t: &[f64]) -> Result<R
         return Ok(run);
     }
     let model = spec
+        .host()
         .continuous()
         .ok_or_else(|| anyhow::anyhow!("no continuous form for `{}`", spec.name()))?;
     let n = model.n();

@@ -141,7 +141,7 @@ impl Model {
     /// Whether the model has an observer (every model with a state).
     #[getter]
     fn observable(&self) -> bool {
-        self.file.model.has_state()
+        self.file.model.host().has_state()
     }
 
     fn __repr__(&self) -> String {
@@ -509,7 +509,7 @@ impl Model {
         supervisor: Option<Option<Vec<(String, f64)>>>,
     ) -> PyResult<Axis> {
         let spec = &self.file.model;
-        if !spec.has_state() {
+        if !spec.host().has_state() {
             return Err(PyValueError::new_err(format!(
                 "model `{}` has no observer (it has no state)",
                 self.name()
@@ -567,7 +567,7 @@ impl Model {
             adaptive,
             supervisor: None,
         };
-        match self.file.model.observer_controller(setup, &request) {
+        match self.file.model.host().observer_controller(setup, &request) {
             Some(Ok(c)) => Ok(std::sync::Mutex::new(c)),
             Some(Err(e)) => Err(PyValueError::new_err(e.to_string())),
             None => Err(PyValueError::new_err(format!(

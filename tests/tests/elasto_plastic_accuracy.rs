@@ -14,7 +14,7 @@ const Z_BA: [f64; 4] = [0.1, 0.5, 0.9, 0.99];
 /// The force for the velocity `v[k]` held over each sample period, stepped
 /// in `n` equal sub-steps.
 fn held_velocity_solution(spec: &ModelSpec, t: &[f64], v: &[f64], n: u32) -> Vec<f64> {
-    let mut m = spec.stepper(ScalarKind::F64).unwrap();
+    let mut m = spec.host().stepper(ScalarKind::F64).unwrap();
     (0..t.len())
         .map(|k| {
             let h = if k == 0 { 0.0 } else { t[k] - t[k - 1] };
@@ -37,9 +37,13 @@ fn one_step_is_the_exact_held_velocity_solution() {
             for h in [1e-3, 1e-4] {
                 let t = s.times(h);
                 let v: Vec<f64> = t.iter().map(|&ti| s.v(ti)).collect();
-                let one = drive_core(spec.stepper(ScalarKind::F64).unwrap().as_mut(), &t, &v);
+                let one = drive_core(
+                    spec.host().stepper(ScalarKind::F64).unwrap().as_mut(),
+                    &t,
+                    &v,
+                );
                 let fine = held_velocity_solution(&spec, &t, &v, 200);
-                let err = rms_diff(&one, &fine) / spec.max_static_force();
+                let err = rms_diff(&one, &fine) / spec.host().max_static_force();
                 println!(
                     "z_ba = {frac} Fc/sigma0, {} at {} Hz: step error {err:.1e} Fs",
                     s.name,

@@ -64,7 +64,7 @@ fn steady_state_matches_the_reference_map_at_every_speed() {
     let ModelSpec::LuGre(p) = spec else {
         panic!("not LuGre")
     };
-    let reference = spec.continuous().unwrap();
+    let reference = spec.host().continuous().unwrap();
     let model = LuGreParams { ..p }.build::<f64>().unwrap();
     for k in 0..=60 {
         let v = 10f64.powf(-6.0 + 0.1 * k as f64);

@@ -84,13 +84,14 @@ fn switching_models_agree_with_the_reference_on_exact_displacements() {
             let t = s.times(1e-3);
             let reference = drive_reference(&spec, &s, &t).unwrap();
             let f = drive_core(
-                spec.stepper(friction_host::models::ScalarKind::F64)
+                spec.host()
+                    .stepper(friction_host::models::ScalarKind::F64)
                     .unwrap()
                     .as_mut(),
                 &t,
                 &s.mean_velocities(&t),
             );
-            let err = rms_diff(&f, &reference.force) / spec.max_static_force();
+            let err = rms_diff(&f, &reference.force) / spec.host().max_static_force();
             let limit = if matches!(spec, ModelSpec::Bristle(_)) {
                 1e-9
             } else {

@@ -18,10 +18,10 @@ const SHEET_RATES: [f64; 6] = [1.0, 2.0, 5.0, 10.0, 20.0, 50.0];
 /// sheet's rates.
 pub(crate) fn breakaway_rates(file: &ParamFile) -> [f64; 6] {
     let model = &file.model;
-    let k = model.rest_stiffness();
-    match model.stribeck_velocity() {
+    let k = model.host().rest_stiffness();
+    match model.host().stribeck_velocity() {
         Some(vs) if k.is_finite() && k > 0.0 => {
-            let fs = model.max_static_force();
+            let fs = model.host().max_static_force();
             let quasi_static = fs * (k / mass(file)).sqrt() / (6.0 * std::f64::consts::PI);
             let top = (0.5 * k * vs).min(quasi_static);
             SHEET_RATES.map(|r| r / 50.0 * top)
@@ -48,17 +48,17 @@ pub(crate) fn breakaway_force(name: &str, file: &ParamFile, rate: f64, h: f64) -
         mass: mass(file),
         force: &u,
     };
-    let duration = 2.0 * file.model.max_static_force() / rate;
+    let duration = 2.0 * file.model.host().max_static_force() / rate;
     check_samples(name, duration, h)?;
     let tr = rig_core(core(&file.model)?.as_mut(), &rig, h, duration);
-    Ok(peak_friction(&tr, file.model.sigma2()))
+    Ok(peak_friction(&tr, file.model.host().sigma2()))
 }
 
 /// Mass at rest, applied force ramping at six rates ([`breakaway_rates`]):
 /// the friction peak (break-away force) against the rate.
 pub(super) fn breakaway(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
     let h = opts.dt.unwrap_or(BREAKAWAY_DT);
-    let fs = file.model.max_static_force();
+    let fs = file.model.host().max_static_force();
     let rates = breakaway_rates(file);
     check_samples("breakaway", rates.iter().map(|r| 2.0 * fs / r).sum(), h)?;
     // and the fastest ramp alone
@@ -70,8 +70,8 @@ pub(super) fn breakaway(file: &ParamFile, opts: Options, dir: &Path) -> Result<O
     let (mut peaks, mut peaks_ref) = (Vec::new(), Vec::new());
     let (mut cr, mut ct, mut cx, mut cv, mut cf, mut cu) =
         (vec![], vec![], vec![], vec![], vec![], vec![]);
-    let continuous = file.model.continuous();
-    let sigma2 = file.model.sigma2();
+    let continuous = file.model.host().continuous();
+    let sigma2 = file.model.host().sigma2();
     let peak = |tr: &Trace| peak_friction(tr, sigma2);
     for &rate in &rates {
         let u = move |t: f64, _x: f64| rate * t;

@@ -33,7 +33,7 @@ pub(super) fn drift(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outco
     )?;
     // drift: the displacement keeps growing cycle after cycle, by more than
     // a thousandth of the pre-sliding scale
-    let d = file.model.presliding_scale();
+    let d = file.model.host().presliding_scale();
     let drifts = last > 1.5 * first && last - first > 1e-3 * d;
     let mut summary = vec![format!(
         "drift per cycle: {:.3e} m",

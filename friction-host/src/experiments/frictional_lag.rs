@@ -18,9 +18,9 @@ const PERIODS: f64 = 2.0;
 /// the lag, where the loop narrows again). Models without a Stribeck curve
 /// keep the sheet's figures.
 pub(crate) fn lag_scales(model: &crate::params::ModelSpec) -> (f64, [f64; 3]) {
-    match model.stribeck_velocity() {
+    match model.host().stribeck_velocity() {
         Some(vs) => {
-            let t = model.lag_time(1.5 * vs);
+            let t = model.host().lag_time(1.5 * vs);
             (vs, W_T.map(|wt| wt / t))
         }
         None => (1e-3, [1.0, 10.0, 25.0]),
@@ -50,7 +50,7 @@ pub(super) fn frictional_lag(file: &ParamFile, opts: Options, dir: &Path) -> Res
         let v: Vec<f64> = t.iter().map(|&ti| s.v(ti)).collect();
         let f = drive_core(core(&file.model)?.as_mut(), &t, &v);
         let fr = drive_reference(&file.model, &s, &t)?.force;
-        worst = worst.max(rms_diff(&f, &fr) / file.model.max_static_force());
+        worst = worst.max(rms_diff(&f, &fr) / file.model.host().max_static_force());
         // loop area over the last period: closed integral of F dv
         let start = t.len() / 2;
         let area: f64 = (start + 1..t.len())
@@ -90,7 +90,7 @@ pub(super) fn frictional_lag(file: &ParamFile, opts: Options, dir: &Path) -> Res
     )?;
     // widens: the area grows with w, and the widest loop is visible (more
     // than 0.1 % of its bounding box, the static force x the velocity range 2 v0)
-    let box_area = file.model.max_static_force() * 2.0 * v0;
+    let box_area = file.model.host().max_static_force() * 2.0 * v0;
     let widens = areas.windows(2).all(|a| a[1] > a[0]) && areas[2] > 1e-3 * box_area;
     Ok(Outcome {
         name: "frictional-lag",

@@ -108,8 +108,8 @@ fn unresolved_rig(name: &str, file: &ParamFile, h: f64) -> Option<Refusal> {
         0.0
     };
     let (k, c, m) = (
-        file.model.rest_stiffness() + spring,
-        file.model.rest_damping(),
+        file.model.host().rest_stiffness() + spring,
+        file.model.host().rest_damping(),
         mass(file),
     );
     let omega = (k / m).sqrt();
@@ -235,7 +235,7 @@ fn refusal(name: &str, file: &ParamFile) -> Option<Refusal> {
             )));
         }
     }
-    if name != "stribeck" && !file.model.has_state() {
+    if name != "stribeck" && !file.model.host().has_state() {
         return Some(Refusal(format!(
             "experiment `{name}` does not apply to the static map `{}`: it needs a model with internal state",
             file.model.name()
@@ -370,15 +370,11 @@ fn run_in(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Out
 /// means "the steady state is the model's map" (for the bristle model: its
 /// sliding mean).
 pub fn expectation(model: &ModelSpec, experiment: &str) -> Option<bool> {
-    let row = model.host().expectations();
-    NAMES
-        .iter()
-        .position(|n| *n == experiment)
-        .and_then(|i| row[i])
+    model.host().expectations().of(experiment).flatten()
 }
 
 pub(crate) fn core(spec: &ModelSpec) -> Result<Box<dyn Stepper>> {
-    Ok(spec.stepper(ScalarKind::F64)?)
+    Ok(spec.host().stepper(ScalarKind::F64)?)
 }
 
 pub(crate) fn mass(file: &ParamFile) -> f64 {
@@ -405,7 +401,7 @@ pub(crate) fn rig_pair(
     dir: &Path,
 ) -> Result<(Trace, Option<Trace>)> {
     let tr = rig_core(core(&file.model)?.as_mut(), rig, h, duration);
-    let rf = match file.model.continuous() {
+    let rf = match file.model.host().continuous() {
         Some(c) => Some(rig_reference(c.as_ref(), rig, &tr.t)?),
         None => None,
     };
@@ -434,5 +430,19 @@ pub(crate) fn plot_pair(
                 points: core,
             }],
         ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// Every experiment has its named field in
+    /// [`crate::models::Expectations`].
+    #[test]
+    fn every_experiment_has_an_expectation() {
+        let row = crate::models::Expectations::STEADY_CURVE_ONLY;
+        for name in super::NAMES {
+            assert!(row.of(name).is_some(), "{name}");
+        }
+        assert_eq!(row.of("none"), None);
     }
 }

@@ -41,7 +41,7 @@ fn program(waypoints: &[f64], amplitude: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) 
 /// the residual viscous terms stay below 0.01 %) and the force rejoins the
 /// outer branch (gap below 1 %).
 pub(super) fn nonlocal_memory(file: &ParamFile, _opts: Options, dir: &Path) -> Result<Outcome> {
-    let amplitude = 0.8 * file.model.presliding_scale();
+    let amplitude = 0.8 * file.model.host().presliding_scale();
     let with_loop = [0.0, 1.0, -1.0, 0.5, -0.3, 0.5, 1.0];
     let plain = [0.0, 1.0, -1.0, 1.0];
     let (t1, v1, x1) = program(&with_loop, amplitude);

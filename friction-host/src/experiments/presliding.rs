@@ -10,7 +10,7 @@ use super::*;
 /// 0.33).
 pub(super) fn presliding(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
     let h = opts.dt.unwrap_or(RIG_DT);
-    let fs = file.model.max_static_force();
+    let fs = file.model.host().max_static_force();
     let rate = file.rig.force_rate.unwrap_or(0.095 * fs);
     let fb = super::breakaway::breakaway_force("presliding", file, rate, h)?;
     let peak = 0.95 * fs.min(fb);
@@ -36,7 +36,7 @@ pub(super) fn presliding(file: &ParamFile, opts: Options, dir: &Path) -> Result<
     // residual displacement where u comes back to 0 on the way down (t = 2 leg)
     let k0 = ((2.0 * leg) / h).round() as usize;
     let residual = tr.x.get(k0).copied().unwrap_or(0.0);
-    let d = file.model.presliding_scale();
+    let d = file.model.host().presliding_scale();
     let plot = dir.join("presliding.svg");
     plot_pair(
         &plot,

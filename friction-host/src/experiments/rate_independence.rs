@@ -6,9 +6,9 @@ use super::*;
 /// 0.1, 1 and 10 Hz, 2000 samples a period: is the loop `F - sigma2 v`
 /// versus `x` the same at every frequency?
 pub(super) fn rate_independence(file: &ParamFile, _opts: Options, dir: &Path) -> Result<Outcome> {
-    let d = file.model.presliding_scale();
-    let fs = file.model.max_static_force();
-    let sigma2 = file.model.sigma2();
+    let d = file.model.host().presliding_scale();
+    let fs = file.model.host().max_static_force();
+    let sigma2 = file.model.host().sigma2();
     let mut loops: Vec<(Vec<f64>, Vec<f64>)> = Vec::new();
     let (mut cf, mut ct, mut cx, mut cv, mut cff) = (vec![], vec![], vec![], vec![], vec![]);
     for freq in [0.1, 1.0, 10.0] {

@@ -5,7 +5,7 @@ use super::*;
 /// Steady friction at constant velocities, log-spaced from 1e-6 to 1 m/s, both signs.
 pub(super) fn stribeck(file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
     let h = opts.dt.unwrap_or(1e-3);
-    let fs = file.model.max_static_force();
+    let fs = file.model.host().max_static_force();
     let host = file.model.host();
     let stochastic = host.stochastic();
     let speeds: Vec<f64> = (0..=60)
@@ -88,7 +88,7 @@ pub(super) fn stribeck(file: &ParamFile, opts: Options, dir: &Path) -> Result<Ou
         ],
     )?;
     let bound = if stochastic { 0.05 } else { 1e-6 };
-    let weakening = (fcore[0] - fcore[n - 1] + file.model.sigma2()) / fs;
+    let weakening = (fcore[0] - fcore[n - 1] + file.model.host().sigma2()) / fs;
     Ok(Outcome {
         name: "stribeck",
         model: "",

@@ -6,7 +6,7 @@
 use super::HostParams;
 use super::ReferenceRun;
 use super::{
-    boxed, from_toml, in_scalar, model_file, Expect, HostModel, ScalarKind, Stepper, N, U, Y,
+    boxed, from_toml, in_scalar, model_file, Expectations, HostModel, ScalarKind, Stepper, N, U, Y,
 };
 use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use crate::signals::Signal;
@@ -191,8 +191,21 @@ impl HostModel for BristleSpec {
     }
     /// The force is random in x, so F-v loops enclose area without any
     /// lag: rate independence is the relevant check.
-    fn expectations(&self) -> [Expect; 8] {
-        [Y, N, U, N, U, N, Y, N]
+    fn expectations(&self) -> Expectations {
+        Expectations {
+            stribeck: Y,
+            presliding: N,
+            frictional_lag: U,
+            breakaway: N,
+            stick_slip: U,
+            drift: N,
+            rate_independence: Y,
+            nonlocal_memory: N,
+        }
+    }
+    /// Its bristles snap.
+    fn switching(&self) -> bool {
+        true
     }
 }
 

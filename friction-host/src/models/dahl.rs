@@ -3,8 +3,8 @@
 
 use super::HostParams;
 use super::{
-    boxed, boxed_fixed, from_toml, in_scalar, model_file, sign, Continuous, Expect, HostModel,
-    ScalarKind, Stepper, N, Y,
+    boxed, boxed_fixed, from_toml, in_scalar, model_file, sign, Continuous, Expectations,
+    HostModel, ScalarKind, Stepper, N, Y,
 };
 use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use anyhow::Result;
@@ -108,8 +108,17 @@ impl HostModel for DahlParams {
         Some(Box::new(DahlOde(*self)))
     }
     /// Hysteresis and rate independence; no stiction, lag, varying break-away or stick-slip; it drifts.
-    fn expectations(&self) -> [Expect; 8] {
-        [Y, Y, N, N, N, Y, Y, N]
+    fn expectations(&self) -> Expectations {
+        Expectations {
+            stribeck: Y,
+            presliding: Y,
+            frictional_lag: N,
+            breakaway: N,
+            stick_slip: N,
+            drift: Y,
+            rate_independence: Y,
+            nonlocal_memory: N,
+        }
     }
     /// 3 % of Fc at 1 kHz, 1 % at 10 kHz.
     fn accuracy_bound(&self, h: f64) -> Option<f64> {

@@ -5,7 +5,7 @@ use super::lugre::{lugre_force, parse_keys, z_state};
 use super::scaled_curve;
 use super::HostParams;
 use super::{
-    boxed, boxed_fixed, curve_g, in_scalar, sign, Continuous, Expect, HostModel, ScalarKind,
+    boxed, boxed_fixed, curve_g, in_scalar, sign, Continuous, Expectations, HostModel, ScalarKind,
     Stepper, N, Y,
 };
 use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
@@ -125,8 +125,21 @@ impl HostModel for ElastoPlasticParams {
         Some(Box::new(ElastoPlasticOde(*self)))
     }
     /// As LuGre, but no drift below `sigma0 z_ba`.
-    fn expectations(&self) -> [Expect; 8] {
-        [Y, Y, Y, Y, Y, N, N, N]
+    fn expectations(&self) -> Expectations {
+        Expectations {
+            stribeck: Y,
+            presliding: Y,
+            frictional_lag: Y,
+            breakaway: Y,
+            stick_slip: Y,
+            drift: N,
+            rate_independence: N,
+            nonlocal_memory: N,
+        }
+    }
+    /// Plotted against the reference.
+    fn validation_plots(&self) -> bool {
+        true
     }
     /// 3 % at 1 kHz, 1 % at 10 kHz.
     fn accuracy_bound(&self, h: f64) -> Option<f64> {

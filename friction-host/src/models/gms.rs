@@ -12,7 +12,7 @@
 use super::HostParams;
 use super::ReferenceRun;
 use super::{
-    boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, Expect,
+    boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, Expectations,
     HostModel, ScalarKind, Stepper, N, Y,
 };
 use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
@@ -275,8 +275,21 @@ impl HostModel for GmsSpec {
     /// (Maxwell-slip elements close their loops: measured by the drift
     /// experiment); rate independence: no (the slip law and the curve
     /// depend on time and velocity).
-    fn expectations(&self) -> [Expect; 8] {
-        [Y, Y, Y, Y, Y, N, N, Y]
+    fn expectations(&self) -> Expectations {
+        Expectations {
+            stribeck: Y,
+            presliding: Y,
+            frictional_lag: Y,
+            breakaway: Y,
+            stick_slip: Y,
+            drift: N,
+            rate_independence: N,
+            nonlocal_memory: Y,
+        }
+    }
+    /// Plotted against the reference.
+    fn validation_plots(&self) -> bool {
+        true
     }
     /// 3 % at 1 kHz, 1 % at 10 kHz.
     fn accuracy_bound(&self, h: f64) -> Option<f64> {

@@ -13,7 +13,7 @@
 use super::HostParams;
 use super::ReferenceRun;
 use super::{
-    boxed, curve_g, default_exponent, from_toml, in_scalar, model_file, Expect, HostModel,
+    boxed, curve_g, default_exponent, from_toml, in_scalar, model_file, Expectations, HostModel,
     ScalarKind, Stepper, N, U, Y,
 };
 use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
@@ -231,8 +231,21 @@ impl HostModel for LeuvenSpec {
     /// unit tests), but the experiment compares at equal `x`, and with
     /// `n = 2` at 0.8 x the pre-sliding scale the lag of `z` leaves the
     /// force 2.6 % of its range off the outer branch (with `n = 20`: 6e-7).
-    fn expectations(&self) -> [Expect; 8] {
-        [Y, Y, Y, Y, Y, Y, N, U]
+    fn expectations(&self) -> Expectations {
+        Expectations {
+            stribeck: Y,
+            presliding: Y,
+            frictional_lag: Y,
+            breakaway: Y,
+            stick_slip: Y,
+            drift: Y,
+            rate_independence: N,
+            nonlocal_memory: U,
+        }
+    }
+    /// Plotted against the reference.
+    fn validation_plots(&self) -> bool {
+        true
     }
     /// 3 % at 1 kHz, 1 % at 10 kHz.
     fn accuracy_bound(&self, h: f64) -> Option<f64> {

@@ -5,7 +5,7 @@ use super::scaled_curve;
 use super::HostParams;
 use super::{
     boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, sign,
-    Continuous, Expect, HostModel, ScalarKind, Stepper, N, Y,
+    Continuous, Expectations, HostModel, ScalarKind, Stepper, N, Y,
 };
 use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use anyhow::{bail, Result};
@@ -153,8 +153,25 @@ impl HostModel for LuGreParams {
         Some(Box::new(LuGreOde(*self)))
     }
     /// stribeck, presliding, lag, break-away, stick-slip, drift: yes; rate independence: no.
-    fn expectations(&self) -> [Expect; 8] {
-        [Y, Y, Y, Y, Y, Y, N, N]
+    fn expectations(&self) -> Expectations {
+        Expectations {
+            stribeck: Y,
+            presliding: Y,
+            frictional_lag: Y,
+            breakaway: Y,
+            stick_slip: Y,
+            drift: Y,
+            rate_independence: N,
+            nonlocal_memory: N,
+        }
+    }
+    /// Plotted against the reference.
+    fn validation_plots(&self) -> bool {
+        true
+    }
+    /// The drift and servo sets, reported.
+    fn reported_sets(&self) -> &'static [&'static str] {
+        &["astrom2008-drift", "olsson1998-servo"]
     }
     /// The `sigma1(v)` form with `vd = vs` (reported), and the three static
     /// maps on the same curve (bounded).

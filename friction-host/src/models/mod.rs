@@ -193,6 +193,59 @@ pub const N: Expect = Some(false);
 /// Not judged (figures reported only).
 pub const U: Expect = None;
 
+/// What a model is known to show, one named field per experiment
+/// ([`Expectations::of`] reads one by the experiment's name).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Expectations {
+    /// `stribeck`: the steady state is the model's map (for the bristle
+    /// model: its sliding mean).
+    pub stribeck: Expect,
+    /// `presliding`: hysteresis before sliding.
+    pub presliding: Expect,
+    /// `frictional-lag`: the force lags a varying velocity.
+    pub frictional_lag: Expect,
+    /// `breakaway`: the break-away force varies with the force rate.
+    pub breakaway: Expect,
+    /// `stick-slip`: stick-slip on a spring.
+    pub stick_slip: Expect,
+    /// `drift`: creep under a force cycling below break-away.
+    pub drift: Expect,
+    /// `rate-independence`: the hysteresis loops do not depend on the rate.
+    pub rate_independence: Expect,
+    /// `nonlocal-memory`: the force depends on past turning points.
+    pub nonlocal_memory: Expect,
+}
+
+impl Expectations {
+    /// The steady curve expected, nothing else judged (the default).
+    pub const STEADY_CURVE_ONLY: Self = Self {
+        stribeck: Y,
+        presliding: U,
+        frictional_lag: U,
+        breakaway: U,
+        stick_slip: U,
+        drift: U,
+        rate_independence: U,
+        nonlocal_memory: U,
+    };
+
+    /// The expectation for the experiment called `experiment`; `None` for
+    /// a name that is no experiment.
+    pub fn of(&self, experiment: &str) -> Option<Expect> {
+        Some(match experiment {
+            "stribeck" => self.stribeck,
+            "presliding" => self.presliding,
+            "frictional-lag" => self.frictional_lag,
+            "breakaway" => self.breakaway,
+            "stick-slip" => self.stick_slip,
+            "drift" => self.drift,
+            "rate-independence" => self.rate_independence,
+            "nonlocal-memory" => self.nonlocal_memory,
+            _ => return None,
+        })
+    }
+}
+
 /// Everything the host knows of one model.
 pub trait HostModel {
     /// Validates the parameters (the core's checks), naming the offending one.
@@ -262,10 +315,9 @@ pub trait HostModel {
     fn stochastic(&self) -> bool {
         false
     }
-    /// What the model is known to show, per experiment of
-    /// [`crate::experiments::NAMES`], in that order.
-    fn expectations(&self) -> [Expect; 8] {
-        [Y, U, U, U, U, U, U, U]
+    /// What the model is known to show in each experiment.
+    fn expectations(&self) -> Expectations {
+        Expectations::STEADY_CURVE_ONLY
     }
     /// RMS force error bound (fraction of the static force) against the
     /// reference at step `h` (1 or 10 kHz); `None`: reported, not judged.
@@ -301,6 +353,23 @@ pub trait HostModel {
     /// [`validation_variants`](HostModel::validation_variants).
     fn validates_itself(&self) -> bool {
         true
+    }
+    /// Whether the force jumps (a bond breaking, a bristle snapping), so
+    /// that an RMS over all samples is mostly a count of misplaced jumps:
+    /// `friction validate` then reports the model's figures without
+    /// judging them.
+    fn switching(&self) -> bool {
+        false
+    }
+    /// Whether `friction validate` plots the core against the reference at
+    /// 1 kHz when this is the model's primary set (one model of each kind).
+    fn validation_plots(&self) -> bool {
+        false
+    }
+    /// The model's other shipped sets `friction validate` measures beside
+    /// the primary one (reported, not judged), in order.
+    fn reported_sets(&self) -> &'static [&'static str] {
+        &[]
     }
     /// The core observer around this model (plain or θ-adaptive, as
     /// `request` says) with its friction level scaled by `request.scale`,
@@ -428,46 +497,6 @@ macro_rules! registry {
 friction_core::model_list!(registry);
 
 impl ModelSpec {
-    /// See [`HostModel::max_static_force`].
-    pub fn max_static_force(&self) -> f64 {
-        self.host().max_static_force()
-    }
-    /// See [`HostModel::presliding_scale`].
-    pub fn presliding_scale(&self) -> f64 {
-        self.host().presliding_scale()
-    }
-    /// See [`HostModel::rest_stiffness`].
-    pub fn rest_stiffness(&self) -> f64 {
-        self.host().rest_stiffness()
-    }
-    /// See [`HostModel::stribeck_velocity`].
-    pub fn stribeck_velocity(&self) -> Option<f64> {
-        self.host().stribeck_velocity()
-    }
-    /// See [`HostModel::lag_time`].
-    pub fn lag_time(&self, v: f64) -> f64 {
-        self.host().lag_time(v)
-    }
-    /// See [`HostModel::rest_damping`].
-    pub fn rest_damping(&self) -> f64 {
-        self.host().rest_damping()
-    }
-    /// See [`HostModel::sigma2`].
-    pub fn sigma2(&self) -> f64 {
-        self.host().sigma2()
-    }
-    /// See [`HostModel::has_state`].
-    pub fn has_state(&self) -> bool {
-        self.host().has_state()
-    }
-    /// See [`HostModel::validate`].
-    pub fn validate(&self) -> Result<(), ParamError> {
-        self.host().validate()
-    }
-    /// See [`HostModel::stepper`].
-    pub fn stepper(&self, scalar: ScalarKind) -> Result<Box<dyn Stepper>, ParamError> {
-        self.host().stepper(scalar)
-    }
     /// See [`HostModel::fixed_stepper`]; an error names the model when it
     /// has no fixed-point form.
     pub fn fixed_stepper(&self, h: f64) -> anyhow::Result<Box<dyn Stepper>> {
@@ -479,18 +508,6 @@ impl ModelSpec {
                 FIXED_POINT_MODELS.join(", ")
             ),
         }
-    }
-    /// See [`HostModel::continuous`].
-    pub fn continuous(&self) -> Option<Box<dyn Continuous>> {
-        self.host().continuous()
-    }
-    /// See [`HostModel::observer_controller`].
-    pub fn observer_controller(
-        &self,
-        setup: &Loop,
-        request: &ObserverRequest,
-    ) -> Option<Result<Box<dyn Controller>, ParamError>> {
-        self.host().observer_controller(setup, request)
     }
 }
 

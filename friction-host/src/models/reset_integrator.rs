@@ -3,7 +3,7 @@
 
 use super::HostParams;
 use super::{
-    boxed, from_toml, in_scalar, model_file, sign, stribeck, Continuous, Expect, HostModel,
+    boxed, from_toml, in_scalar, model_file, sign, stribeck, Continuous, Expectations, HostModel,
     ScalarKind, Stepper, N, U, Y,
 };
 use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
@@ -142,7 +142,24 @@ impl HostModel for ResetIntegratorParams {
     }
     /// Stiction and stick-slip, no drift; its bond is elastic (no
     /// hysteresis), no lag, and the break-away peak rises with the rate.
-    fn expectations(&self) -> [Expect; 8] {
-        [Y, N, N, N, Y, N, U, N]
+    fn expectations(&self) -> Expectations {
+        Expectations {
+            stribeck: Y,
+            presliding: N,
+            frictional_lag: N,
+            breakaway: N,
+            stick_slip: Y,
+            drift: N,
+            rate_independence: U,
+            nonlocal_memory: N,
+        }
+    }
+    /// Its bond breaks and re-forms.
+    fn switching(&self) -> bool {
+        true
+    }
+    /// Plotted against the reference.
+    fn validation_plots(&self) -> bool {
+        true
     }
 }

@@ -5,7 +5,7 @@ use super::gms::with_count;
 use super::HostParams;
 use super::{
     boxed, boxed_fixed, curve_g, default_exponent, from_toml, in_scalar, model_file, sign,
-    Continuous, Expect, HostModel, ScalarKind, Stepper, N, Y,
+    Continuous, Expectations, HostModel, ScalarKind, Stepper, N, Y,
 };
 use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use anyhow::{bail, Result};
@@ -262,8 +262,21 @@ impl HostModel for XiongSpec {
     }
     /// stribeck, presliding, lag, break-away, stick-slip: yes; drift: no
     /// (measured by the drift experiment); rate independence: no.
-    fn expectations(&self) -> [Expect; 8] {
-        [Y, Y, Y, Y, Y, N, N, Y]
+    fn expectations(&self) -> Expectations {
+        Expectations {
+            stribeck: Y,
+            presliding: Y,
+            frictional_lag: Y,
+            breakaway: Y,
+            stick_slip: Y,
+            drift: N,
+            rate_independence: N,
+            nonlocal_memory: Y,
+        }
+    }
+    /// Plotted against the reference.
+    fn validation_plots(&self) -> bool {
+        true
     }
     /// 3 % at 1 kHz, 1 % at 10 kHz.
     fn accuracy_bound(&self, h: f64) -> Option<f64> {

@@ -147,6 +147,7 @@ impl ParamFile {
             commission: probe.commission,
         };
         file.model
+            .host()
             .validate()
             .map_err(|e| anyhow::anyhow!("{origin}: {e}"))?;
         file.rig
@@ -333,7 +334,11 @@ pull_velocity = 0.1
         }
         let b = "model = \"bristle\"\nsigma0 = 1e3\ndelta_s = 1e-5\nbristles = 64\nseed = 3";
         assert_eq!(
-            ParamFile::parse(b, "t").unwrap().model.max_static_force(),
+            ParamFile::parse(b, "t")
+                .unwrap()
+                .model
+                .host()
+                .max_static_force(),
             64.0 * 1e3 * 1e-5
         );
     }

@@ -54,13 +54,14 @@
 
 /// The `[servo]` table of a parameter file (it lives with the file format).
 pub use crate::params::servo as config;
+mod render;
 pub mod robustness;
 
+pub use render::{report_section, OUTPUTS};
+
 use crate::control::{controller, controller_reading, Controller, Fallback, Loop, ObserverRequest};
-use crate::io::write_columns;
 use crate::params::{ModelSpec, ParamFile};
-use crate::plot::{line_plot, Axis, Series};
-use anyhow::{Context, Result};
+use anyhow::Result;
 use config::ServoConfig;
 pub use config::{ServoError, ServoTable, MAX_PLANT_STEPS, MAX_TICKS};
 use friction_core::{
@@ -70,7 +71,6 @@ use friction_core::{
 };
 use rayon::prelude::*;
 use std::collections::VecDeque;
-use std::fmt::Write as _;
 use std::path::Path;
 
 /// One compensation's run.
@@ -123,26 +123,6 @@ pub struct ServoBenchmark {
     pub note: Option<String>,
 }
 
-/// Every compensation, in order.
-pub const NAMES: [&str; 16] = [
-    "nofriction",
-    "none",
-    "static",
-    "static+50",
-    "static-50",
-    "observer",
-    "observer+50",
-    "observer-50",
-    "observer-nodamping",
-    "adaptive",
-    "adaptive+50",
-    "adaptive-50",
-    "adaptive-theta",
-    "adaptive-theta+50",
-    "adaptive-theta-50",
-    "rls",
-];
-
 /// Which adaptive law a row runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Law {
@@ -191,38 +171,61 @@ pub enum Row {
     Rls,
 }
 
+/// Every compensation, in order: its name and its row. [`NAMES`] and
+/// [`Row::named`] read this one table.
+pub const ROWS: [(&str, Row); 16] = [
+    ("nofriction", Row::NoFriction),
+    ("none", Row::None),
+    ("static", Row::Static { scale: 1.0 }),
+    ("static+50", Row::Static { scale: 1.5 }),
+    ("static-50", Row::Static { scale: 0.5 }),
+    ("observer", Row::observer(1.0, true)),
+    ("observer+50", Row::observer(1.5, true)),
+    ("observer-50", Row::observer(0.5, true)),
+    ("observer-nodamping", Row::observer(1.0, false)),
+    ("adaptive", Row::adaptive(1.0, Law::Parameters)),
+    ("adaptive+50", Row::adaptive(1.5, Law::Parameters)),
+    ("adaptive-50", Row::adaptive(0.5, Law::Parameters)),
+    ("adaptive-theta", Row::adaptive(1.0, Law::Theta)),
+    ("adaptive-theta+50", Row::adaptive(1.5, Law::Theta)),
+    ("adaptive-theta-50", Row::adaptive(0.5, Law::Theta)),
+    ("rls", Row::Rls),
+];
+
+/// Every compensation's name, in order (the names of [`ROWS`]).
+pub const NAMES: [&str; ROWS.len()] = {
+    let mut names = [""; ROWS.len()];
+    let mut i = 0;
+    while i < ROWS.len() {
+        names[i] = ROWS[i].0;
+        i += 1;
+    }
+    names
+};
+
 impl Row {
-    /// The row called `name` of [`NAMES`].
+    /// The row called `name` of [`ROWS`].
     pub fn named(name: &str) -> Option<Row> {
-        let observer = |scale, damping| Row::Observer {
+        ROWS.iter().find(|(n, _)| *n == name).map(|&(_, row)| row)
+    }
+
+    /// The observer at friction level `scale`, nominal stiffness.
+    const fn observer(scale: f64, damping: bool) -> Row {
+        Row::Observer {
             scale,
             stiffness: 1.0,
             damping,
-        };
-        let adaptive = |scale, law| Row::Adaptive {
+        }
+    }
+
+    /// The adaptive observer of `law` around the model times `scale`,
+    /// nominal stiffness.
+    const fn adaptive(scale: f64, law: Law) -> Row {
+        Row::Adaptive {
             scale,
             stiffness: 1.0,
             law,
-        };
-        Some(match name {
-            "nofriction" => Row::NoFriction,
-            "none" => Row::None,
-            "static" => Row::Static { scale: 1.0 },
-            "static+50" => Row::Static { scale: 1.5 },
-            "static-50" => Row::Static { scale: 0.5 },
-            "observer" => observer(1.0, true),
-            "observer+50" => observer(1.5, true),
-            "observer-50" => observer(0.5, true),
-            "observer-nodamping" => observer(1.0, false),
-            "adaptive" => adaptive(1.0, Law::Parameters),
-            "adaptive+50" => adaptive(1.5, Law::Parameters),
-            "adaptive-50" => adaptive(0.5, Law::Parameters),
-            "adaptive-theta" => adaptive(1.0, Law::Theta),
-            "adaptive-theta+50" => adaptive(1.5, Law::Theta),
-            "adaptive-theta-50" => adaptive(0.5, Law::Theta),
-            "rls" => Row::Rls,
-            _ => return None,
-        })
+        }
     }
 
     fn scale(&self) -> f64 {
@@ -268,7 +271,7 @@ pub fn adaptation(cfg: &ServoConfig, static_force: f64) -> AdaptiveParams {
 pub fn static_map(spec: &ModelSpec, scale: f64) -> CoulombViscousParams {
     CoulombViscousParams {
         fc: scale * spec.host().coulomb_level(),
-        sigma2: spec.sigma2(),
+        sigma2: spec.host().sigma2(),
     }
 }
 
@@ -308,14 +311,14 @@ fn supervisor_tolerance(cfg: &ServoConfig, spec: &ModelSpec) -> f64 {
 pub fn lugre_nominal(spec: &ModelSpec, scale: f64, stiffness: f64) -> LuGreParams {
     let host = spec.host();
     let fc = scale * host.coulomb_level();
-    let fs = (scale * spec.max_static_force()).max(fc);
-    let sigma2 = spec.sigma2();
-    let rest = spec.rest_stiffness();
+    let fs = (scale * spec.host().max_static_force()).max(fc);
+    let sigma2 = spec.host().sigma2();
+    let rest = spec.host().rest_stiffness();
     LuGreParams {
         curve: StribeckParams {
             fc,
             fs,
-            vs: spec.stribeck_velocity().unwrap_or(1.0),
+            vs: spec.host().stribeck_velocity().unwrap_or(1.0),
             exponent: host.stribeck_exponent().unwrap_or(2.0),
         },
         // a model without a finite stiffness at rest (none here) deflects
@@ -326,7 +329,7 @@ pub fn lugre_nominal(spec: &ModelSpec, scale: f64, stiffness: f64) -> LuGreParam
             } else {
                 fs / 1e-3
             },
-        sigma1: (spec.rest_damping() - sigma2).max(0.0),
+        sigma1: (spec.host().rest_damping() - sigma2).max(0.0),
         sigma2,
         vd: None,
     }
@@ -392,7 +395,7 @@ pub fn build_controller(
                 adaptive: None,
                 supervisor: None,
             };
-            spec.observer_controller(&setup, &request)?
+            spec.host().observer_controller(&setup, &request)?
         }
         Row::Adaptive {
             scale,
@@ -404,17 +407,17 @@ pub fn build_controller(
                 stiffness,
                 gain: cfg.observer_gain,
                 damping: true,
-                adaptive: Some(adaptation(cfg, scale * spec.max_static_force())),
+                adaptive: Some(adaptation(cfg, scale * spec.host().max_static_force())),
                 supervisor: fallback(cfg, spec, scale),
             };
-            spec.observer_controller(&setup, &request)?
+            spec.host().observer_controller(&setup, &request)?
         }
         Row::Adaptive {
             scale,
             stiffness,
             law: Law::Parameters,
         } => {
-            if !spec.has_state() {
+            if !spec.host().has_state() {
                 return None;
             }
             parameter_controller(cfg, spec, &setup, scale, stiffness)
@@ -487,7 +490,7 @@ impl Plant {
     fn new(cfg: &ServoConfig, spec: &ModelSpec) -> Result<Self> {
         Ok(match &cfg.plant_bam {
             Some(p) => Plant::Bam(Box::new(BamPlant::new(p, cfg)?)),
-            None => Plant::Model(spec.stepper(crate::models::ScalarKind::F64)?),
+            None => Plant::Model(spec.host().stepper(crate::models::ScalarKind::F64)?),
         })
     }
 
@@ -719,19 +722,15 @@ pub fn coulomb_level(spec: &ModelSpec) -> f64 {
 pub fn benchmark(file: &ParamFile, origin: &str) -> Result<ServoBenchmark> {
     let cfg = file.servo.resolve(origin)?;
     let spec = &file.model;
-    let results: Vec<Option<Result<ServoRun>>> = NAMES
+    let results: Vec<Option<Result<ServoRun>>> = ROWS
         .par_iter()
-        .map(|&name| {
-            let row = Row::named(name).context("unknown row")?;
-            simulate(name, &cfg, spec, row).transpose()
-        })
-        .map(|r: Result<Option<ServoRun>>| r.transpose())
+        .map(|&(name, row)| simulate(name, &cfg, spec, row))
         .collect();
     let mut runs = Vec::new();
     for r in results.into_iter().flatten() {
         runs.push(r?);
     }
-    let note = (runs.len() < NAMES.len()).then(|| {
+    let note = (runs.len() < ROWS.len()).then(|| {
         format!(
             "observer and adaptive rows skipped: `{}` has no observer form",
             spec.name()
@@ -757,317 +756,7 @@ impl ServoBenchmark {
     pub fn run(&self, name: &str) -> Option<&ServoRun> {
         self.runs.iter().find(|r| r.name == name)
     }
-
-    /// One line per compensation: `servo NAME RMS_MRAD MAX_MRAD`, or
-    /// `servo NAME unstable`.
-    pub fn lines(&self) -> Vec<String> {
-        self.runs
-            .iter()
-            .map(|r| {
-                if r.stable {
-                    format!("servo {} {:.4} {:.4}", r.name, 1e3 * r.rms, 1e3 * r.max)
-                } else {
-                    format!("servo {} unstable", r.name)
-                }
-            })
-            .collect()
-    }
-
-    fn setup(&self) -> String {
-        let c = &self.config;
-        let mut s = format!(
-            "J = {} kg m^2, kc = {} N m/A, reference {} sin(2 pi {} t) rad for {} s; PID at {} Hz \
-             (kp = {}, ki = {}, kd = {}, limit {} A), observer gain {} 1/s; plant at {} Hz; \
-             adaptation rate {} 1/s, theta in [{}, {}]; least squares forgetting {}; \
-             errors over the last 90 % (rms, max) and the last half (rms half)",
-            c.inertia,
-            c.torque_constant,
-            c.amplitude,
-            c.frequency,
-            c.duration,
-            c.rate,
-            c.kp,
-            c.ki,
-            c.kd,
-            c.limit,
-            c.observer_gain,
-            c.plant_rate,
-            c.adaptation_rate,
-            c.theta_min,
-            c.theta_max,
-            c.rls_forgetting,
-        );
-        if c.is_ideal() {
-            s.push_str("; ideal drive");
-        } else {
-            let _ = write!(
-                s,
-                "; drive: encoder {} counts/rev, friction drift {:?}, load friction {} 1/(N m), \
-                 delay {} ticks",
-                c.encoder_counts, c.friction_drift, c.load_friction, c.delay_ticks
-            );
-        }
-        if c.asymmetry != 0.0 || c.gravity[0] != 0.0 || !c.ripple.is_empty() {
-            let _ = write!(
-                s,
-                "; plant: friction asymmetry {}, gravity {:?} (T, x0), ripple {:?}",
-                c.asymmetry, c.gravity, c.ripple
-            );
-        }
-        if let Some(p) = &c.plant_bam {
-            let _ = write!(
-                s,
-                "; plant friction: BAM {:?} budget, presliding {} rad",
-                p.form, c.presliding
-            );
-        }
-        if c.velocity_filter > 0.0 {
-            let _ = write!(s, ", velocity low-pass {} Hz", c.velocity_filter);
-        }
-        if c.velocity_observer > 0.0 {
-            let _ = write!(s, ", velocity observer {} Hz", c.velocity_observer);
-        }
-        let _ = write!(
-            s,
-            "; adaptive rows: per-parameter law at {} 1/s (dead zone {} rad), θ law rows `adaptive-theta`{}",
-            c.parameter_rate,
-            c.dead_zone,
-            if c.supervisor {
-                ", each supervised (fallback: the static row of its scale)"
-            } else {
-                ", unsupervised"
-            }
-        );
-        s
-    }
-
-    fn figures(r: &ServoRun, none: f64) -> [String; 4] {
-        if r.stable {
-            [
-                format!("{:.4}", 1e3 * r.rms),
-                format!("{:.4}", 1e3 * r.max),
-                format!("{:.4}", 1e3 * r.rms_half),
-                format!("{:.3}", r.rms / none),
-            ]
-        } else {
-            ["unstable".into(), "-".into(), "-".into(), "-".into()]
-        }
-    }
-
-    fn none_rms(&self) -> f64 {
-        self.run("none").map_or(f64::NAN, |r| r.rms)
-    }
-
-    /// The results as a plain-text table.
-    pub fn table(&self) -> String {
-        let none = self.none_rms();
-        let mut s = format!(
-            "{:<20} {:>12} {:>12} {:>14} {:>10}\n",
-            "compensation", "rms [mrad]", "max [mrad]", "rms half", "rms/none"
-        );
-        for r in &self.runs {
-            let [rms, max, half, ratio] = Self::figures(r, none);
-            let _ = writeln!(
-                s,
-                "{:<20} {rms:>12} {max:>12} {half:>14} {ratio:>10}",
-                r.name
-            );
-        }
-        s
-    }
-
-    /// The results as a Markdown section body (set-up, table, note).
-    pub fn markdown(&self) -> String {
-        let none = self.none_rms();
-        let mut md = format!("{}.\n\n", self.setup());
-        md.push_str(
-            "| compensation | rms (mrad) | max (mrad) | rms last half (mrad) | rms / none |\n|---|---|---|---|---|\n",
-        );
-        for r in &self.runs {
-            let [rms, max, half, ratio] = Self::figures(r, none);
-            let _ = writeln!(md, "| {} | {rms} | {max} | {half} | {ratio} |", r.name);
-        }
-        if let Some(note) = &self.note {
-            let _ = writeln!(md, "\n{note}.");
-        }
-        md
-    }
-
-    /// The trace's columns: `t`, `x_ref`, `drift`, then `e_NAME` (rad) and
-    /// `fhat_NAME` (N m) for each compensation, then the adapted quantities
-    /// (`theta_NAME` for the adaptive rows, `fc_rls`, `sigma2_rls`).
-    fn columns(&self) -> (Vec<String>, Vec<&[f64]>) {
-        let mut headers = vec!["t".to_string(), "x_ref".to_string(), "drift".to_string()];
-        let mut cols: Vec<&[f64]> = vec![&self.t, &self.x_ref, &self.drift];
-        for r in &self.runs {
-            headers.push(format!("e_{}", r.name));
-            cols.push(&r.error);
-        }
-        for r in &self.runs {
-            headers.push(format!("fhat_{}", r.name));
-            cols.push(&r.friction);
-        }
-        for r in &self.runs {
-            for (name, column) in r.adapted_names.iter().zip(&r.adapted) {
-                headers.push(format!("{name}_{}", r.name));
-                cols.push(column);
-            }
-        }
-        (headers, cols)
-    }
-
-    /// The plots this benchmark draws: `(file, title, y label, series)`.
-    fn plots(&self) -> Vec<(&'static str, &'static str, &'static str, Vec<Series<'_>>)> {
-        let thin = |v: &[f64]| -> Vec<(f64, f64)> {
-            let step = (v.len() / 4000).max(1);
-            self.t
-                .iter()
-                .zip(v)
-                .step_by(step)
-                .filter(|(_, y)| y.is_finite())
-                .map(|(&t, &y)| (t, y))
-                .collect()
-        };
-        let errors = |names: &[&str]| -> Vec<Series<'_>> {
-            names
-                .iter()
-                .filter_map(|n| self.run(n))
-                .filter(|r| r.stable)
-                .map(|r| Series {
-                    label: r.name,
-                    points: thin(&r.error.iter().map(|e| 1e3 * e).collect::<Vec<_>>()),
-                })
-                .collect()
-        };
-        let mut scales = vec![Series {
-            label: "plant: friction drift",
-            points: thin(&self.drift),
-        }];
-        if self.config.load_friction > 0.0 {
-            if let Some(r) = self.run("adaptive") {
-                scales.push(Series {
-                    label: "plant: drift x load factor (1 s mean, adaptive run)",
-                    points: thin(&moving_mean(&r.plant_scale, self.config.rate as usize)),
-                });
-            }
-        }
-        let coulomb = 1.0 / coulomb_level_of(self).max(f64::MIN_POSITIVE);
-        for r in self.runs.iter().filter(|r| r.stable) {
-            // (label, factor on the first adapted column)
-            let (label, factor) = match r.name {
-                "adaptive" => ("adaptive: Fc+^ / Fc", coulomb),
-                "adaptive+50" => ("adaptive+50: Fc+^ / Fc", coulomb),
-                "adaptive-50" => ("adaptive-50: Fc+^ / Fc", coulomb),
-                "adaptive-theta" => ("adaptive-theta: theta", r.scale),
-                "adaptive-theta+50" => ("adaptive-theta+50: 1.5 theta", r.scale),
-                "adaptive-theta-50" => ("adaptive-theta-50: 0.5 theta", r.scale),
-                "rls" => ("rls: Fc^ / Fc", coulomb),
-                _ => continue,
-            };
-            let Some(first) = r.adapted.first() else {
-                continue;
-            };
-            scales.push(Series {
-                label,
-                points: thin(&first.iter().map(|x| factor * x).collect::<Vec<_>>()),
-            });
-        }
-        vec![
-            (
-                "errors.svg",
-                "Tracking error by compensation",
-                "x - x_ref [mrad]",
-                errors(&["nofriction", "none", "static", "observer"]),
-            ),
-            (
-                "observer.svg",
-                "Observer: nominal, Fc and Fs +/-50 %, without sigma1 dz/dt",
-                "x - x_ref [mrad]",
-                errors(&[
-                    "nofriction",
-                    "observer",
-                    "observer+50",
-                    "observer-50",
-                    "observer-nodamping",
-                ]),
-            ),
-            (
-                "adaptive.svg",
-                "Adaptive compensation: per-parameter (nominal, +/-50 %), theta law (+/-50 %), least squares",
-                "x - x_ref [mrad]",
-                errors(&[
-                    "static",
-                    "adaptive",
-                    "adaptive+50",
-                    "adaptive-50",
-                    "adaptive-theta+50",
-                    "adaptive-theta-50",
-                    "rls",
-                ]),
-            ),
-            (
-                "adaptation.svg",
-                "Adapted friction scale against the plant's",
-                "friction scale (1 = nominal model)",
-                scales,
-            ),
-        ]
-    }
-
-    /// Writes `dir/trace.csv` (see `columns`) and the SVG plots
-    /// (`errors.svg`, `observer.svg`, `adaptive.svg`, `adaptation.svg`, each
-    /// where it has curves); returns the plot paths.
-    pub fn write(&self, dir: &Path) -> Result<Vec<std::path::PathBuf>> {
-        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-        let (headers, cols) = self.columns();
-        let headers: Vec<&str> = headers.iter().map(String::as_str).collect();
-        write_columns(&dir.join("trace.csv"), &headers, &cols)?;
-        let mut written = Vec::new();
-        for (file, title, y, series) in self.plots() {
-            let path = dir.join(file);
-            if series.is_empty() || (file == "adaptation.svg" && series.len() < 2) {
-                // no stale plot of an earlier run beside this one
-                if path.exists() {
-                    std::fs::remove_file(&path)
-                        .with_context(|| format!("cannot remove {}", path.display()))?;
-                }
-                continue;
-            }
-            line_plot(&path, title, ("t [s]", Axis::Linear), y, &series)?;
-            written.push(path);
-        }
-        Ok(written)
-    }
 }
-
-/// The nominal Coulomb level of the benchmark's model (for the `rls` plot).
-fn coulomb_level_of(b: &ServoBenchmark) -> f64 {
-    b.coulomb_level
-}
-
-/// The mean of `v` over a trailing window of `w` samples.
-fn moving_mean(v: &[f64], w: usize) -> Vec<f64> {
-    let w = w.max(1);
-    let mut sum = 0.0;
-    let mut out = Vec::with_capacity(v.len());
-    for (i, x) in v.iter().enumerate() {
-        sum += x;
-        if i >= w {
-            sum -= v[i - w];
-        }
-        out.push(sum / (i + 1).min(w) as f64);
-    }
-    out
-}
-
-/// The plot and trace files `friction servo` writes into its output folder.
-pub const OUTPUTS: [&str; 5] = [
-    "trace.csv",
-    "errors.svg",
-    "observer.svg",
-    "adaptive.svg",
-    "adaptation.svg",
-];
 
 /// The parameter file of a servo command (or the built-in
 /// `olsson1998-servo` set) and the name its messages use, after checking
@@ -1096,31 +785,8 @@ pub(crate) fn load(
 pub fn run(params: Option<&Path>, output: &Path) -> Result<bool> {
     let (file, origin) = load(params, output, &OUTPUTS)?;
     let bench = benchmark(&file, &origin)?;
-    for line in bench.lines() {
-        crate::outln!("{line}");
-    }
-    crate::outln!();
-    crate::out!("{}", bench.table());
-    if let Some(note) = &bench.note {
-        crate::outln!("note: {note}");
-    }
-    let plots = bench.write(output)?;
-    crate::outln!("trace: {}", output.join("trace.csv").display());
-    for p in plots {
-        crate::outln!("plot:  {}", p.display());
-    }
+    render::print(&bench, output)?;
     Ok(true)
-}
-
-/// The servo section of the validation report: the default benchmark on the
-/// built-in `olsson1998-servo` set, as Markdown (heading included).
-pub fn report_section() -> Result<String> {
-    let file = crate::params::param_set("olsson1998-servo")?;
-    let bench = benchmark(&file, "params/olsson1998-servo.toml")?;
-    Ok(format!(
-        "\n## Servo benchmark (`friction servo`)\n\n{}",
-        bench.markdown()
-    ))
 }
 
 #[cfg(test)]
