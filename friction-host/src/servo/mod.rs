@@ -228,6 +228,34 @@ impl Row {
         }
     }
 
+    /// This row with its friction level times `scale` and its stiffness
+    /// times `stiffness` (rows without them unchanged): a cell of the
+    /// robustness map.
+    pub fn scaled(self, by: f64, stiffer: f64) -> Row {
+        match self {
+            Row::Static { scale } => Row::Static { scale: scale * by },
+            Row::Observer {
+                scale,
+                stiffness,
+                damping,
+            } => Row::Observer {
+                scale: scale * by,
+                stiffness: stiffness * stiffer,
+                damping,
+            },
+            Row::Adaptive {
+                scale,
+                stiffness,
+                law,
+            } => Row::Adaptive {
+                scale: scale * by,
+                stiffness: stiffness * stiffer,
+                law,
+            },
+            row => row,
+        }
+    }
+
     fn scale(&self) -> f64 {
         match *self {
             Row::Static { scale } | Row::Observer { scale, .. } | Row::Adaptive { scale, .. } => {

@@ -102,22 +102,13 @@ struct Job {
 }
 
 impl Job {
+    /// The benchmark's row of this column's name, scaled to the cell
+    /// (every name of [`COMPENSATIONS`] is one of [`super::ROWS`]: tested).
     fn row(&self) -> Row {
-        match COMPENSATIONS[self.column] {
-            "none" => Row::None,
-            "static" => Row::Static { scale: self.force },
-            "observer" => Row::Observer {
-                scale: self.force,
-                stiffness: self.stiffness,
-                damping: true,
-            },
-            "adaptive" => Row::Adaptive {
-                scale: self.force,
-                stiffness: self.stiffness,
-                law: super::Law::Parameters,
-            },
-            _ => Row::Rls,
-        }
+        COMPENSATIONS
+            .get(self.column)
+            .and_then(|name| Row::named(name))
+            .map_or(Row::None, |row| row.scaled(self.force, self.stiffness))
     }
 }
 
@@ -543,6 +534,27 @@ mod tests {
         for name in COMPENSATIONS {
             assert!(NAMES.contains(&name), "{name}");
         }
+        let cell = |column| {
+            Job {
+                column,
+                force: 0.5,
+                stiffness: 3.0,
+            }
+            .row()
+        };
+        assert_eq!(cell(1), Row::Static { scale: 0.5 });
+        let observer = Row::Observer {
+            scale: 0.5,
+            stiffness: 3.0,
+            damping: true,
+        };
+        assert_eq!(cell(2), observer);
+        let adaptive = Row::Adaptive {
+            scale: 0.5,
+            stiffness: 3.0,
+            law: super::super::Law::Parameters,
+        };
+        assert_eq!((cell(0), cell(3), cell(4)), (Row::None, adaptive, Row::Rls));
     }
 
     #[test]
