@@ -228,9 +228,9 @@ impl Row {
         }
     }
 
-    /// This row with its friction level times `scale` and its stiffness
-    /// times `stiffness` (rows without them unchanged): a cell of the
-    /// robustness map.
+    /// This row with its friction level times `by` and its stiffness times
+    /// `stiffer` (rows without them unchanged): a cell of the robustness
+    /// map.
     pub fn scaled(self, by: f64, stiffer: f64) -> Row {
         match self {
             Row::Static { scale } => Row::Static { scale: scale * by },
