@@ -181,7 +181,7 @@ pub fn commission(file: &ParamFile, origin: &str, progress: bool) -> Result<Comm
         eprintln!("commission: fitted; running the servo benchmark");
     }
     let reference = crate::servo::lugre_nominal(&file.model, 1.0, 1.0);
-    let runs = compare(file, &cfg, result.model)?;
+    let runs = compare(file, &cfg, &result)?;
     let n = runs.first().map_or(0, |r| r.error.len());
     Ok(CommissionRun {
         settings,
@@ -197,21 +197,28 @@ pub fn commission(file: &ParamFile, origin: &str, progress: bool) -> Result<Comm
 }
 
 /// The benchmark rows of [`ROWS`] on the file's plant, the last two with
-/// the `commissioned` model; without `observer` where the file's model has
-/// no observer form (a static map).
+/// the commissioned model; without `observer` where the file's model has
+/// no observer form (a static map). Where the run identified a load
+/// coefficient, the adaptive row starts from it and from the levels at no
+/// load (see [`adaptive_start`]).
 pub fn compare(
     file: &ParamFile,
     cfg: &ServoConfig,
-    commissioned: LuGreParams,
+    commissioned: &Commissioned,
 ) -> Result<Vec<ServoRun>> {
-    let commissioned = ModelSpec::LuGre(commissioned);
-    let rows: [(&ModelSpec, Row); 5] = [
-        (&file.model, Row::None),
-        (&file.model, Row::Static { scale: 1.0 }),
-        (&file.model, observer()),
-        (&commissioned, observer()),
+    let (start, adaptive_cfg) = adaptive_start(cfg, commissioned);
+    let (commissioned, start) = (
+        ModelSpec::LuGre(commissioned.model),
+        ModelSpec::LuGre(start),
+    );
+    let rows: [(&ModelSpec, &ServoConfig, Row); 5] = [
+        (&file.model, cfg, Row::None),
+        (&file.model, cfg, Row::Static { scale: 1.0 }),
+        (&file.model, cfg, observer()),
+        (&commissioned, cfg, observer()),
         (
-            &commissioned,
+            &start,
+            &adaptive_cfg,
             Row::Adaptive {
                 scale: 1.0,
                 stiffness: 1.0,
@@ -223,7 +230,7 @@ pub fn compare(
         let handles: Vec<_> = ROWS
             .iter()
             .zip(rows)
-            .map(|(&name, (spec, row))| {
+            .map(|(&name, (spec, cfg, row))| {
                 let plant = &file.model;
                 scope.spawn(move || -> Result<Option<ServoRun>> {
                     let Some(ctl) = build_controller(cfg, spec, row) else {
@@ -241,6 +248,25 @@ pub fn compare(
             .filter_map(Result::transpose)
             .collect::<Result<Vec<_>>>()
     })
+}
+
+/// The adaptive row's start: with a load coefficient `mu` identified, the
+/// levels at no load (`fc` and `fs` less `mu` times the plateaus' mean
+/// transmitted torque, at least a tenth of their value) and `mu` as the
+/// nominal load coefficient, its bound at least `2 mu`; otherwise the
+/// commissioned model and the file's settings.
+pub fn adaptive_start(cfg: &ServoConfig, c: &Commissioned) -> (LuGreParams, ServoConfig) {
+    let mut settings = cfg.clone();
+    if !c.identified.load {
+        return (c.model, settings);
+    }
+    let shift = c.load * c.load_torque;
+    let mut model = c.model;
+    model.curve.fc = (model.curve.fc - shift).max(0.1 * model.curve.fc);
+    model.curve.fs = (model.curve.fs - shift).max(model.curve.fc);
+    settings.load_max = settings.load_max.max(2.0 * c.load);
+    settings.adaptation_load = c.load;
+    (model, settings)
 }
 
 fn observer() -> Row {
@@ -272,6 +298,8 @@ impl CommissionRun {
             ("sigma2_backward", nan, self.result.sigma2[1]),
             ("breakaway_forward", nan, self.result.breakaway[0]),
             ("breakaway_backward", nan, self.result.breakaway[1]),
+            ("load", nan, self.result.load),
+            ("load_torque", nan, self.result.load_torque),
         ]
     }
 
@@ -299,6 +327,11 @@ impl CommissionRun {
             i.damping,
             "sigma1 identified",
             "sigma1 not identified (the critical-damping rule)",
+        ));
+        parts.push(said(
+            i.load,
+            "load coefficient identified",
+            "load coefficient not identified (no load spread)",
         ));
         parts.join("; ")
     }

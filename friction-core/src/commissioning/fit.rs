@@ -60,7 +60,7 @@
 //! identified and is Canudas de Wit et al. 1995's rule of thumb, the
 //! bristle critically damped on the inertia: `sigma_c`.
 
-use super::{Abort, CommissioningParams, CommissioningState, MAX_SPEEDS};
+use super::{Abort, CommissioningParams, CommissioningState, Plateau, BINS, MAX_SPEEDS};
 use crate::model::ParamError;
 use crate::stribeck::StribeckParams;
 use crate::{LuGreParams, Scalar};
@@ -79,6 +79,8 @@ pub struct Identified {
     pub stiffness: bool,
     /// `sigma1`.
     pub damping: bool,
+    /// The load coefficient.
+    pub load: bool,
 }
 
 /// A commissioning run's result.
@@ -96,6 +98,13 @@ pub struct Commissioned {
     pub sigma2: [f64; 2],
     /// Break-away levels of the ramps, forward and backward.
     pub breakaway: [f64; 2],
+    /// The load coefficient `mu >= 0`: friction per unit of the torque the
+    /// drive transmits, `|kc u|` (0 where not identified).
+    pub load: f64,
+    /// The mean transmitted torque `|kc u|` over the plateaus: the levels
+    /// above are the curve at this load, and `fc - load * load_torque` is
+    /// the Coulomb level at no load.
+    pub load_torque: f64,
     /// What was measured.
     pub identified: Identified,
     /// RMS of the curve fit over the plateaus, relative to the mean `fc`.
@@ -142,6 +151,17 @@ const STEADY: f64 = 0.09;
 /// The fitted static levels count where the slowest plateau has reached
 /// this fraction of the Stribeck excess; below, the break-away levels.
 const REACHED: f64 = 0.9;
+/// A stretch of a plateau counts toward the load coefficient if the
+/// plateau spent at least this many ticks in it.
+const MIN_BIN_TICKS: u32 = 16;
+/// The load coefficient needs at least this many stretches measured in
+/// both directions at one speed...
+const MIN_STRETCHES: usize = 4;
+/// ... whose loads spread by at least this fraction of `fc` RMS.
+const LOAD_SPREAD: f64 = 0.1;
+/// A bristle resonating above the sampling rate over this is not seen by
+/// the loop.
+const UNSEEN: f64 = 10.0;
 /// Presliding shorter than this many counts is not measured.
 const MIN_COUNTS: f64 = 8.0;
 /// The most loop periods of the presliding hold the damping fit simulates
@@ -164,8 +184,41 @@ pub(super) fn fit<S: Scalar>(
     params: &CommissioningParams,
     state: &CommissioningState<S>,
 ) -> Result<Commissioned, CommissionError> {
+    let loads = loads(params, state);
     let (points, n) = points(params, state);
-    let points = points.get(..n).unwrap_or(&[]);
+    let per_direction = points.get(..n).unwrap_or(&[]);
+    // a load that changes along the window (gravity) shifts each
+    // direction's levels by the torque over its stretch: the curve from
+    // the directions' half-differences first, symmetric; where that curve
+    // finds no friction or fits poorly, the directions' own
+    let friction = loads
+        .pairs
+        .iter()
+        .take(loads.count)
+        .map(|p| libm::fabs(p.f))
+        .sum::<f64>()
+        / loads.count as f64;
+    if let Some(mu) = loads.coefficient(friction) {
+        let (points, n) = loads.symmetric(mu);
+        let symmetric = fit_curve(params, state, &loads, points.get(..n).unwrap_or(&[]));
+        if !matches!(
+            symmetric,
+            Err(CommissionError::NoFriction | CommissionError::PoorFit(_))
+        ) {
+            return symmetric;
+        }
+    }
+    fit_curve(params, state, &loads, per_direction)
+}
+
+/// The fit on the curve points `points`.
+fn fit_curve<S: Scalar>(
+    params: &CommissioningParams,
+    state: &CommissioningState<S>,
+    loads: &Loads,
+    points: &[Point],
+) -> Result<Commissioned, CommissionError> {
+    let n = points.len();
     let forward = points.iter().filter(|p| p.v > 0.0).count();
     if forward < 3 || n - forward < 3 {
         return Err(CommissionError::TooFewPlateaus);
@@ -241,6 +294,7 @@ pub(super) fn fit<S: Scalar>(
         vd: None,
     };
     let (sigma1, damping) = damping(params, state, undamped, stiffness);
+    let load = loads.coefficient(fc);
     let model = LuGreParams { sigma1, ..undamped };
     model.validate().map_err(CommissionError::Invalid)?;
     Ok(Commissioned {
@@ -249,12 +303,15 @@ pub(super) fn fit<S: Scalar>(
         fs: [fs_pos, fs_neg],
         sigma2: [sigma2_pos.max(0.0), sigma2_neg.max(0.0)],
         breakaway,
+        load: load.unwrap_or(0.0),
+        load_torque: loads.torque,
         identified: Identified {
             coulomb: true,
             stribeck: stribeck && reached,
             viscous,
             stiffness,
             damping,
+            load: load.is_some(),
         },
         residual,
         speed_range: [lo, hi],
@@ -486,6 +543,147 @@ fn golden(mut a: f64, mut b: f64, f: impl Fn(f64) -> f64) -> f64 {
     0.5 * (a + b)
 }
 
+/// What the plateaus' position stretches say (see the [module docs](self)).
+struct Loads {
+    /// Per speed measured steadily both ways, `(v, F)`: the mean speed and
+    /// the half-difference of the two directions' mean commands over the
+    /// stretches both passed (the friction, free of any position-dependent
+    /// torque).
+    pairs: [Point; MAX_SPEEDS],
+    /// Their mean load `L` over those stretches.
+    pair_loads: [f64; MAX_SPEEDS],
+    count: usize,
+    /// Within each speed, the sums of the load's (`L`) squared deviations
+    /// from the speed's mean, and of its products with the friction's; the
+    /// stretches they count.
+    sxx: f64,
+    sxy: f64,
+    stretches: usize,
+    /// The mean transmitted torque over the steady plateaus.
+    torque: f64,
+}
+
+impl Loads {
+    /// The RMS spread of the load within the speeds.
+    fn spread(&self) -> f64 {
+        libm::sqrt(self.sxx / self.stretches as f64)
+    }
+
+    /// The load coefficient, where the spread is at least `LOAD_SPREAD fc`
+    /// and the slope within `[0, 1)`.
+    fn coefficient(&self, fc: f64) -> Option<f64> {
+        let mu = self.sxy / self.sxx;
+        let spread = self.stretches >= MIN_STRETCHES && self.spread() >= LOAD_SPREAD * fc;
+        (spread && mu.is_finite() && (0.0..1.0).contains(&mu)).then_some(mu)
+    }
+
+    /// The symmetric curve points `(v, F)` and `(-v, -F)` of every pair,
+    /// with the friction moved by `mu` from the pair's load to the mean
+    /// transmitted torque.
+    fn symmetric(&self, mu: f64) -> ([Point; 2 * MAX_SPEEDS], usize) {
+        let mut out = [Point::default(); 2 * MAX_SPEEDS];
+        let pairs = self.pairs.iter().zip(self.pair_loads).take(self.count);
+        for (k, (p, load)) in pairs.enumerate() {
+            let p = Point {
+                v: p.v,
+                f: p.f - mu * (load - self.torque),
+            };
+            if let Some(slot) = out.get_mut(2 * k) {
+                *slot = p;
+            }
+            if let Some(slot) = out.get_mut(2 * k + 1) {
+                *slot = Point { v: -p.v, f: -p.f };
+            }
+        }
+        (out, 2 * self.count)
+    }
+}
+
+fn loads<S: Scalar>(params: &CommissioningParams, state: &CommissioningState<S>) -> Loads {
+    let kc = params.servo.torque_constant;
+    let points = measured(params, state);
+    let steady = |i: usize| match points.get(i) {
+        Some(Some(p)) if p.steady => Some(p.speed),
+        _ => None,
+    };
+    let (total, count) = points
+        .iter()
+        .flatten()
+        .filter(|p| p.steady)
+        .fold((0.0, 0.0), |(t, c), p| (t + libm::fabs(p.force), c + 1.0));
+    let mut out = Loads {
+        pairs: [Point::default(); MAX_SPEEDS],
+        pair_loads: [0.0; MAX_SPEEDS],
+        count: 0,
+        sxx: 0.0,
+        sxy: 0.0,
+        stretches: 0,
+        torque: if count > 0.0 { total / count } else { 0.0 },
+    };
+    // within each speed, the half-difference of the two directions' mean
+    // commands (the friction) against their mean magnitude (the load),
+    // stretch by stretch
+    for pair in 0..MAX_SPEEDS {
+        let (i, j) = (2 * pair, 2 * pair + 1);
+        let (Some(forward), Some(backward)) = (state.plateaus.get(i), state.plateaus.get(j)) else {
+            continue;
+        };
+        let (Some(v_up), Some(v_down)) = (steady(i), steady(j)) else {
+            continue;
+        };
+        let mut stretches = [(0.0f64, 0.0f64); BINS];
+        let mut m = 0;
+        for b in 0..BINS {
+            let (Some(up), Some(down)) = (bin_mean(forward, b), bin_mean(backward, b)) else {
+                continue;
+            };
+            let (up, down) = (kc * up, kc * down);
+            if let Some(slot) = stretches.get_mut(m) {
+                *slot = (0.5 * (libm::fabs(up) + libm::fabs(down)), 0.5 * (up - down));
+                m += 1;
+            }
+        }
+        let used = stretches.get(..m).unwrap_or(&[]);
+        if m == 0 {
+            continue;
+        }
+        let (l_mean, d_mean) = used.iter().fold((0.0, 0.0), |(l, d), (x, y)| {
+            (l + x / m as f64, d + y / m as f64)
+        });
+        if let (Some(slot), Some(load)) = (
+            out.pairs.get_mut(out.count),
+            out.pair_loads.get_mut(out.count),
+        ) {
+            *slot = Point {
+                v: 0.5 * (v_up - v_down),
+                f: d_mean,
+            };
+            *load = l_mean;
+            out.count += 1;
+        }
+        if m < 2 {
+            continue;
+        }
+        for (l, d) in used {
+            out.sxy += (l - l_mean) * (d - d_mean);
+            out.sxx += (l - l_mean) * (l - l_mean);
+        }
+        out.stretches += m;
+    }
+    out
+}
+
+/// The mean command over stretch `b` of plateau `p`, if it spans at least
+/// [`MIN_BIN_TICKS`].
+fn bin_mean<S: Scalar>(p: &Plateau<S>, b: usize) -> Option<f64> {
+    let ticks = *p.bin_ticks.get(b)?;
+    if ticks < MIN_BIN_TICKS {
+        return None;
+    }
+    // the sums are scaled by 1 / p.ticks, as the plateau's mean
+    Some(p.bins.get(b)?.to_f64() * f64::from(p.ticks) / f64::from(ticks))
+}
+
 /// `sigma0` from the presliding reversal and whether it was measured (see
 /// the [module docs](self)).
 fn stiffness<S: Scalar>(
@@ -506,7 +704,14 @@ fn stiffness<S: Scalar>(
     };
     let resolved = dx.is_finite() && dx > 0.0 && dx >= MIN_COUNTS * count;
     if state.slipped.get() || !resolved {
-        return (fs / floor, false);
+        // the measurement only rules out the softer bristles; from the
+        // stiffness whose resonance is a tenth of the sampling rate up, the
+        // loop cannot tell them apart, and a stiff bristle lags the least
+        let omega = core::f64::consts::TAU / (UNSEEN * params.servo.h);
+        return (
+            (fs / floor).max(params.servo.inertia * omega * omega),
+            false,
+        );
     }
     let sigma0 = if a < 0.95 * fs {
         fs / dx * libm::log((fs + a) / (fs - a))

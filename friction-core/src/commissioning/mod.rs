@@ -179,7 +179,8 @@ impl CommissioningParams {
     /// travel.
     pub fn measuring_time(&self, v: f64) -> f64 {
         let ramp = v / self.acceleration;
-        self.plateau.min(0.9 * self.travel / v - ramp - self.settle)
+        self.plateau
+            .min(WINDOW * self.travel / v - ramp - self.settle)
     }
 
     /// The programme's length in seconds without its break-away ramps
@@ -246,6 +247,9 @@ impl CommissioningParams {
             h: Gain::new("h", h)?,
             limit: convert("limit", self.servo.limit)?,
             ratio_cap: S::from_f64(RATIO_CAP),
+            bin_edges: core::array::from_fn(|k| {
+                S::from_f64(WINDOW * self.travel * (k + 1) as f64 / BINS as f64)
+            }),
             speeds,
             settle_ticks: ticks(self.settle),
             hold_ticks: ticks(HOLD),
@@ -294,6 +298,8 @@ struct Speed<S> {
     pair_ticks: u32,
 }
 
+/// The share of the travel a plateau's move may cover.
+const WINDOW: f64 = 0.9;
 /// The loop's hold after a break-away ramp (s).
 const HOLD: f64 = 0.3;
 /// Each hold of the presliding programme (s).
@@ -363,6 +369,8 @@ pub struct Commissioning<S> {
     h: Gain<S>,
     limit: S,
     ratio_cap: S,
+    /// The edges of the position stretches, from the start.
+    bin_edges: [S; BINS - 1],
     speeds: [Speed<S>; MAX_SPEEDS],
     settle_ticks: u32,
     hold_ticks: u32,
@@ -385,7 +393,17 @@ pub(crate) struct Plateau<S> {
     /// tells steady sliding from stick-slip.
     pub(crate) ratio_mean: S,
     pub(crate) square_mean: S,
+    /// The commands by position: the block sums whose block ended in each
+    /// of [`BINS`] equal stretches of the plateaus' window (`0.9 travel`
+    /// ahead of the start), scaled as `command_mean`, and their ticks.
+    pub(crate) bins: [S; BINS],
+    pub(crate) bin_ticks: [u32; BINS],
 }
+
+/// Stretches of the plateaus' window whose commands are kept apart: both
+/// directions at one speed pass the same stretch at the same load, so
+/// the stretches with another load (gravity) give the load coefficient.
+pub const BINS: usize = 4;
 
 // The stored phase: a byte, decoded totally (every byte is some phase).
 const BREAKAWAY: u8 = 0;
@@ -829,8 +847,19 @@ impl<S: Scalar> Commissioning<S> {
                 .abs()
                 .min(self.ratio_cap);
             let full = state.block_len >= BLOCK;
+            let offset = x - state.x0;
+            let bin = self
+                .bin_edges
+                .iter()
+                .filter(|edge| offset >= **edge)
+                .count();
             if let Some(p) = state.plateaus.get_mut(index) {
-                p.command_mean = p.command_mean + speed.inv_ticks.times(state.block);
+                let share = speed.inv_ticks.times(state.block);
+                p.command_mean = p.command_mean + share;
+                if let (Some(sum), Some(ticks)) = (p.bins.get_mut(bin), p.bin_ticks.get_mut(bin)) {
+                    *sum = *sum + share;
+                    *ticks = ticks.saturating_add(u32::from(state.block_len));
+                }
                 if full {
                     p.ratio_mean = p.ratio_mean + speed.inv_blocks.times(r);
                     p.square_mean = p.square_mean + speed.inv_blocks.times(r * r);

@@ -83,6 +83,8 @@ pub struct ServoTable {
     pub dead_zone: Option<f64>,
     /// Upper bound of the per-parameter load coefficient (0: none).
     pub load_max: Option<f64>,
+    /// Nominal per-parameter load coefficient (at most `load_max`).
+    pub adaptation_load: Option<f64>,
     /// Direction asymmetry `a` (`|a| < 1`): the plant's friction times
     /// `1 + a` while moving forward, `1 - a` backward.
     pub asymmetry: Option<f64>,
@@ -166,6 +168,8 @@ pub struct ServoConfig {
     pub dead_zone: f64,
     /// `load_max`.
     pub load_max: f64,
+    /// `adaptation_load`.
+    pub adaptation_load: f64,
     /// `asymmetry`.
     pub asymmetry: f64,
     /// `gravity` `[T, x0]` (`T = 0`: none).
@@ -214,6 +218,7 @@ impl Default for ServoConfig {
             parameter_rate: DEFAULT_PARAMETER_RATE,
             dead_zone: 0.0,
             load_max: 0.0,
+            adaptation_load: 0.0,
             asymmetry: 0.0,
             gravity: [0.0, 0.0],
             ripple: Vec::new(),
@@ -365,6 +370,7 @@ impl ServoTable {
             parameter_rate: self.parameter_rate.unwrap_or(d.parameter_rate),
             dead_zone: 0.0,
             load_max: self.load_max.unwrap_or(d.load_max),
+            adaptation_load: self.adaptation_load.unwrap_or(d.adaptation_load),
             asymmetry: self.asymmetry.unwrap_or(d.asymmetry),
             gravity: self.gravity.unwrap_or(d.gravity),
             ripple: self.ripple.clone().unwrap_or_default(),
@@ -417,6 +423,7 @@ impl ServoTable {
             ("adaptation_box", c.adaptation_box, true),
             ("parameter_rate", c.parameter_rate, false),
             ("load_max", c.load_max, false),
+            ("adaptation_load", c.adaptation_load, false),
             ("presliding", c.presliding, true),
         ] {
             let (ok, rule) = if positive {
@@ -533,6 +540,13 @@ impl ServoTable {
                 "ripple",
                 "terms whose amplitudes sum below 1 (the friction stays positive)",
                 depth,
+            ));
+        }
+        if c.adaptation_load > c.load_max {
+            return Err(invalid(
+                "adaptation_load",
+                "a number >= 0 and at most `load_max`",
+                c.adaptation_load,
             ));
         }
         if c.adaptation_box < 1.0 {

@@ -365,8 +365,8 @@ pub fn lugre_nominal(spec: &ModelSpec, scale: f64, stiffness: f64) -> LuGreParam
 
 /// The per-parameter adaptation of the `adaptive` rows around `model`,
 /// from the file's settings: its rate, the θ law's derivative weight and
-/// leakage, the box factor, the dead zone (default one encoder count) and
-/// the load bound.
+/// leakage, the box factor, the dead zone (default one encoder count), the
+/// nominal load coefficient and its bound.
 pub fn parameter_adaptation(cfg: &ServoConfig, model: LuGreParams) -> ParameterAdaptiveParams {
     ParameterAdaptiveParams {
         rate: cfg.parameter_rate,
@@ -375,7 +375,7 @@ pub fn parameter_adaptation(cfg: &ServoConfig, model: LuGreParams) -> ParameterA
         box_factor: cfg.adaptation_box,
         dead_zone: cfg.dead_zone,
         speed: cfg.peak_speed(),
-        load: 0.0,
+        load: cfg.adaptation_load,
         load_max: cfg.load_max,
         ..ParameterAdaptiveParams::new(model, cfg.observer_gain)
     }
