@@ -166,6 +166,9 @@ macro_rules! routines {
             plateaus: 0,
             residual: 0.0,
             speed_range: [0.0; 2],
+            load: 0.0,
+            load_torque: 0.0,
+            identified_load: 0,
         };
         let (mut phase, mut abort) = (0, 0);
         vec![

@@ -18,12 +18,12 @@
  * Words (8 bytes each) of a `float` commissioning object, room for the
  * routine and its state (a compile-time check keeps it so).
  */
-#define FRICTION_COMMISSIONING_F32_WORDS 264
+#define FRICTION_COMMISSIONING_F32_WORDS 400
 
 /**
  * Words (8 bytes each) of a `double` commissioning object.
  */
-#define FRICTION_COMMISSIONING_F64_WORDS 400
+#define FRICTION_COMMISSIONING_F64_WORDS 640
 
 /**
  * Words (8 bytes each) of a `float` model object, room for the largest
@@ -551,6 +551,21 @@ typedef struct {
    * Slowest and fastest fitted plateau speed.
    */
   double speed_range[2];
+  /**
+   * The load coefficient: friction per unit of the transmitted torque
+   * `|kc u|` (0 where not identified).
+   */
+  double load;
+  /**
+   * The mean transmitted torque over the plateaus: the levels are the
+   * curve at this load.
+   */
+  double load_torque;
+  /**
+   * 1: the load coefficient measured (a load that changes along the
+   * window, such as gravity).
+   */
+  int32_t identified_load;
 } friction_commissioned;
 
 /**

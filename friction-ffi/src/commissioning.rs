@@ -17,9 +17,9 @@ use friction_core::{
 
 /// Words (8 bytes each) of a `float` commissioning object, room for the
 /// routine and its state (a compile-time check keeps it so).
-pub const FRICTION_COMMISSIONING_F32_WORDS: usize = 264;
+pub const FRICTION_COMMISSIONING_F32_WORDS: usize = 400;
 /// Words (8 bytes each) of a `double` commissioning object.
-pub const FRICTION_COMMISSIONING_F64_WORDS: usize = 400;
+pub const FRICTION_COMMISSIONING_F64_WORDS: usize = 640;
 
 /// A commissioning routine with its state, in `float` (caller-allocated;
 /// see [`friction_commissioning_init_f32`]).
@@ -234,6 +234,15 @@ pub struct friction_commissioned {
     pub residual: f64,
     /// Slowest and fastest fitted plateau speed.
     pub speed_range: [f64; 2],
+    /// The load coefficient: friction per unit of the transmitted torque
+    /// `|kc u|` (0 where not identified).
+    pub load: f64,
+    /// The mean transmitted torque over the plateaus: the levels are the
+    /// curve at this load.
+    pub load_torque: f64,
+    /// 1: the load coefficient measured (a load that changes along the
+    /// window, such as gravity).
+    pub identified_load: i32,
 }
 
 /// The routine and its state, as an object stores them.
@@ -430,6 +439,9 @@ where
                 plateaus: u32::from(r.plateaus),
                 residual: r.residual,
                 speed_range: r.speed_range,
+                load: r.load,
+                load_torque: r.load_torque,
+                identified_load: flag(r.identified.load),
             };
             Refusal::OK
         }

@@ -87,6 +87,9 @@ fn commissioned() -> friction_commissioned {
         plateaus: 0,
         residual: -1.0,
         speed_range: [0.0; 2],
+        load: -1.0,
+        load_torque: -1.0,
+        identified_load: -1,
     }
 }
 
@@ -139,6 +142,8 @@ fn same_result(c: &friction_commissioned, r: &Commissioned) {
         bits(c.speed_range[k], r.speed_range[k], "speed_range");
     }
     bits(c.residual, r.residual, "residual");
+    bits(c.load, r.load, "load");
+    bits(c.load_torque, r.load_torque, "load_torque");
     let i = r.identified;
     assert_eq!(
         [
@@ -146,9 +151,18 @@ fn same_result(c: &friction_commissioned, r: &Commissioned) {
             c.identified_stribeck,
             c.identified_viscous,
             c.identified_stiffness,
-            c.identified_damping
+            c.identified_damping,
+            c.identified_load
         ],
-        [i.coulomb, i.stribeck, i.viscous, i.stiffness, i.damping].map(i32::from)
+        [
+            i.coulomb,
+            i.stribeck,
+            i.viscous,
+            i.stiffness,
+            i.damping,
+            i.load
+        ]
+        .map(i32::from)
     );
     assert_eq!(c.plateaus, u32::from(r.plateaus));
 }

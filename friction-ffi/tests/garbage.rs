@@ -455,6 +455,9 @@ fn commissioned() -> friction_commissioned {
         plateaus: 0,
         residual: 0.0,
         speed_range: [0.0; 2],
+        load: -1.0,
+        load_torque: -1.0,
+        identified_load: 0,
     }
 }
 

@@ -950,9 +950,12 @@ impl Commissioning {
     /// "stribeck_exponent", "sigma0", "sigma1", "sigma2"), the levels per
     /// direction ("fc_pos", "fc_neg", "fs_pos", "fs_neg", "sigma2_pos",
     /// "sigma2_neg", "breakaway_pos", "breakaway_neg"), "identified" (a
-    /// dict of bools: coulomb, stribeck, viscous, stiffness, damping; the
-    /// others are documented fallbacks), "residual" (relative RMS of the
-    /// curve fit), "speed_range" (slowest, fastest) and "plateaus".
+    /// dict of bools: coulomb, stribeck, viscous, stiffness, damping, load;
+    /// the others are documented fallbacks), "load" (the load coefficient,
+    /// friction per unit of transmitted torque; 0 where not identified),
+    /// "load_torque" (the mean transmitted torque the levels are at),
+    /// "residual" (relative RMS of the curve fit), "speed_range" (slowest,
+    /// fastest) and "plateaus".
     /// RuntimeError when there is none: not finished, aborted (with the
     /// reason), too few plateaus, a poor fit (with the residual), no
     /// friction.
@@ -1007,10 +1010,13 @@ impl Commissioning {
             ("viscous", i.viscous),
             ("stiffness", i.stiffness),
             ("damping", i.damping),
+            ("load", i.load),
         ] {
             identified.set_item(name, flag)?;
         }
         out.set_item("identified", identified)?;
+        out.set_item("load", r.load)?;
+        out.set_item("load_torque", r.load_torque)?;
         out.set_item("residual", r.residual)?;
         out.set_item("speed_range", (r.speed_range[0], r.speed_range[1]))?;
         out.set_item("plateaus", r.plateaus)?;

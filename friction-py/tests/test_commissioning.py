@@ -80,7 +80,9 @@ def test_commissions_a_python_plant_within_5_percent(scalar):
     for direction in ("pos", "neg"):
         assert abs(r[f"fc_{direction}"] - PLANT["fc"]) <= 0.05 * PLANT["fc"]
     assert r["identified"]["coulomb"] and r["identified"]["viscous"]
-    assert set(r["identified"]) == {"coulomb", "stribeck", "viscous", "stiffness", "damping"}
+    assert set(r["identified"]) == {"coulomb", "stribeck", "viscous", "stiffness", "damping", "load"}
+    # no load along the window: no load coefficient
+    assert not r["identified"]["load"] and r["load"] == 0.0 and r["load_torque"] > 0.0
     assert 0.0 <= r["residual"] <= 0.1
     lo, hi = r["speed_range"]
     assert 0.0 < lo < hi <= 2.0 * 1.05
