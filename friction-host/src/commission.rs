@@ -321,7 +321,7 @@ impl CommissionRun {
         parts.push(said(
             i.stiffness,
             "sigma0 identified",
-            "sigma0 not identified (the encoder's lower bound)",
+            "sigma0 not identified (the stiffness the loop cannot see)",
         ));
         parts.push(said(
             i.damping,

@@ -40,9 +40,34 @@
 //! a / sigma0`; reversing to `-a` slowly moves it along `dz/dx = 1 + sigma0
 //! z / Fs`, so the rest positions are `dx = (Fs / sigma0) ln((Fs + a) /
 //! (Fs - a))` apart, which gives `sigma0`. Where `dx` is under 8 encoder
-//! counts, or the axis slipped, `sigma0` is not identified and is set to
-//! `Fs / (8 counts)` (or `Fs / breakaway_travel` with an exact encoder),
-//! the softest stiffness the measurement cannot rule out.
+//! counts, or the axis slipped, `sigma0` is not identified. The
+//! measurement then only rules out the bristles softer than `Fs / (8
+//! counts)` (or `Fs / breakaway_travel` with an exact encoder); among the
+//! stiffer ones, a bristle whose presliding resonance `sqrt(sigma0 / J)`
+//! is above a tenth of the sampling rate is not seen by the loop, and a
+//! softer one makes the observer lag at every reversal. So `sigma0` is
+//! the larger of that bound and `J (2 pi / (10 h))^2`.
+//!
+//! **Load.** Each plateau also keeps its commands by position, over four
+//! equal stretches of the window its moves cover (`0.9 travel` ahead of
+//! the start). At one speed both directions pass a stretch under the same
+//! position-dependent torque `G` (gravity), so there the half-difference
+//! of their mean commands `D = (u+ - u-) / 2` is the friction without
+//! `G`, and their mean magnitude `L = (|u+| + |u-|) / 2` the torque the
+//! drive transmitted. The load-dependent curve of the per-parameter
+//! observer, `g = Fc + Ds s(v) + mu |kc u|`, makes `D = a(v) + mu L`
+//! exactly; `mu` is the least-squares slope of `D` on `L` within each
+//! speed (the speed's means removed), over at least 4 stretches whose `L`
+//! spreads by at least 10 % of `fc` RMS, and identified where it is in
+//! `[0, 1)`. `L` spreads only where `G` exceeds the friction over part of
+//! the window (the axis would fall without the motor); a stretch where it
+//! changes sign within the stretch mixes both regimes and biases `mu`
+//! upward. Where `mu` is identified, the curve is fitted to each speed's
+//! `D` moved by `mu` to the mean transmitted torque (symmetric: the
+//! directions' offsets are `G`'s), unless that fit finds no friction or
+//! fits poorly; then to the directions' own means as without a load. The
+//! levels are the curve at the mean transmitted torque `load_torque`: at no
+//! load they are lower by `mu load_torque`.
 //!
 //! **Damping.** Stepping the force down from `+a` to `a / 2` in stick makes
 //! the inertia `J` ring on the bristle; the overshoot of the displacement

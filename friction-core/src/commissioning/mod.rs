@@ -36,8 +36,9 @@
 //! [`Phase::Aborted`] with an [`Abort`] reason, and every later command is 0.
 //!
 //! Memory: a [`CommissioningState`] holds the loop's state and one record
-//! per plateau (at most [`MAX_SPEEDS`] speeds, two directions); no
-//! allocation, no panic.
+//! per plateau (at most [`MAX_SPEEDS`] speeds, two directions), each with
+//! its commands over [`BINS`] stretches of the window (for the load
+//! coefficient, see [`fit`]); no allocation, no panic.
 
 pub mod fit;
 
