@@ -216,7 +216,7 @@ pub struct AdaptiveState<T, S> {
 /// The built θ-adaptive observer: immutable, shared by any number of
 /// [`AdaptiveState`]s. A [`Compensation`] for the
 /// [`Compensator`](crate::Compensator) (wrap it in
-/// [`AtPeriod`](crate::AtPeriod) for a fixed-step model).
+/// [`FixedPeriod`](crate::FixedPeriod) for a fixed-step model).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct AdaptiveObserver<M, S> {
@@ -398,7 +398,7 @@ impl<S: Scalar, M: Observable<S>> Compensation<S> for AdaptiveObserver<M, S> {
 /// for (otherwise a negative period, which no compensator accepts:
 /// [`ParamError::PeriodMismatch`]).
 impl<S: Scalar, M: FixedStepObservable<S>> Compensation<S>
-    for crate::AtPeriod<AdaptiveObserver<M, S>>
+    for crate::FixedPeriod<AdaptiveObserver<M, S>>
 {
     type State = AdaptiveState<M::State, S>;
     const USES_H: bool = false;

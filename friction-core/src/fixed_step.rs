@@ -1,6 +1,6 @@
 //! The fixed-step form: a model built for one sample period `h`.
 //!
-//! Most firmware runs a model at one rate. `XxxParams::build_at::<S>(h)`
+//! Most firmware runs a model at one rate. `XxxParams::build_fixed_step::<S>(h)`
 //! returns a model whose `step(&self, state, v)` takes no `h`: everything
 //! that depends on `h` (such as `sigma0 h`) is formed once, in `f64`, when it
 //! is built, and `h` needs no run-time check. Its states carry forces rather

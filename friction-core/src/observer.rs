@@ -105,8 +105,8 @@ impl<S: Scalar, M> Observer<M, S> {
     /// ```
     /// # #[cfg(feature = "fixed")] {
     /// use friction_core::{Fixed32, LuGreParams, Observer, ParamError};
-    /// let model = LuGreParams::OLSSON_1998.build_at::<Fixed32>(1e-3)?;
-    /// type Q = Observer<friction_core::LuGreAt<Fixed32>, Fixed32>;
+    /// let model = LuGreParams::OLSSON_1998.build_fixed_step::<Fixed32>(1e-3)?;
+    /// type Q = Observer<friction_core::LuGreFixedStep<Fixed32>, Fixed32>;
     /// assert!(Q::new(model, 200.0).is_ok());
     /// assert_eq!(Q::new(model, 1e9).err(), Some(ParamError::NotRepresentable("gain")));
     /// assert_eq!(Q::new(model, 1e-6).err(), Some(ParamError::Underflow("gain")));
@@ -175,10 +175,10 @@ impl<S: Scalar, M: FixedStepObservable<S>> Observer<M, S> {
     /// same handling of non-finite inputs.
     ///
     /// ```
-    /// use friction_core::{LuGreAtState, LuGreParams, Observer};
-    /// let model = LuGreParams::CANUDAS_1995.build_at::<f32>(1e-3)?;
+    /// use friction_core::{LuGreFixedStepState, LuGreParams, Observer};
+    /// let model = LuGreParams::CANUDAS_1995.build_fixed_step::<f32>(1e-3)?;
     /// let observer = Observer::new(model, 100.0)?;
-    /// let mut w_hat = LuGreAtState::default();
+    /// let mut w_hat = LuGreFixedStepState::default();
     /// let f_hat = observer.step_at(&mut w_hat, 1e-3, 1e-6);
     /// assert!(f_hat > 0.0 && f_hat.is_finite());
     /// assert!(observer.step_at(&mut w_hat, 0.0, 1e30).abs() <= 1.5);

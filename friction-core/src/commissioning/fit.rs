@@ -60,7 +60,7 @@
 //! identified and is Canudas de Wit et al. 1995's rule of thumb, the
 //! bristle critically damped on the inertia: `sigma_c`.
 
-use super::{Abort, CommissioningParams, CommissioningState, MAX_SPEEDS};
+use super::{CommissioningAbort, CommissioningParams, CommissioningState, MAX_SPEEDS};
 use crate::model::ParamError;
 use crate::stribeck::StribeckParams;
 use crate::{LuGreParams, Scalar};
@@ -68,7 +68,7 @@ use crate::{LuGreParams, Scalar};
 /// Which parameters the run measured (the rest are documented fallbacks).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Identified {
+pub struct CommissioningIdentified {
     /// `fc` (per direction).
     pub coulomb: bool,
     /// `fs`, `vs` and the exponent.
@@ -97,7 +97,7 @@ pub struct Commissioned {
     /// Break-away levels of the ramps, forward and backward.
     pub breakaway: [f64; 2],
     /// What was measured.
-    pub identified: Identified,
+    pub identified: CommissioningIdentified,
     /// RMS of the curve fit over the plateaus, relative to the mean `fc`.
     pub residual: f64,
     /// Slowest and fastest measured plateau speed.
@@ -113,7 +113,7 @@ pub enum CommissionError {
     /// The routine has not finished.
     NotFinished,
     /// The routine stopped early.
-    Aborted(Abort),
+    Aborted(CommissioningAbort),
     /// Fewer than three usable plateaus in a direction.
     TooFewPlateaus,
     /// The curve fits the plateaus worse than 10 % of `fc` RMS (the
@@ -249,7 +249,7 @@ pub(super) fn fit<S: Scalar>(
         fs: [fs_pos, fs_neg],
         sigma2: [sigma2_pos.max(0.0), sigma2_neg.max(0.0)],
         breakaway,
-        identified: Identified {
+        identified: CommissioningIdentified {
             coulomb: true,
             stribeck: stribeck && reached,
             viscous,

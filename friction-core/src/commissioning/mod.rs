@@ -33,7 +33,7 @@
 //! limit for 50 ms is a stall. Any limit reached, a non-finite position, a
 //! ramp that reaches the limit without moving the axis, or an axis that
 //! moves against the command ends the routine in
-//! [`Phase::Aborted`] with an [`Abort`] reason, and every later command is 0.
+//! [`CommissioningPhase::Aborted`] with a [`CommissioningAbort`] reason, and every later command is 0.
 //!
 //! Memory: a [`CommissioningState`] holds the loop's state and one record
 //! per plateau (at most [`MAX_SPEEDS`] speeds, two directions); no
@@ -47,7 +47,7 @@ use crate::gain::Gain;
 use crate::model::{convert, magnitude, magnitude_or_zero, ParamError};
 use crate::Scalar;
 
-pub use fit::{CommissionError, Commissioned, Identified, PlateauPoint};
+pub use fit::{CommissionError, Commissioned, CommissioningIdentified, PlateauPoint};
 
 /// The most plateau speeds a routine can run (each in both directions).
 pub const MAX_SPEEDS: usize = 16;
@@ -304,7 +304,7 @@ const STALL: f64 = 0.05;
 /// Where a routine is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Phase {
+pub enum CommissioningPhase {
     /// The break-away ramps and the loop's return to the start.
     Breakaway,
     /// The presliding reversal.
@@ -320,7 +320,7 @@ pub enum Phase {
 /// Why a routine stopped early.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Abort {
+pub enum CommissioningAbort {
     /// A measured position was NaN or infinite.
     NonFiniteMeasurement,
     /// The axis left the travel window.
@@ -345,7 +345,7 @@ pub struct CommissioningTick<S> {
     /// or aborted).
     pub command: S,
     /// Where the routine is after this tick.
-    pub phase: Phase,
+    pub phase: CommissioningPhase,
     /// Plateaus measured so far (of `2 speeds`).
     pub plateaus: u8,
 }
@@ -465,28 +465,28 @@ impl<S: Scalar> Default for CommissioningState<S> {
 
 impl<S: Scalar> CommissioningState<S> {
     /// Where the routine is.
-    pub fn phase(&self) -> Phase {
+    pub fn phase(&self) -> CommissioningPhase {
         match self.phase {
-            BREAKAWAY => Phase::Breakaway,
-            PRESLIDING => Phase::Presliding,
-            PLATEAUS => Phase::Plateaus,
-            DONE => Phase::Done,
-            _ => Phase::Aborted,
+            BREAKAWAY => CommissioningPhase::Breakaway,
+            PRESLIDING => CommissioningPhase::Presliding,
+            PLATEAUS => CommissioningPhase::Plateaus,
+            DONE => CommissioningPhase::Done,
+            _ => CommissioningPhase::Aborted,
         }
     }
 
     /// Why it stopped, if it was aborted.
-    pub fn abort(&self) -> Option<Abort> {
-        if self.phase() != Phase::Aborted {
+    pub fn abort(&self) -> Option<CommissioningAbort> {
+        if self.phase() != CommissioningPhase::Aborted {
             return None;
         }
         Some(match self.abort {
-            0 => Abort::NonFiniteMeasurement,
-            1 => Abort::Travel,
-            2 => Abort::Timeout,
-            3 => Abort::Stall,
-            4 => Abort::NoBreakaway,
-            _ => Abort::ReversedSign,
+            0 => CommissioningAbort::NonFiniteMeasurement,
+            1 => CommissioningAbort::Travel,
+            2 => CommissioningAbort::Timeout,
+            3 => CommissioningAbort::Stall,
+            4 => CommissioningAbort::NoBreakaway,
+            _ => CommissioningAbort::ReversedSign,
         })
     }
 
@@ -506,7 +506,7 @@ impl<S: Scalar> CommissioningState<S> {
         }
     }
 
-    fn stop(&mut self, why: Abort) {
+    fn stop(&mut self, why: CommissioningAbort) {
         self.phase = u8::MAX;
         self.abort = why as u8;
         self.command = S::ZERO;
@@ -538,18 +538,18 @@ impl<S: Scalar> Commissioning<S> {
     /// (see the [module docs](self) for the programme and its limits).
     ///
     /// ```
-    /// use friction_core::{CommissioningParams, CommissioningState, CompensatorParams, Phase};
+    /// use friction_core::{CommissioningParams, CommissioningState, CompensatorParams, CommissioningPhase};
     /// let servo = CompensatorParams { h: 1e-3, kp: 60.0, ki: 200.0, kd: 1.2,
     ///     inertia: 0.0023, torque_constant: 1.02, limit: 10.0 };
     /// let routine = CommissioningParams::new(servo, 1.0, 2.0).build::<f32>()?;
     /// let mut state = CommissioningState::default();
     /// // an axis that never moves: the break-away ramp reaches the limit
     /// let mut tick = routine.tick(&mut state, 0.0);
-    /// while tick.phase == Phase::Breakaway {
+    /// while tick.phase == CommissioningPhase::Breakaway {
     ///     assert!(tick.command.abs() <= 10.0);
     ///     tick = routine.tick(&mut state, 0.0);
     /// }
-    /// assert_eq!(tick.phase, Phase::Aborted);
+    /// assert_eq!(tick.phase, CommissioningPhase::Aborted);
     /// assert_eq!(tick.command, 0.0);
     /// # Ok::<(), friction_core::ParamError>(())
     /// ```
@@ -568,11 +568,14 @@ impl<S: Scalar> Commissioning<S> {
     }
 
     fn command(&self, state: &mut CommissioningState<S>, x: S) -> S {
-        if matches!(state.phase(), Phase::Done | Phase::Aborted) {
+        if matches!(
+            state.phase(),
+            CommissioningPhase::Done | CommissioningPhase::Aborted
+        ) {
             return S::ZERO;
         }
         if !x.is_finite() {
-            state.stop(Abort::NonFiniteMeasurement);
+            state.stop(CommissioningAbort::NonFiniteMeasurement);
             return S::ZERO;
         }
         if !state.started.get() {
@@ -583,11 +586,11 @@ impl<S: Scalar> Commissioning<S> {
         state.ticks = state.ticks.saturating_add(1);
         state.stage_ticks = state.stage_ticks.saturating_add(1);
         if state.ticks > self.max_ticks {
-            state.stop(Abort::Timeout);
+            state.stop(CommissioningAbort::Timeout);
             return S::ZERO;
         }
         if (x - state.x0).abs() > self.travel {
-            state.stop(Abort::Travel);
+            state.stop(CommissioningAbort::Travel);
             return S::ZERO;
         }
         let command = match state.phase {
@@ -595,7 +598,7 @@ impl<S: Scalar> Commissioning<S> {
             PRESLIDING => self.presliding(state, x),
             _ => self.plateaus(state, x),
         };
-        if matches!(state.phase(), Phase::Aborted) {
+        if matches!(state.phase(), CommissioningPhase::Aborted) {
             return S::ZERO;
         }
         command
@@ -613,7 +616,7 @@ impl<S: Scalar> Commissioning<S> {
         if command.abs() >= self.limit {
             state.stalled = state.stalled.saturating_add(1);
             if state.stalled > self.stall_ticks {
-                state.stop(Abort::Stall);
+                state.stop(CommissioningAbort::Stall);
             }
         } else {
             state.stalled = 0;
@@ -662,9 +665,9 @@ impl<S: Scalar> Commissioning<S> {
             return self.hold(state, x, self.hold_ticks).0;
         }
         if moved < -self.breakaway_travel {
-            state.stop(Abort::ReversedSign);
+            state.stop(CommissioningAbort::ReversedSign);
         } else if state.command > self.limit {
-            state.stop(Abort::NoBreakaway);
+            state.stop(CommissioningAbort::NoBreakaway);
         }
         if forward {
             state.command
@@ -876,9 +879,11 @@ impl<S: Scalar> Commissioning<S> {
     /// in `f64`, outside the control interrupt.
     pub fn result(&self, state: &CommissioningState<S>) -> Result<Commissioned, CommissionError> {
         match state.phase() {
-            Phase::Done => fit::fit(&self.params, state),
-            Phase::Aborted => Err(CommissionError::Aborted(
-                state.abort().unwrap_or(Abort::NonFiniteMeasurement),
+            CommissioningPhase::Done => fit::fit(&self.params, state),
+            CommissioningPhase::Aborted => Err(CommissionError::Aborted(
+                state
+                    .abort()
+                    .unwrap_or(CommissioningAbort::NonFiniteMeasurement),
             )),
             _ => Err(CommissionError::NotFinished),
         }

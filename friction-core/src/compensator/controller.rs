@@ -1,5 +1,5 @@
 //! The servo tick: PID plus the compensation, anti-windup and saturation:
-//! [`Compensator`], its state, [`Setpoint`] and [`Tick`].
+//! [`Compensator`], its state, [`Setpoint`] and [`CompensatorTick`].
 
 use super::{Compensation, CompensatorParams, FrictionSample};
 use crate::bits::Flag;
@@ -24,7 +24,7 @@ pub struct Setpoint<S> {
 /// What one tick produced.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Tick<S> {
+pub struct CompensatorTick<S> {
     /// The command, finite and within `±limit` (command units).
     pub command: S,
     /// The friction estimate or feed-forward `F^` (force units), included
@@ -266,10 +266,15 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
     // path, and a second caller of the same instance (commissioning ticks the
     // uncompensated servo) must not move it out of line in the servo tick.
     #[inline(always)]
-    pub fn tick(&self, state: &mut CompensatorState<S, C::State>, x: S, r: Setpoint<S>) -> Tick<S> {
+    pub fn tick(
+        &self,
+        state: &mut CompensatorState<S, C::State>,
+        x: S,
+        r: Setpoint<S>,
+    ) -> CompensatorTick<S> {
         if !all_finite([x, r.x, r.v, r.a]) {
             Self::skip(state);
-            return Tick {
+            return CompensatorTick {
                 command: S::ZERO,
                 friction: S::ZERO,
                 accepted: false,
@@ -301,7 +306,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
         state.since_last = 1;
         let command = (base + state.integral).sat(self.limit);
         self.issued(state, command, f);
-        Tick {
+        CompensatorTick {
             command,
             friction: f,
             accepted: true,

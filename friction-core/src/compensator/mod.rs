@@ -53,8 +53,8 @@ use crate::bits::Flag;
 use crate::gain::Gain;
 use crate::model::{convert, magnitude, magnitude_or_zero, ParamError};
 use crate::Scalar;
-pub use compensation::{AtPeriod, Compensation, FeedForward, FrictionSample, NoCompensation};
-pub use controller::{Compensator, CompensatorState, Setpoint, Tick};
+pub use compensation::{Compensation, FeedForward, FixedPeriod, FrictionSample, NoCompensation};
+pub use controller::{Compensator, CompensatorState, CompensatorTick, Setpoint};
 use core::fmt::Debug;
 
 /// Design-time parameters of the servo tick, in `f64`.

@@ -15,7 +15,7 @@
 //! metres) are refused at `build()` with a typed error for any realistic
 //! parameter set.
 //!
-//! A configuration is valid, and checked at `build_at()`, for:
+//! A configuration is valid, and checked at `build_fixed_step()`, for:
 //! - velocities `|v| <= 4` (m/s or rad/s; larger inputs are clamped to 4),
 //!   resolved to 1.5e-5;
 //! - force terms up to a quarter of the range (8192) at that velocity
@@ -49,7 +49,7 @@ mod kernels;
 #[cfg(test)]
 mod tests;
 
-use crate::scalar::Conversion;
+use crate::scalar::ScalarConversion;
 use crate::Scalar;
 use core::ops::{Add, Mul, Neg, Sub};
 use division::{pow2_over, pow2_quotient};
@@ -221,15 +221,15 @@ impl Scalar for Fixed32 {
     }
 
     /// Overflow beyond the range, underflow to 0, or rounding beyond 0.1 %.
-    fn try_from_f64(x: f64) -> Result<Self, Conversion> {
+    fn try_from_f64(x: f64) -> Result<Self, ScalarConversion> {
         if !(-32768.0..32768.0).contains(&x) {
-            return Err(Conversion::Overflow);
+            return Err(ScalarConversion::Overflow);
         }
         let s = Self::from_f64(x);
         if x != 0.0 && s == Self::ZERO {
-            Err(Conversion::Underflow)
+            Err(ScalarConversion::Underflow)
         } else if (s.to_f64() - x).abs() > 1e-3 * x.abs() {
-            Err(Conversion::Rounding)
+            Err(ScalarConversion::Rounding)
         } else {
             Ok(s)
         }

@@ -59,10 +59,10 @@
 //! at that speed (see [`ParameterAdaptive::bound`]). A NaN or infinite input
 //! leaves the state untouched.
 //!
-//! The fixed-step form for every scalar, Q16.16 included, is [`at`]
-//! ([`ParameterAdaptiveParams::build_at`]).
+//! The fixed-step form for every scalar, Q16.16 included, is [`fixed_step`]
+//! ([`ParameterAdaptiveParams::build_fixed_step`]).
 
-pub mod at;
+pub mod fixed_step;
 #[cfg(test)]
 mod tests;
 mod variable_step;
@@ -72,7 +72,7 @@ use crate::compensator::CompensatorParams;
 use crate::model::{convert, non_negative, positive, ParamError};
 use crate::models::lugre::LuGreParams;
 use crate::Scalar;
-pub use at::{ParameterAdaptiveAt, ParameterAdaptiveAtState};
+pub use fixed_step::{ParameterAdaptiveFixedStep, ParameterAdaptiveFixedStepState};
 use variable_step::Estimate;
 pub use variable_step::{ParameterAdaptive, ParameterAdaptiveState};
 

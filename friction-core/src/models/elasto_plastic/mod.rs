@@ -57,20 +57,20 @@ mod variable_step;
 mod zone;
 
 use crate::model::{convert, magnitude, ParamError};
-use crate::models::lugre::{LuGreAt, LuGreParams};
+use crate::models::lugre::{LuGreFixedStep, LuGreParams};
 use crate::Scalar;
-pub use fixed_step::ElastoPlasticAt;
-pub use variable_step::ElastoPlastic;
+pub use fixed_step::{ElastoPlasticFixedStep, ElastoPlasticFixedStepState};
+pub use variable_step::{ElastoPlastic, ElastoPlasticState};
 use zone::DEFAULT_SUBSTEPS;
 pub(crate) use zone::{corrected_shift, zone_curve_series};
 
 /// Elasto-plastic parameters (`model = "elasto-plastic"`): LuGre's and `z_ba`.
 ///
 /// ```
-/// use friction_core::{ElastoPlasticParams, FrictionModel, LuGreParams, LuGreState};
+/// use friction_core::{ElastoPlasticParams, ElastoPlasticState, FrictionModel, LuGreParams};
 /// let p = ElastoPlasticParams { lugre: LuGreParams::CANUDAS_1995, z_ba: 5e-6 };
 /// let model = p.build::<f64>()?;
-/// let mut state = LuGreState::default();
+/// let mut state = ElastoPlasticState::default();
 /// // 2 µm of displacement below z_ba: purely elastic, F = sigma0 x
 /// let f = model.step(&mut state, 2e-6, 1.0);
 /// assert!((state.z - 2e-6).abs() < 1e-18);
@@ -112,23 +112,26 @@ impl ElastoPlasticParams {
     }
 
     /// Validates and builds the fixed-step form for sample period `h` (s):
-    /// see [`ElastoPlasticAt`]. The checks are [`LuGreParams::build_at`]'s,
+    /// see [`ElastoPlasticFixedStep`]. The checks are [`LuGreParams::build_fixed_step`]'s,
     /// and `sigma0 z_ba` must be representable.
     ///
     /// ```
-    /// use friction_core::{ElastoPlasticParams, FixedStepModel, LuGreAtState, LuGreParams};
+    /// use friction_core::{ElastoPlasticFixedStepState, ElastoPlasticParams, FixedStepModel, LuGreParams};
     /// let p = ElastoPlasticParams { lugre: LuGreParams::CANUDAS_1995, z_ba: 5e-6 };
-    /// let model = p.build_at::<f64>(1e-3)?;
-    /// let mut state = LuGreAtState::default();
+    /// let model = p.build_fixed_step::<f64>(1e-3)?;
+    /// let mut state = ElastoPlasticFixedStepState::default();
     /// // 2 µm of displacement below z_ba: purely elastic, w = sigma0 x
     /// model.step(&mut state, 2e-3);
     /// assert!((state.w - 0.2).abs() < 1e-12);
     /// # Ok::<(), friction_core::ParamError>(())
     /// ```
-    pub fn build_at<S: Scalar>(&self, h: f64) -> Result<ElastoPlasticAt<S>, ParamError> {
+    pub fn build_fixed_step<S: Scalar>(
+        &self,
+        h: f64,
+    ) -> Result<ElastoPlasticFixedStep<S>, ParamError> {
         self.validate()?;
-        let lugre: LuGreAt<S> = self.lugre.build_at(h)?;
-        Ok(ElastoPlasticAt {
+        let lugre: LuGreFixedStep<S> = self.lugre.build_fixed_step(h)?;
+        Ok(ElastoPlasticFixedStep {
             w_ba: convert("z_ba", lugre.force_scale() * self.lugre.sigma0 * self.z_ba)?,
             lugre,
             max_substeps: DEFAULT_SUBSTEPS,

@@ -1,5 +1,5 @@
-//! The variable-step elasto-plastic model: [`ElastoPlastic`], on a
-//! [`LuGreState`].
+//! The variable-step elasto-plastic model: [`ElastoPlastic`], on an
+//! [`ElastoPlasticState`] (a [`LuGreState`]).
 
 use super::corrected_shift;
 use super::zone::{relaxed_fraction, zone_rate, zone_step, XI_CAP};
@@ -8,7 +8,12 @@ use crate::models::lugre::{LuGre, LuGreState};
 use crate::observer::Observable;
 use crate::Scalar;
 
-/// The built elasto-plastic model. Its state is a [`LuGreState`].
+/// The state of [`ElastoPlastic`]: LuGre's, [`LuGreState`] (the bristle
+/// deflection `z`).
+pub type ElastoPlasticState<S> = LuGreState<S>;
+
+/// The built elasto-plastic model. Its state is an [`ElastoPlasticState`]
+/// (a [`LuGreState`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ElastoPlastic<S> {
@@ -84,7 +89,14 @@ impl<S: Scalar> ElastoPlastic<S> {
     /// One step: the model's motion along `v`, then the observer's
     /// correction (`c = 0` for the model; see [`corrected_shift`]), clamped
     /// to `±Fs/sigma0`. `h = 0` leaves the state untouched.
-    fn advance(&self, state: &mut LuGreState<S>, v: S, correction: S, h: S, damping: bool) -> S {
+    fn advance(
+        &self,
+        state: &mut ElastoPlasticState<S>,
+        v: S,
+        correction: S,
+        h: S,
+        damping: bool,
+    ) -> S {
         let s = v.sign();
         let z_max = self.lugre.curve().eval(v) / self.lugre.sigma0();
         let mut z = state.z;
@@ -124,9 +136,9 @@ impl<S: Scalar> ElastoPlastic<S> {
 }
 
 impl<S: Scalar> FrictionModel<S> for ElastoPlastic<S> {
-    type State = LuGreState<S>;
+    type State = ElastoPlasticState<S>;
 
-    fn step(&self, state: &mut LuGreState<S>, v: S, h: S) -> S {
+    fn step(&self, state: &mut ElastoPlasticState<S>, v: S, h: S) -> S {
         match checked_inputs(v, h) {
             Some(v) => self.advance(state, v, S::ZERO, h, true),
             None => self.hold_force(state),
@@ -134,7 +146,7 @@ impl<S: Scalar> FrictionModel<S> for ElastoPlastic<S> {
     }
 
     /// `sigma0 z`.
-    fn hold_force(&self, state: &LuGreState<S>) -> S {
+    fn hold_force(&self, state: &ElastoPlasticState<S>) -> S {
         self.lugre.sigma0() * state.z
     }
 }
@@ -146,7 +158,7 @@ impl<S: Scalar> FrictionModel<S> for ElastoPlastic<S> {
 impl<S: Scalar> Observable<S> for ElastoPlastic<S> {
     fn step_corrected(
         &self,
-        state: &mut LuGreState<S>,
+        state: &mut ElastoPlasticState<S>,
         v: S,
         correction: S,
         h: S,

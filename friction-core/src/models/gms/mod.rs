@@ -7,7 +7,7 @@
 //! F = sum_i (F_i + sigma1_i dz_i/dt) + sigma2 v,   dz_i/dt = v (sticking), dF_i/dt / k_i (slipping)
 //! ```
 //!
-//! Each element remembers whether it slips ([`SlipMode`]): that memory is
+//! Each element remembers whether it slips ([`GmsSlipMode`]): that memory is
 //! the model. A slipping element keeps slipping while `v` keeps its sign,
 //! even when `|F_i|` is below `alpha_i g(v)` because `g` rose as the speed
 //! fell; deciding from `|F_i| <= alpha_i g(v)` alone would make it stick
@@ -48,10 +48,10 @@ use crate::model::{
 };
 use crate::stribeck::StribeckParams;
 use crate::Scalar;
-use fixed_step::ElementAt;
-pub use fixed_step::GmsAt;
+use fixed_step::ElementFixedStep;
+pub use fixed_step::{GmsFixedStep, GmsFixedStepState};
 use variable_step::Element;
-pub use variable_step::{Gms, GmsState, SlipMode};
+pub use variable_step::{Gms, GmsSlipMode, GmsState};
 
 /// One elasto-slide element of the GMS model, in `f64`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -167,7 +167,7 @@ impl<const N: usize> GmsParams<N> {
     }
 
     /// Validates and builds the fixed-step form for sample period `h` (s):
-    /// see [`GmsAt`] (`N >= 1`, checked at compile time). Besides
+    /// see [`GmsFixedStep`] (`N >= 1`, checked at compile time). Besides
     /// [`Self::build`]'s checks, rejects a bad `h` and an element whose
     /// stick travel `k_i h (v - c)` overflows the scalar at twice the
     /// velocity limit ([`ParamError::ForceOverflow`] naming `k`).
@@ -177,7 +177,7 @@ impl<const N: usize> GmsParams<N> {
     /// let curve = StribeckParams { fc: 1.0, fs: 1.5, vs: 1e-3, exponent: 2.0 };
     /// let e = |k, alpha| GmsElement { k, alpha, sigma1: 0.0 };
     /// let p = GmsParams { curve, sigma2: 0.4, c: 100.0, elements: [e(1e5, 0.5), e(2e4, 0.5)] };
-    /// let model = p.build_at::<f32>(1e-3)?;
+    /// let model = p.build_fixed_step::<f32>(1e-3)?;
     /// let mut state = GmsState::default();
     /// let mut f = 0.0;
     /// for _ in 0..1000 {
@@ -186,7 +186,7 @@ impl<const N: usize> GmsParams<N> {
     /// assert!((f - (1.0 + 0.4 * 0.1)).abs() < 1e-4);
     /// # Ok::<(), friction_core::ParamError>(())
     /// ```
-    pub fn build_at<S: Scalar>(&self, h: f64) -> Result<GmsAt<S, N>, ParamError> {
+    pub fn build_fixed_step<S: Scalar>(&self, h: f64) -> Result<GmsFixedStep<S, N>, ParamError> {
         const { assert!(N > 0, "the GMS model needs at least one element") };
         self.validate()?;
         let h = period(h)?;
@@ -207,7 +207,7 @@ impl<const N: usize> GmsParams<N> {
             .iter()
             .map(|e| e.k * h * 2.0 * v_max)
             .fold(0.0, f64::max);
-        // forces carried times k, as in LuGreAt
+        // forces carried times k, as in LuGreFixedStep
         let k = S::force_scale(fs.max(damping_max).max(viscous_max).max(travel_max));
         check_force::<S>("c", k * slip_damping)?;
         check_force::<S>("sigma1", k * damping_max)?;
@@ -218,7 +218,7 @@ impl<const N: usize> GmsParams<N> {
             ..self.curve
         }
         .build()?;
-        let mut elements = [ElementAt::<S>::default(); N];
+        let mut elements = [ElementFixedStep::<S>::default(); N];
         for (out, e) in elements.iter_mut().zip(&self.elements) {
             let alpha = e.alpha / sum;
             convert::<S>("alpha", k * alpha * fc)?;
@@ -229,7 +229,7 @@ impl<const N: usize> GmsParams<N> {
             // the slip damping factor sigma1_i C / (alpha_i k_i) / g, formed
             // before its small force difference
             check_force::<S>("c", e.sigma1 * c_over_alpha / e.k / fc)?;
-            *out = ElementAt {
+            *out = ElementFixedStep {
                 k_h: convert("k", k * k_h)?,
                 alpha: convert("alpha", alpha)?,
                 f_max: convert("alpha", k * alpha * fs)?,
@@ -238,7 +238,7 @@ impl<const N: usize> GmsParams<N> {
                 sigma1: convert("sigma1", k * e.sigma1)?,
             };
         }
-        Ok(GmsAt {
+        Ok(GmsFixedStep {
             curve,
             sigma2: convert("sigma2", k * self.sigma2)?,
             elements,

@@ -1,5 +1,5 @@
 //! The variable-step generalized Maxwell-slip model: [`Gms`], its state
-//! and the elements' [`SlipMode`].
+//! and the elements' [`GmsSlipMode`].
 
 use crate::model::{checked_inputs, FrictionModel};
 use crate::observer::Observable;
@@ -39,14 +39,14 @@ pub struct Gms<S, const N: usize> {
 
 /// Whether an element sticks or slips, and which way.
 ///
-/// One byte with the discriminants given ([`SlipMode::from_byte`] reads
+/// One byte with the discriminants given ([`GmsSlipMode::from_byte`] reads
 /// any byte as one): [`GmsState`] holds these in a public field, so a
 /// caller that keeps states in memory others may overwrite (the C ABI) can
-/// check the bytes before it reads them as `SlipMode`s.
+/// check the bytes before it reads them as `GmsSlipMode`s.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[repr(u8)]
-pub enum SlipMode {
+pub enum GmsSlipMode {
     /// Sticking: the element deflects with the velocity.
     #[default]
     Stick = 0,
@@ -56,7 +56,7 @@ pub enum SlipMode {
     Backward = 2,
 }
 
-impl SlipMode {
+impl GmsSlipMode {
     /// The mode a byte holds: its discriminant, and `Stick` for a byte no
     /// mode has (so that any byte is read as some mode).
     pub const fn from_byte(byte: u8) -> Self {
@@ -95,14 +95,14 @@ pub struct GmsState<S, const N: usize> {
     /// Element forces `F_i = k_i z_i` (N), within `±alpha_i Fs`.
     pub force: [S; N],
     /// Element modes: sticking, or slipping and which way.
-    pub mode: [SlipMode; N],
+    pub mode: [GmsSlipMode; N],
 }
 
 impl<S: Scalar, const N: usize> Default for GmsState<S, N> {
     fn default() -> Self {
         Self {
             force: [S::ZERO; N],
-            mode: [SlipMode::Stick; N],
+            mode: [GmsSlipMode::Stick; N],
         }
     }
 }
@@ -172,21 +172,21 @@ impl<S: Scalar, const N: usize> Gms<S, N> {
 pub(super) fn element_step<S: Scalar>(
     e: &Element<S>,
     f: S,
-    mode: SlipMode,
+    mode: GmsSlipMode,
     v: S,
     u: S,
     b: S,
     target: S,
     rate: S,
     h: S,
-) -> (S, SlipMode) {
+) -> (S, GmsSlipMode) {
     let mut f = f;
     let mut mode = mode;
     // time left for slipping
     let mut left = h;
     if !mode.slips_with(v) {
         // sticking (a reversal or a stop ends a slip): dF/dt = k u
-        mode = SlipMode::Stick;
+        mode = GmsSlipMode::Stick;
         left = S::ZERO;
         if u != S::ZERO {
             let dir = u.sign();
@@ -206,7 +206,7 @@ pub(super) fn element_step<S: Scalar>(
                 // at or beyond the bound: no further outward motion; moving
                 // with v it slips from here, else a correction holds it
                 if with_v {
-                    mode = SlipMode::of_sign(v);
+                    mode = GmsSlipMode::of_sign(v);
                     if room <= S::ZERO {
                         left = h;
                     }
@@ -214,7 +214,7 @@ pub(super) fn element_step<S: Scalar>(
             }
         }
     }
-    if mode != SlipMode::Stick && left > S::ZERO {
+    if mode != GmsSlipMode::Stick && left > S::ZERO {
         // exact relaxation towards sign(v) alpha_i g(v)
         f = target + (f - target) * (-(rate * left)).exp();
     }

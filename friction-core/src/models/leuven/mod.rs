@@ -44,7 +44,7 @@
 //!
 //! **Memory full.** The state must be `Copy + Default + Debug` (the
 //! [`FrictionModel::State`](crate::FrictionModel::State) bound), so the
-//! memory is a `Copy` array `[Reversal; M]` with a length (a `heapless::Vec` is not `Copy`). A push
+//! memory is a `Copy` array `[LeuvenReversal; M]` with a length (a `heapless::Vec` is not `Copy`). A push
 //! into a full memory first drops the oldest point (the outermost loop is
 //! forgotten). The current branch is untouched, so the force stays
 //! continuous, and the cost is one `O(M)` shift. The loss of accuracy:
@@ -103,7 +103,7 @@ use crate::model::{
 use crate::stribeck::StribeckParams;
 use crate::Scalar;
 use variable_step::Power;
-pub use variable_step::{Leuven, LeuvenState, Reversal};
+pub use variable_step::{Leuven, LeuvenReversal, LeuvenState};
 
 /// The branch may approach its asymptote to within this fraction of `2 Fs`.
 const CAP: f64 = 1e-6;

@@ -1,5 +1,5 @@
 //! The Leuven model and its hysteresis memory: [`Leuven`], [`LeuvenState`]
-//! and [`Reversal`].
+//! and [`LeuvenReversal`].
 
 use crate::bits::Flag;
 use crate::model::{checked_inputs, FrictionModel};
@@ -64,7 +64,7 @@ pub struct Leuven<S, const M: usize> {
 /// A reversal point `(z, F)` of the hysteresis memory.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Reversal<S> {
+pub struct LeuvenReversal<S> {
     /// The state `z` at the reversal (m).
     pub z: S,
     /// The hysteresis force `Fh` at the reversal (N).
@@ -83,7 +83,7 @@ pub struct LeuvenState<S, const M: usize> {
     len: usize,
     /// The virgin curve lies below the oldest point (no slide, no drop yet).
     virgin: Flag,
-    points: [Reversal<S>; M],
+    points: [LeuvenReversal<S>; M],
 }
 
 impl<S: Scalar, const M: usize> Default for LeuvenState<S, M> {
@@ -95,7 +95,7 @@ impl<S: Scalar, const M: usize> Default for LeuvenState<S, M> {
             dir: S::ZERO,
             len: 0,
             virgin: Flag::new(true),
-            points: [Reversal::default(); M],
+            points: [LeuvenReversal::default(); M],
         }
     }
 }
@@ -103,7 +103,7 @@ impl<S: Scalar, const M: usize> Default for LeuvenState<S, M> {
 /// The current branch: its origin, and whether it is the virgin curve.
 #[derive(Clone, Copy, Debug)]
 struct Branch<S> {
-    origin: Reversal<S>,
+    origin: LeuvenReversal<S>,
     virgin: bool,
 }
 
@@ -120,7 +120,7 @@ impl<S: Scalar, const M: usize> LeuvenState<S, M> {
     }
 
     /// The remembered reversal points, oldest first (0 to `M` of them).
-    pub fn memory(&self) -> &[Reversal<S>] {
+    pub fn memory(&self) -> &[LeuvenReversal<S>] {
         self.points.get(..self.len).unwrap_or(&[])
     }
 
@@ -137,7 +137,7 @@ impl<S: Scalar, const M: usize> LeuvenState<S, M> {
                 virgin: false,
             },
             None => Branch {
-                origin: Reversal::default(),
+                origin: LeuvenReversal::default(),
                 virgin: true,
             },
         }
@@ -145,10 +145,13 @@ impl<S: Scalar, const M: usize> LeuvenState<S, M> {
 
     /// The next wiping-out point ahead: the point below the top, or with
     /// one point above the virgin curve, that point's mirror on it.
-    fn below(&self) -> Option<Reversal<S>> {
+    fn below(&self) -> Option<LeuvenReversal<S>> {
         match self.len {
             0 => None,
-            1 if self.virgin.get() => self.points.first().map(|p| Reversal { z: -p.z, f: -p.f }),
+            1 if self.virgin.get() => self
+                .points
+                .first()
+                .map(|p| LeuvenReversal { z: -p.z, f: -p.f }),
             1 => None,
             n => self.points.get(n - 2).copied(),
         }
@@ -163,7 +166,7 @@ impl<S: Scalar, const M: usize> LeuvenState<S, M> {
             self.rebase();
         }
         if let Some(p) = self.points.get_mut(self.len) {
-            *p = Reversal {
+            *p = LeuvenReversal {
                 z: self.z,
                 f: self.fh,
             };
