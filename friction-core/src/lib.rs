@@ -13,24 +13,24 @@
 #[cfg(test)]
 extern crate std;
 
-pub mod adaptive;
+mod adaptive;
 mod bits;
-pub mod commissioning;
-pub mod compensator;
+mod commissioning;
+mod compensator;
 #[cfg(feature = "fixed")]
-pub mod fixed_point;
-pub mod fixed_step;
+mod fixed_point;
+mod fixed_step;
 mod gain;
-pub mod load_friction;
-pub mod model;
-pub mod models;
-pub mod observer;
-pub mod parameter_adaptive;
-pub mod random;
-pub mod rls;
-pub mod scalar;
-pub mod stribeck;
-pub mod supervisor;
+mod load_friction;
+mod model;
+mod models;
+mod observer;
+mod parameter_adaptive;
+mod random;
+mod rls;
+mod scalar;
+mod stribeck;
+mod supervisor;
 #[cfg(test)]
 mod test_rng;
 #[cfg(test)]
@@ -40,6 +40,7 @@ pub use adaptive::{AdaptiveObserver, AdaptiveParams, AdaptiveState};
 pub use commissioning::{
     CommissionError, Commissioned, Commissioning, CommissioningAbort, CommissioningIdentified,
     CommissioningParams, CommissioningPhase, CommissioningState, CommissioningTick, PlateauPoint,
+    COMMISSIONING_MAX_SPEEDS,
 };
 pub use compensator::{
     Compensation, Compensator, CompensatorParams, CompensatorState, CompensatorTick, FeedForward,
@@ -50,7 +51,9 @@ pub use fixed_point::Fixed32;
 pub use fixed_step::{FixedStepModel, FixedStepObservable};
 pub use load_friction::{LoadForm, LoadFriction, LoadFrictionParams};
 pub use model::{FrictionModel, ParamError, PARAM_RANGE, VELOCITY_LIMIT};
-pub use models::bristle::{Bristle, BristleParams, BristleState};
+pub use models::bristle::{
+    Bristle, BristleParams, BristleState, BRISTLE_DEFAULT_SNAPS, BRISTLE_MAX_SNAPS,
+};
 pub use models::dahl::{Dahl, DahlFixedStep, DahlFixedStepState, DahlParams, DahlState};
 pub use models::elasto_plastic::{
     ElastoPlastic, ElastoPlasticFixedStep, ElastoPlasticFixedStepState, ElastoPlasticParams,
@@ -68,8 +71,9 @@ pub use models::xiong::{
 pub use observer::{Observable, Observer};
 pub use parameter_adaptive::{
     ParameterAdaptive, ParameterAdaptiveFixedStep, ParameterAdaptiveFixedStepState,
-    ParameterAdaptiveParams, ParameterAdaptiveState,
+    ParameterAdaptiveParams, ParameterAdaptiveState, PARAMETER_ADAPTIVE_ESTIMATES,
 };
+pub use random::CounterRng;
 pub use rls::{RlsFeedForward, RlsParams, RlsState};
 pub use scalar::{Scalar, ScalarConversion};
 pub use stribeck::{

@@ -1,19 +1,5 @@
-//! The shape every model follows, and the error its parameters can raise.
-//!
-//! A model comes in three parts (after quartiq/idsp):
-//!
-//! - `XxxParams`: design-time parameters in `f64`, checked by `validate()`;
-//! - `Xxx<S>`: the built run-time form (`XxxParams::build::<S>()`), immutable,
-//!   with reciprocals precomputed, shared by any number of states;
-//! - `XxxState<S>`: the mutable internal state (`Default` is at rest);
-//! - and, with a fixed-step form, `XxxFixedStep<S>`
-//!   (`XxxParams::build_fixed_step::<S>(h)`, a
-//!   [`FixedStepModel`](crate::FixedStepModel)) and its state
-//!   `XxxFixedStepState<S>`. Where a form reuses another's state, its
-//!   state name is an alias of that state (`ElastoPlasticState<S> =
-//!   LuGreState<S>`, `DahlFixedStepState<S> = DahlState<S>`).
-//!
-//! The hot path, [`FrictionModel::step`], never fails and never panics.
+//! The shape every model follows, and the error its parameters can raise: see
+//! [`FrictionModel`].
 
 use crate::scalar::ScalarConversion;
 use crate::Scalar;
@@ -195,6 +181,23 @@ pub(crate) fn check_force<S: Scalar>(name: &'static str, magnitude: f64) -> Resu
 pub const VELOCITY_LIMIT: f64 = 1e6;
 
 /// A friction model driven by the sliding velocity.
+///
+/// The shape every model follows, and the error its parameters can raise.
+///
+/// A model comes in three parts (after quartiq/idsp):
+///
+/// - `XxxParams`: design-time parameters in `f64`, checked by `validate()`;
+/// - `Xxx<S>`: the built run-time form (`XxxParams::build::<S>()`), immutable,
+///   with reciprocals precomputed, shared by any number of states;
+/// - `XxxState<S>`: the mutable internal state (`Default` is at rest);
+/// - and, with a fixed-step form, `XxxFixedStep<S>`
+///   (`XxxParams::build_fixed_step::<S>(h)`, a
+///   [`FixedStepModel`](crate::FixedStepModel)) and its state
+///   `XxxFixedStepState<S>`. Where a form reuses another's state, its
+///   state name is an alias of that state (`ElastoPlasticState<S> =
+///   LuGreState<S>`, `DahlFixedStepState<S> = DahlState<S>`).
+///
+/// The hot path, [`FrictionModel::step`], never fails and never panics.
 ///
 /// `step` advances the state over a sample period `h` with the velocity `v`
 /// held, and returns the friction force at the end of the step. `F` opposes

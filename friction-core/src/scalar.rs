@@ -1,9 +1,4 @@
-//! The number trait the models are generic over.
-//!
-//! It is the project's own and deliberately small: it names only what the
-//! models need, so that a fixed-point type (from the `fixed` crate) can
-//! implement it with table or polynomial approximations where `f32`/`f64`
-//! call [`libm`]. `num_traits::Float` cannot be implemented for fixed point.
+//! The number trait the models are generic over: see [`Scalar`].
 
 use crate::fixed_step::signed;
 use core::fmt::Debug;
@@ -23,6 +18,13 @@ pub enum ScalarConversion {
 }
 
 /// A real number as the models compute with it.
+///
+/// The number trait the models are generic over.
+///
+/// It is the project's own and deliberately small: it names only what the
+/// models need, so that a fixed-point type (from the `fixed` crate) can
+/// implement it with table or polynomial approximations where `f32`/`f64`
+/// call [`libm`]. `num_traits::Float` cannot be implemented for fixed point.
 ///
 /// Implemented for `f32` and `f64` through `libm`, and (feature `fixed`) for
 /// the Q16.16 `Fixed32`. Parameters are designed

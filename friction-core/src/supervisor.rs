@@ -1,32 +1,6 @@
-//! A supervisor that makes an adaptive compensation safe to ship enabled:
-//! it applies whichever of three candidates predicts the measured friction
-//! best, with hysteresis.
-//!
-//! The candidates are the primary compensation (an adaptive observer), a
-//! static feed-forward map `F(v)` on the measured velocity (the fallback),
-//! and no compensation at all. All three run every tick; only the active
-//! one reaches the command. The evidence is the friction the compensator
-//! measures ([`FrictionSample`]: commands less inertia times the second
-//! difference of the position). Summed over a window of `N` ticks, the
-//! second differences telescope, so the window's mean measured friction
-//! carries the encoder's rounding only from its two ends:
-//!
-//! ```text
-//! E_c     = mean over the window of (force - (F_c[k-1] + F_c[k-2]) / 2)   each candidate c
-//! P_c    += (E_c^2 - P_c) / memory                                          per window
-//! switch from the active a to the best b when P_b < ratio P_a (after warm-up, and at most once per window)
-//! ```
-//!
-//! `F_c[k-1]`, `F_c[k-2]` are the candidate's estimates at the ticks whose
-//! commands the sample averages. An external torque (gravity, a load) is
-//! in the measured friction for every candidate alike. A candidate that
-//! predicts worse than no compensation loses to it: the compensator falls
-//! back to the static map or to nothing, and returns to the primary when its
-//! prediction is better again. The primary keeps running in the background
-//! on the measured velocity, with its adaptation held (it sees no tracking
-//! error while it is not applied).
-//!
-//! The state and the reason are readable ([`Supervised::status`]).
+//! A supervisor that makes an adaptive compensation safe to ship enabled: it
+//! applies whichever of three candidates predicts the measured friction best,
+//! with hysteresis: see [`Supervised`].
 
 use crate::compensator::{Compensation, FrictionSample};
 use crate::model::{non_negative, positive, FrictionModel, ParamError};
@@ -252,6 +226,36 @@ impl<S: Copy> StoredStatus<S> {
 
 /// The built supervisor around a primary compensation `P` and a static
 /// fallback map `F`: a [`Compensation`] itself.
+///
+/// A supervisor that makes an adaptive compensation safe to ship enabled:
+/// it applies whichever of three candidates predicts the measured friction
+/// best, with hysteresis.
+///
+/// The candidates are the primary compensation (an adaptive observer), a
+/// static feed-forward map `F(v)` on the measured velocity (the fallback),
+/// and no compensation at all. All three run every tick; only the active
+/// one reaches the command. The evidence is the friction the compensator
+/// measures ([`FrictionSample`]: commands less inertia times the second
+/// difference of the position). Summed over a window of `N` ticks, the
+/// second differences telescope, so the window's mean measured friction
+/// carries the encoder's rounding only from its two ends:
+///
+/// ```text
+/// E_c     = mean over the window of (force - (F_c[k-1] + F_c[k-2]) / 2)   each candidate c
+/// P_c    += (E_c^2 - P_c) / memory                                          per window
+/// switch from the active a to the best b when P_b < ratio P_a (after warm-up, and at most once per window)
+/// ```
+///
+/// `F_c[k-1]`, `F_c[k-2]` are the candidate's estimates at the ticks whose
+/// commands the sample averages. An external torque (gravity, a load) is
+/// in the measured friction for every candidate alike. A candidate that
+/// predicts worse than no compensation loses to it: the compensator falls
+/// back to the static map or to nothing, and returns to the primary when its
+/// prediction is better again. The primary keeps running in the background
+/// on the measured velocity, with its adaptation held (it sees no tracking
+/// error while it is not applied).
+///
+/// The state and the reason are readable ([`Supervised::status`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Supervised<P, F, S> {

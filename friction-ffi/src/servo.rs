@@ -933,7 +933,7 @@ pub extern "C" fn friction_supervisor_defaults(
 fn read_estimates<O, S, T>(
     servo: Option<&mut O>,
     out: Option<&mut T>,
-    convert: impl FnOnce([S; friction_core::parameter_adaptive::ESTIMATES]) -> T,
+    convert: impl FnOnce([S; friction_core::PARAMETER_ADAPTIVE_ESTIMATES]) -> T,
 ) -> friction_status
 where
     O: slot::Opaque<Value = Stored<S>>,

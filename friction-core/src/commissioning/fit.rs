@@ -1,66 +1,10 @@
-//! The fit at the end of a commissioning run, in `f64` (outside the
-//! control interrupt; on a core without a double-precision FPU it runs in
-//! software).
-//!
-//! **The steady curve.** Each plateau the loop held steadily gives a point
-//! `(v, F)`. Steady: the distances over blocks of 8 ticks vary by less than
-//! 30 % RMS of their mean beyond the variance `c^2 / 4` that the encoder's
-//! count adds (a steady slide's quantized distances take two adjacent
-//! values); `c`, the count as a fraction of a block's distance, must be at
-//! most 1/4, or the plateau is too slow for the encoder to judge; and the
-//! mean distance within 25 % of the reference's (an axis that lagged the
-//! reference was not at the plateau's speed). The point
-//! is `v` the distance over
-//! the time, `F = kc` times the mean command. A plateau in stick-slip (the
-//! loop's damping below the curve's falling slope) is left out. Per
-//! direction
-//!
-//! ```text
-//! F(v) = ±(Fc± + (Fs± - Fc±) exp(-|v / vs|^delta)) + sigma2± v
-//! ```
-//!
-//! is linear in `Fc+`, `Fc-`, `Fs+ - Fc+`, `Fs- - Fc-`, `sigma2+` and
-//! `sigma2-` (a viscous coefficient per direction) for a
-//! given `(vs, delta)`: least squares over a grid of `vs` (48 log-spaced
-//! values across the measured speeds) and `delta` (1 to 4 by 0.25), then a
-//! golden-section refinement of each around the best. A fit with a negative
-//! Stribeck excess is not physical and is skipped. The Stribeck terms count
-//! (`stribeck` identified) only where their excess is at least 2 % of `Fc`
-//! and they at least halve the RMS of the flat fit (`Fs = Fc`). Where the
-//! slowest plateau has reached 90 % of the excess, the static levels, `vs`
-//! and `delta` are the curve's (identified); else the curve's `vs` and
-//! `delta` are an extrapolation (not identified) and the static levels are
-//! the break-away levels. Otherwise
-//! the curve is flat down to the slowest steady plateau `v_lo`, the static
-//! levels are the break-away levels, `delta = 2`, and `vs` is the largest
-//! value that leaves under 2 % of `Fc` of the excess at `v_lo`: `vs = v_lo /
-//! sqrt(ln((Fs - Fc) / (0.02 Fc)))`, an upper bound.
-//!
-//! **Stiffness.** At rest under a force `a` the LuGre bristle holds `z =
-//! a / sigma0`; reversing to `-a` slowly moves it along `dz/dx = 1 + sigma0
-//! z / Fs`, so the rest positions are `dx = (Fs / sigma0) ln((Fs + a) /
-//! (Fs - a))` apart, which gives `sigma0`. Where `dx` is under 8 encoder
-//! counts, or the axis slipped, `sigma0` is not identified and is set to
-//! `Fs / (8 counts)` (or `Fs / breakaway_travel` with an exact encoder),
-//! the softest stiffness the measurement cannot rule out.
-//!
-//! **Damping.** Stepping the force down from `+a` to `a / 2` in stick makes
-//! the inertia `J` ring on the bristle; the overshoot of the displacement
-//! (lowest position against the rest position after the hold, as a ratio
-//! of the step's displacement) falls as `sigma1` grows. `sigma1` is the
-//! value whose step, simulated on the fitted model (the core's LuGre step,
-//! 20 steps a period, over the routine's hold), has the measured ratio:
-//! from `4 sigma_c` (`sigma_c = 2 sqrt(sigma0 J)`) down a grid of 40 to
-//! `sigma_c / 100`, the first value whose overshoot reaches the measured
-//! one, then 30 bisections. Where
-//! the step moved less than 16 counts, its overshoot is under 2 counts (or
-//! absent: overdamped), `sigma0` was not measured, or the loop runs
-//! faster than 100 kHz (the simulations are bounded at 20,000 periods of
-//! the hold, so the fit stays bounded in time), `sigma1` is not
-//! identified and is Canudas de Wit et al. 1995's rule of thumb, the
-//! bristle critically damped on the inertia: `sigma_c`.
+//! The fit at the end of a commissioning run, in `f64` (outside the control
+//! interrupt; on a core without a double-precision FPU it runs in software):
+//! see [`Commissioned`].
 
-use super::{CommissioningAbort, CommissioningParams, CommissioningState, MAX_SPEEDS};
+use super::{
+    CommissioningAbort, CommissioningParams, CommissioningState, COMMISSIONING_MAX_SPEEDS,
+};
 use crate::model::ParamError;
 use crate::stribeck::StribeckParams;
 use crate::{LuGreParams, Scalar};
@@ -82,6 +26,68 @@ pub struct CommissioningIdentified {
 }
 
 /// A commissioning run's result.
+///
+/// The fit at the end of a commissioning run, in `f64` (outside the
+/// control interrupt; on a core without a double-precision FPU it runs in
+/// software).
+///
+/// **The steady curve.** Each plateau the loop held steadily gives a point
+/// `(v, F)`. Steady: the distances over blocks of 8 ticks vary by less than
+/// 30 % RMS of their mean beyond the variance `c^2 / 4` that the encoder's
+/// count adds (a steady slide's quantized distances take two adjacent
+/// values); `c`, the count as a fraction of a block's distance, must be at
+/// most 1/4, or the plateau is too slow for the encoder to judge; and the
+/// mean distance within 25 % of the reference's (an axis that lagged the
+/// reference was not at the plateau's speed). The point
+/// is `v` the distance over
+/// the time, `F = kc` times the mean command. A plateau in stick-slip (the
+/// loop's damping below the curve's falling slope) is left out. Per
+/// direction
+///
+/// ```text
+/// F(v) = ±(Fc± + (Fs± - Fc±) exp(-|v / vs|^delta)) + sigma2± v
+/// ```
+///
+/// is linear in `Fc+`, `Fc-`, `Fs+ - Fc+`, `Fs- - Fc-`, `sigma2+` and
+/// `sigma2-` (a viscous coefficient per direction) for a
+/// given `(vs, delta)`: least squares over a grid of `vs` (48 log-spaced
+/// values across the measured speeds) and `delta` (1 to 4 by 0.25), then a
+/// golden-section refinement of each around the best. A fit with a negative
+/// Stribeck excess is not physical and is skipped. The Stribeck terms count
+/// (`stribeck` identified) only where their excess is at least 2 % of `Fc`
+/// and they at least halve the RMS of the flat fit (`Fs = Fc`). Where the
+/// slowest plateau has reached 90 % of the excess, the static levels, `vs`
+/// and `delta` are the curve's (identified); else the curve's `vs` and
+/// `delta` are an extrapolation (not identified) and the static levels are
+/// the break-away levels. Otherwise
+/// the curve is flat down to the slowest steady plateau `v_lo`, the static
+/// levels are the break-away levels, `delta = 2`, and `vs` is the largest
+/// value that leaves under 2 % of `Fc` of the excess at `v_lo`: `vs = v_lo /
+/// sqrt(ln((Fs - Fc) / (0.02 Fc)))`, an upper bound.
+///
+/// **Stiffness.** At rest under a force `a` the LuGre bristle holds `z =
+/// a / sigma0`; reversing to `-a` slowly moves it along `dz/dx = 1 + sigma0
+/// z / Fs`, so the rest positions are `dx = (Fs / sigma0) ln((Fs + a) /
+/// (Fs - a))` apart, which gives `sigma0`. Where `dx` is under 8 encoder
+/// counts, or the axis slipped, `sigma0` is not identified and is set to
+/// `Fs / (8 counts)` (or `Fs / breakaway_travel` with an exact encoder),
+/// the softest stiffness the measurement cannot rule out.
+///
+/// **Damping.** Stepping the force down from `+a` to `a / 2` in stick makes
+/// the inertia `J` ring on the bristle; the overshoot of the displacement
+/// (lowest position against the rest position after the hold, as a ratio
+/// of the step's displacement) falls as `sigma1` grows. `sigma1` is the
+/// value whose step, simulated on the fitted model (the core's LuGre step,
+/// 20 steps a period, over the routine's hold), has the measured ratio:
+/// from `4 sigma_c` (`sigma_c = 2 sqrt(sigma0 J)`) down a grid of 40 to
+/// `sigma_c / 100`, the first value whose overshoot reaches the measured
+/// one, then 30 bisections. Where
+/// the step moved less than 16 counts, its overshoot is under 2 counts (or
+/// absent: overdamped), `sigma0` was not measured, or the loop runs
+/// faster than 100 kHz (the simulations are bounded at 20,000 periods of
+/// the hold, so the fit stays bounded in time), `sigma1` is not
+/// identified and is Canudas de Wit et al. 1995's rule of thumb, the
+/// bristle critically damped on the inertia: `sigma_c`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Commissioned {
@@ -266,8 +272,8 @@ pub(super) fn fit<S: Scalar>(
 fn points<S: Scalar>(
     params: &CommissioningParams,
     state: &CommissioningState<S>,
-) -> ([Point; 2 * MAX_SPEEDS], usize) {
-    let mut out = [Point::default(); 2 * MAX_SPEEDS];
+) -> ([Point; 2 * COMMISSIONING_MAX_SPEEDS], usize) {
+    let mut out = [Point::default(); 2 * COMMISSIONING_MAX_SPEEDS];
     let mut n = 0;
     for p in measured(params, state).into_iter().flatten() {
         if let (true, Some(slot)) = (p.steady, out.get_mut(n)) {
@@ -298,8 +304,8 @@ pub struct PlateauPoint {
 pub(super) fn measured<S: Scalar>(
     params: &CommissioningParams,
     state: &CommissioningState<S>,
-) -> [Option<PlateauPoint>; 2 * MAX_SPEEDS] {
-    let mut out = [None; 2 * MAX_SPEEDS];
+) -> [Option<PlateauPoint>; 2 * COMMISSIONING_MAX_SPEEDS] {
+    let mut out = [None; 2 * COMMISSIONING_MAX_SPEEDS];
     let (h, kc) = (params.servo.h, params.servo.torque_constant);
     let count = usize::from(params.speeds);
     for (index, (p, slot)) in state.plateaus.iter().zip(out.iter_mut()).enumerate() {
@@ -487,7 +493,7 @@ fn golden(mut a: f64, mut b: f64, f: impl Fn(f64) -> f64) -> f64 {
 }
 
 /// `sigma0` from the presliding reversal and whether it was measured (see
-/// the [module docs](self)).
+/// [`Commissioned`]).
 fn stiffness<S: Scalar>(
     params: &CommissioningParams,
     state: &CommissioningState<S>,
@@ -516,8 +522,8 @@ fn stiffness<S: Scalar>(
     (sigma0, true)
 }
 
-/// `sigma1` from the step's overshoot and whether it was measured (see the
-/// [module docs](self)): the `sigma1` whose simulated step has the measured
+/// `sigma1` from the step's overshoot and whether it was measured (see
+/// [`Commissioned`]): the `sigma1` whose simulated step has the measured
 /// overshoot ratio, by bisection (the ratio falls as `sigma1` grows).
 fn damping<S: Scalar>(
     params: &CommissioningParams,

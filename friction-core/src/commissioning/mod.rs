@@ -1,45 +1,7 @@
-//! Commissioning on the target: from a bare axis to LuGre parameters,
-//! ticked in the control interrupt.
-//!
-//! [`Commissioning::tick`] takes the measured position and returns the
-//! command, one call per control period, through a fixed programme:
-//!
-//! 1. **Break-away**, forward then backward: from rest, an open-loop command
-//!    ramp `u = ±ramp_rate t` until the axis has moved `breakaway_travel`;
-//!    the command reached is the break-away level. The loop then brings the
-//!    axis back to where it started.
-//! 2. **Presliding**: an open-loop command of `+a`, held, a step down to
-//!    `a / 2`, held, then `-a`, held (`a` a quarter of the smaller
-//!    break-away level), the axis in stick throughout: the two rest
-//!    positions give the stiffness of a reversal, the step's overshoot the
-//!    damping.
-//! 3. **Plateaus**: at `speeds` log-spaced speeds from `max_speed` down to
-//!    `min_speed`, a trapezoidal move forward then back through the
-//!    position loop (the [`Compensator`]'s PID without compensation, with
-//!    the gains of `servo`), the friction measured at the speed before fed
-//!    forward. Over each cruise, after `settle`, the mean command is the
-//!    friction at the mean speed: with the command held, the net force over
-//!    a stretch that starts and ends at the same speed is zero on average.
-//!    A plateau the loop could not hold (stick-slip, or lagging the
-//!    reference) is left out of the fit. A speed whose two plateaus would
-//!    not finish within `duration` is not started: the programme ends there
-//!    with the faster plateaus it has measured.
-//!
-//! [`Commissioning::result`] then fits the steady curve (see [`fit`]) and
-//! returns the LuGre parameters with their quality figures.
-//!
-//! Limits: the axis never leaves `±travel` around its first position, the
-//! routine never runs longer than `duration`, and a command held at the
-//! limit for 50 ms is a stall. Any limit reached, a non-finite position, a
-//! ramp that reaches the limit without moving the axis, or an axis that
-//! moves against the command ends the routine in
-//! [`CommissioningPhase::Aborted`] with a [`CommissioningAbort`] reason, and every later command is 0.
-//!
-//! Memory: a [`CommissioningState`] holds the loop's state and one record
-//! per plateau (at most [`MAX_SPEEDS`] speeds, two directions); no
-//! allocation, no panic.
+//! Commissioning on the target: from a bare axis to LuGre parameters, ticked
+//! in the control interrupt: see [`Commissioning`].
 
-pub mod fit;
+mod fit;
 
 use crate::bits::Flag;
 use crate::compensator::{Compensator, CompensatorParams, CompensatorState, NoCompensation};
@@ -50,9 +12,9 @@ use crate::Scalar;
 pub use fit::{CommissionError, Commissioned, CommissioningIdentified, PlateauPoint};
 
 /// The most plateau speeds a routine can run (each in both directions).
-pub const MAX_SPEEDS: usize = 16;
+pub const COMMISSIONING_MAX_SPEEDS: usize = 16;
 
-/// The commissioning programme's settings (see the [module docs](self)).
+/// The commissioning programme's settings (see [`Commissioning`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct CommissioningParams {
@@ -68,7 +30,7 @@ pub struct CommissioningParams {
     pub min_speed: f64,
     /// Fastest plateau speed `>= min_speed`.
     pub max_speed: f64,
-    /// Number of plateau speeds, 2 to [`MAX_SPEEDS`].
+    /// Number of plateau speeds, 2 to [`COMMISSIONING_MAX_SPEEDS`].
     pub speeds: u8,
     /// Measuring time `> 0` of a plateau (s); shorter where the travel
     /// does not allow it.
@@ -144,7 +106,7 @@ impl CommissioningParams {
                 limit: "max_speed",
             });
         }
-        if !(2..=MAX_SPEEDS as u8).contains(&self.speeds) {
+        if !(2..=COMMISSIONING_MAX_SPEEDS as u8).contains(&self.speeds) {
             return Err(ParamError::OutOfRange("speeds"));
         }
         if self.breakaway_travel >= self.travel {
@@ -219,7 +181,7 @@ impl CommissioningParams {
             inv_blocks: zero,
             ticks: 0,
             pair_ticks: 0,
-        }; MAX_SPEEDS];
+        }; COMMISSIONING_MAX_SPEEDS];
         for (k, slot) in speeds.iter_mut().enumerate() {
             if k < usize::from(self.speeds) {
                 let v = self.speed(k);
@@ -351,6 +313,47 @@ pub struct CommissioningTick<S> {
 }
 
 /// The built routine: immutable, one per axis type.
+///
+/// Commissioning on the target: from a bare axis to LuGre parameters,
+/// ticked in the control interrupt.
+///
+/// [`Commissioning::tick`] takes the measured position and returns the
+/// command, one call per control period, through a fixed programme:
+///
+/// 1. **Break-away**, forward then backward: from rest, an open-loop command
+///    ramp `u = ±ramp_rate t` until the axis has moved `breakaway_travel`;
+///    the command reached is the break-away level. The loop then brings the
+///    axis back to where it started.
+/// 2. **Presliding**: an open-loop command of `+a`, held, a step down to
+///    `a / 2`, held, then `-a`, held (`a` a quarter of the smaller
+///    break-away level), the axis in stick throughout: the two rest
+///    positions give the stiffness of a reversal, the step's overshoot the
+///    damping.
+/// 3. **Plateaus**: at `speeds` log-spaced speeds from `max_speed` down to
+///    `min_speed`, a trapezoidal move forward then back through the
+///    position loop (the [`Compensator`]'s PID without compensation, with
+///    the gains of `servo`), the friction measured at the speed before fed
+///    forward. Over each cruise, after `settle`, the mean command is the
+///    friction at the mean speed: with the command held, the net force over
+///    a stretch that starts and ends at the same speed is zero on average.
+///    A plateau the loop could not hold (stick-slip, or lagging the
+///    reference) is left out of the fit. A speed whose two plateaus would
+///    not finish within `duration` is not started: the programme ends there
+///    with the faster plateaus it has measured.
+///
+/// [`Commissioning::result`] then fits the steady curve (see [`Commissioned`]) and
+/// returns the LuGre parameters with their quality figures.
+///
+/// Limits: the axis never leaves `±travel` around its first position, the
+/// routine never runs longer than `duration`, and a command held at the
+/// limit for 50 ms is a stall. Any limit reached, a non-finite position, a
+/// ramp that reaches the limit without moving the axis, or an axis that
+/// moves against the command ends the routine in
+/// [`CommissioningPhase::Aborted`] with a [`CommissioningAbort`] reason, and every later command is 0.
+///
+/// Memory: a [`CommissioningState`] holds the loop's state and one record
+/// per plateau (at most [`COMMISSIONING_MAX_SPEEDS`] speeds, two directions); no
+/// allocation, no panic.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Commissioning<S> {
@@ -363,7 +366,7 @@ pub struct Commissioning<S> {
     h: Gain<S>,
     limit: S,
     ratio_cap: S,
-    speeds: [Speed<S>; MAX_SPEEDS],
+    speeds: [Speed<S>; COMMISSIONING_MAX_SPEEDS],
     settle_ticks: u32,
     hold_ticks: u32,
     presliding_ticks: u32,
@@ -393,7 +396,7 @@ const PRESLIDING: u8 = 1;
 const PLATEAUS: u8 = 2;
 const DONE: u8 = 3;
 
-/// A routine's run-time state (see the [module docs](self) for its size).
+/// A routine's run-time state (see [`Commissioning`] for its size).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct CommissioningState<S> {
@@ -428,7 +431,7 @@ pub struct CommissioningState<S> {
     /// after it, and the last.
     pub(crate) step_response: [S; 3],
     pub(crate) slipped: Flag,
-    pub(crate) plateaus: [Plateau<S>; 2 * MAX_SPEEDS],
+    pub(crate) plateaus: [Plateau<S>; 2 * COMMISSIONING_MAX_SPEEDS],
     measured: u8,
 }
 
@@ -457,7 +460,7 @@ impl<S: Scalar> Default for CommissioningState<S> {
             presliding_level: S::ZERO,
             step_response: [S::ZERO; 3],
             slipped: Flag::new(false),
-            plateaus: [Plateau::default(); 2 * MAX_SPEEDS],
+            plateaus: [Plateau::default(); 2 * COMMISSIONING_MAX_SPEEDS],
             measured: 0,
         }
     }
@@ -535,7 +538,7 @@ impl<S: Scalar> Commissioning<S> {
     }
 
     /// One control period with measured position `x`: the command to apply
-    /// (see the [module docs](self) for the programme and its limits).
+    /// (see [`Commissioning`] for the programme and its limits).
     ///
     /// ```
     /// use friction_core::{CommissioningParams, CommissioningState, CompensatorParams, CommissioningPhase};
@@ -754,7 +757,7 @@ impl<S: Scalar> Commissioning<S> {
     /// difference.
     fn plateaus(&self, state: &mut CommissioningState<S>, x: S) -> S {
         let index = usize::from(state.step);
-        let count = usize::from(self.params.speeds).min(MAX_SPEEDS);
+        let count = usize::from(self.params.speeds).min(COMMISSIONING_MAX_SPEEDS);
         if index / 2 >= count {
             state.next_phase(DONE);
             return S::ZERO;
@@ -871,11 +874,11 @@ impl<S: Scalar> Commissioning<S> {
     pub fn plateau_points(
         &self,
         state: &CommissioningState<S>,
-    ) -> [Option<PlateauPoint>; 2 * MAX_SPEEDS] {
+    ) -> [Option<PlateauPoint>; 2 * COMMISSIONING_MAX_SPEEDS] {
         fit::measured(&self.params, state)
     }
 
-    /// Fits the LuGre parameters to a finished routine (see [`fit`]); runs
+    /// Fits the LuGre parameters to a finished routine (see [`Commissioned`]); runs
     /// in `f64`, outside the control interrupt.
     pub fn result(&self, state: &CommissioningState<S>) -> Result<Commissioned, CommissionError> {
         match state.phase() {

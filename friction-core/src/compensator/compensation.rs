@@ -131,7 +131,7 @@ impl<S: Scalar, M: Observable<S>> Compensation<S> for Observer<M, S> {
     }
 }
 
-/// An [`Observer`] on a fixed-step model ([`crate::fixed_step`]) as the
+/// An [`Observer`] on a fixed-step model ([`FixedStepModel`](crate::FixedStepModel)) as the
 /// compensation: `FixedPeriod(Observer::new(model, k)?)`. The compensator's `h`
 /// must be the model's period
 /// ([`CompensatorParams::build`](super::CompensatorParams::build) checks it). A

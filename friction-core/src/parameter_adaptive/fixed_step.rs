@@ -1,37 +1,11 @@
 //! The fixed-step form of the per-parameter adaptation, for every scalar:
-//! [`ParameterAdaptiveFixedStep`], built by [`ParameterAdaptiveParams::build_fixed_step`].
-//!
-//! The law, the discretisation and the bounds are
-//! [`ParameterAdaptive`]'s; what differs is what
-//! the state carries. The variable form keeps the bristle `z` (rad) and
-//! forms `sigma0 h`, `1/h` and `sigma1` at run time: in Q16.16 a bristle of
-//! `Fc / sigma0` is a few units of the last place, `h = 1e-3` is not held
-//! within 0.1 % (its build fails), and per-tick increments of an estimate
-//! (`γ h e`, about 1e-5 N) round away. This form carries, as the fixed-step
-//! models do ([`crate::fixed_step`]):
-//!
-//! - the elastic force `w = sigma0 z` and the estimates in force units
-//!   times a power of two `k` ([`Scalar::force_scale`]: 1 in floating
-//!   point; in Q16.16 the largest that keeps the largest force the boxes
-//!   allow within range, so an estimate's last place is about `1.5e-5 / k` N);
-//! - every product with `h` formed once in `f64` when built: `k sigma0 h`,
-//!   `sigma1 / (sigma0 h)` (the damping term from the change of `w`), and
-//!   the levels' `k γ h`, `k γd` and each estimate's weight (its gains over
-//!   the levels'), each as a mantissa and a power of two so that gains far
-//!   from 1 keep their precision; the adaptation signal is formed once a
-//!   tick and scaled by each weight.
-//!
-//! ```text
-//! ζ' = (W + k sigma0 h (v - k_o e)) / (G + k sigma0 h |v|),   G = k g^(v)
-//!                      (= W' / G of the variable form's implicit Euler step)
-//! ζ  = clamp(ζ', -1, 1),  W = ζ G
-//! F^ = (W + sigma1 / (sigma0 h) (ζ' G - W_old) + k sigma2^ v) / k
-//! ```
-//!
-//! In `f64` it agrees with the variable form to rounding; in `f32` and
-//! Q16.16 the tests compare a servo run under the supervisor with `f64`.
+//! see [`ParameterAdaptiveFixedStep`], built by
+//! [`ParameterAdaptiveParams::build_fixed_step`].
 
-use super::{Estimate, ParameterAdaptive, ParameterAdaptiveParams, ESTIMATES, SIGNAL_LIMIT};
+use super::{
+    Estimate, ParameterAdaptive, ParameterAdaptiveParams, PARAMETER_ADAPTIVE_ESTIMATES,
+    SIGNAL_LIMIT,
+};
 use crate::bits::Flag;
 use crate::compensator::{Compensation, CompensatorParams};
 use crate::fixed_step::{carried, scale_ratio};
@@ -63,7 +37,7 @@ pub struct ParameterAdaptiveFixedStepState<S> {
     /// `k sigma0 z`: the elastic force times the force scale.
     w: S,
     /// `k [Fc+, Fc-, Ds, sigma2, mu]`.
-    estimates: [S; ESTIMATES],
+    estimates: [S; PARAMETER_ADAPTIVE_ESTIMATES],
     last_error: S,
     /// The transmitted torque `kc u - τ_ext` (torque units, not scaled).
     torque: S,
@@ -72,11 +46,43 @@ pub struct ParameterAdaptiveFixedStepState<S> {
     primed: Flag,
 }
 
-/// The built fixed-step per-parameter adaptive observer (see the [module
-/// documentation](self)): immutable, shared by any number of
+/// The built fixed-step per-parameter adaptive observer: immutable, shared by any number of
 /// [`ParameterAdaptiveFixedStepState`]s; a [`Compensation`] for a
 /// [`Compensator`](crate::Compensator) at the period it was built for, in
 /// `f32`, `f64` or `Fixed32` (feature `fixed`).
+///
+/// The fixed-step form of the per-parameter adaptation, for every scalar:
+/// [`ParameterAdaptiveFixedStep`], built by [`ParameterAdaptiveParams::build_fixed_step`].
+///
+/// The law, the discretisation and the bounds are
+/// [`ParameterAdaptive`]'s; what differs is what
+/// the state carries. The variable form keeps the bristle `z` (rad) and
+/// forms `sigma0 h`, `1/h` and `sigma1` at run time: in Q16.16 a bristle of
+/// `Fc / sigma0` is a few units of the last place, `h = 1e-3` is not held
+/// within 0.1 % (its build fails), and per-tick increments of an estimate
+/// (`γ h e`, about 1e-5 N) round away. This form carries, as the fixed-step
+/// models do ([`FixedStepModel`](crate::FixedStepModel)):
+///
+/// - the elastic force `w = sigma0 z` and the estimates in force units
+///   times a power of two `k` ([`Scalar::force_scale`]: 1 in floating
+///   point; in Q16.16 the largest that keeps the largest force the boxes
+///   allow within range, so an estimate's last place is about `1.5e-5 / k` N);
+/// - every product with `h` formed once in `f64` when built: `k sigma0 h`,
+///   `sigma1 / (sigma0 h)` (the damping term from the change of `w`), and
+///   the levels' `k γ h`, `k γd` and each estimate's weight (its gains over
+///   the levels'), each as a mantissa and a power of two so that gains far
+///   from 1 keep their precision; the adaptation signal is formed once a
+///   tick and scaled by each weight.
+///
+/// ```text
+/// ζ' = (W + k sigma0 h (v - k_o e)) / (G + k sigma0 h |v|),   G = k g^(v)
+///                      (= W' / G of the variable form's implicit Euler step)
+/// ζ  = clamp(ζ', -1, 1),  W = ζ G
+/// F^ = (W + sigma1 / (sigma0 h) (ζ' G - W_old) + k sigma2^ v) / k
+/// ```
+///
+/// In `f64` it agrees with the variable form to rounding; in `f32` and
+/// Q16.16 the tests compare a servo run under the supervisor with `f64`.
 ///
 /// ```
 /// use friction_core::{CompensatorParams, CompensatorState, LuGreParams, ParameterAdaptiveParams, Setpoint};
@@ -96,7 +102,7 @@ pub struct ParameterAdaptiveFixedStepState<S> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ParameterAdaptiveFixedStep<S> {
-    per: [ScaledEstimate<S>; ESTIMATES],
+    per: [ScaledEstimate<S>; PARAMETER_ADAPTIVE_ESTIMATES],
     /// The Coulomb levels' `k γ h` and `k γd`: every estimate's gains are
     /// these times its weight, so the signal is formed once a tick.
     gamma_h: Gain<S>,
@@ -180,7 +186,7 @@ impl ParameterAdaptiveParams {
             nominal: S::ZERO,
             low: S::ZERO,
             high: S::ZERO,
-        }; ESTIMATES];
+        }; PARAMETER_ADAPTIVE_ESTIMATES];
         let [levels, ..] = reference.per;
         for (slot, e) in per.iter_mut().zip(reference.per) {
             let Estimate {
@@ -292,7 +298,10 @@ impl<S: Scalar> ParameterAdaptiveFixedStep<S> {
 
     /// The estimates `[Fc+, Fc-, Fs - Fc, sigma2, mu]` of `state` (a
     /// `Default` state reads 0 until its first step).
-    pub fn estimates(&self, state: &ParameterAdaptiveFixedStepState<S>) -> [S; ESTIMATES] {
+    pub fn estimates(
+        &self,
+        state: &ParameterAdaptiveFixedStepState<S>,
+    ) -> [S; PARAMETER_ADAPTIVE_ESTIMATES] {
         state.estimates.map(|x| self.unscaled(x))
     }
 
@@ -307,7 +316,7 @@ impl<S: Scalar> ParameterAdaptiveFixedStep<S> {
     pub fn set_estimates(
         &self,
         state: &mut ParameterAdaptiveFixedStepState<S>,
-        values: [f64; ESTIMATES],
+        values: [f64; PARAMETER_ADAPTIVE_ESTIMATES],
     ) {
         self.start(state);
         for ((x, v), k) in state.estimates.iter_mut().zip(values).zip(&self.per) {
@@ -480,7 +489,7 @@ mod tests {
     /// and the supervisor's mode each second.
     struct Trace {
         x: Vec<f64>,
-        estimates: [f64; ESTIMATES],
+        estimates: [f64; PARAMETER_ADAPTIVE_ESTIMATES],
         modes: Vec<SupervisorMode>,
     }
 

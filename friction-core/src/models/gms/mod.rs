@@ -1,41 +1,5 @@
-//! The generalized Maxwell-slip model, GMS (Lampaert, Al-Bender, Swevers
-//! 2003; Al-Bender, Lampaert, Swevers 2005), with `N` elements.
-//!
-//! ```text
-//! sticking: dF_i/dt = k_i v                              until |F_i| reaches alpha_i g(v)
-//! slipping: dF_i/dt = C (sign(v) - F_i / (alpha_i g(v)))  until v changes sign
-//! F = sum_i (F_i + sigma1_i dz_i/dt) + sigma2 v,   dz_i/dt = v (sticking), dF_i/dt / k_i (slipping)
-//! ```
-//!
-//! Each element remembers whether it slips ([`GmsSlipMode`]): that memory is
-//! the model. A slipping element keeps slipping while `v` keeps its sign,
-//! even when `|F_i|` is below `alpha_i g(v)` because `g` rose as the speed
-//! fell; deciding from `|F_i| <= alpha_i g(v)` alone would make it stick
-//! and stiffen at once. A velocity of exactly 0 ends a slip like a
-//! reversal does: the element sticks and holds its force.
-//!
-//! Discretisation, exact for `v` held over the step:
-//! - a sticking element moves linearly, so the instant it reaches its bound
-//!   `alpha_i g(v)` is found exactly inside the step, and it spends the rest
-//!   of the step slipping;
-//! - a slipping element relaxes exponentially towards `sign(v) alpha_i g(v)`
-//!   with rate `C / (alpha_i g(v))` (the exact solution for held `v`); one
-//!   that reached its bound in the step stays on it.
-//!
-//! So one long step equals many short ones, at any `h`. Every `|F_i|` stays
-//! within `alpha_i Fs` and the steady state is `g(v) sign(v) + sigma2 v`
-//! (the weights are normalised by their sum when the model is built). The
-//! force is evaluated at the end of the step, with `dz_i/dt` from the end
-//! state: it jumps by `sigma1_i v` when an element starts slipping.
-//!
-//! `N` must be at least 1:
-//!
-//! ```compile_fail
-//! use friction_core::{GmsParams, StribeckParams};
-//! let curve = StribeckParams { fc: 1.0, fs: 1.5, vs: 1e-3, exponent: 2.0 };
-//! let p = GmsParams::<0> { curve, sigma2: 0.0, c: 100.0, elements: [] };
-//! let m = p.build::<f32>(); // error: N = 0 elements
-//! ```
+//! The generalized Maxwell-slip model, GMS (Lampaert, Al-Bender, Swevers 2003;
+//! Al-Bender, Lampaert, Swevers 2005), with `N` elements: see [`Gms`].
 
 mod fixed_step;
 #[cfg(test)]
