@@ -1,4 +1,4 @@
-//! Cost of one step of each fixed-step form (`build_at(h)`, h = 1 ms) in
+//! Cost of one step of each fixed-step form (`build_fixed_step(h)`, h = 1 ms) in
 //! f32, f64 and Q16.16 fixed point, next to the variable-step LuGre. The
 //! velocity sweeps a sine through zero (as in `step.rs`). Run with
 //! `cargo bench -p friction-core --features fixed --bench fixed_step`.
@@ -49,16 +49,16 @@ fn bench_at<S: Scalar + 'static, M: FixedStepModel<S>>(
 fn bench_scalar<S: Scalar + 'static>(c: &mut Criterion, name: &str) {
     let lugre = LuGreParams::CANUDAS_1995;
     let mut g = c.benchmark_group(format!("fixed-step/{name}"));
-    bench_at(&mut g, "lugre", lugre.build_at::<S>(H).ok());
+    bench_at(&mut g, "lugre", lugre.build_fixed_step::<S>(H).ok());
     let dahl = DahlParams {
         sigma: 1e5,
         fc: 1.0,
         delta: 1.0,
         sigma2: 0.4,
     };
-    bench_at(&mut g, "dahl", dahl.build_at::<S>(H).ok());
+    bench_at(&mut g, "dahl", dahl.build_fixed_step::<S>(H).ok());
     let ep = ElastoPlasticParams { lugre, z_ba: 5e-6 };
-    bench_at(&mut g, "elasto-plastic", ep.build_at::<S>(H).ok());
+    bench_at(&mut g, "elasto-plastic", ep.build_fixed_step::<S>(H).ok());
     let gms = GmsParams {
         curve: CURVE,
         sigma2: 0.4,
@@ -69,7 +69,7 @@ fn bench_scalar<S: Scalar + 'static>(c: &mut Criterion, name: &str) {
             sigma1: 1e-4 * k,
         }),
     };
-    bench_at(&mut g, "gms-4", gms.build_at::<S>(H).ok());
+    bench_at(&mut g, "gms-4", gms.build_fixed_step::<S>(H).ok());
     let xiong = XiongParams {
         curve: CURVE,
         tau: 1e-2,
@@ -80,7 +80,7 @@ fn bench_scalar<S: Scalar + 'static>(c: &mut Criterion, name: &str) {
             lambda,
         }),
     };
-    bench_at(&mut g, "xiong-4", xiong.build_at::<S>(H).ok());
+    bench_at(&mut g, "xiong-4", xiong.build_fixed_step::<S>(H).ok());
     g.finish();
 }
 

@@ -4,9 +4,9 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use friction_core::{
-    BristleParams, DahlParams, ElastoPlasticParams, FrictionModel, GmsElement, GmsParams, GmsState,
-    LeuvenParams, LeuvenState, LuGreParams, LuGreState, Observer, ResetIntegratorParams, Scalar,
-    SlipMode, StribeckMapParams, StribeckParams, XiongElement, XiongParams,
+    BristleParams, DahlParams, ElastoPlasticParams, FrictionModel, GmsElement, GmsParams,
+    GmsSlipMode, GmsState, LeuvenParams, LeuvenState, LuGreParams, LuGreState, Observer,
+    ResetIntegratorParams, Scalar, StribeckMapParams, StribeckParams, XiongElement, XiongParams,
 };
 
 /// The Stribeck curve of canudas1995 (and of gms-typical, xiong-typical).
@@ -204,9 +204,9 @@ fn bench_scalar<S: Scalar + 'static>(c: &mut Criterion, name: &str) {
         let before = check.force;
         gms4.step(&mut check, S::from_f64(v), h);
         let mode = if v > 0.0 {
-            SlipMode::Forward
+            GmsSlipMode::Forward
         } else {
-            SlipMode::Backward
+            GmsSlipMode::Backward
         };
         assert_eq!(check.mode, [mode; 4], "every element slips after step {k}");
         assert!(check.force.iter().zip(&before).all(|(a, b)| a != b));

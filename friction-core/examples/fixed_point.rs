@@ -5,13 +5,18 @@
 //!
 //! Run with `cargo run -p friction-core --features fixed --example fixed_point`.
 
-use friction_core::{Fixed32, FixedStepModel, LuGreAtState, LuGreParams, ParamError, Scalar};
+use friction_core::{
+    Fixed32, FixedStepModel, LuGreFixedStepState, LuGreParams, ParamError, Scalar,
+};
 
 fn main() -> Result<(), ParamError> {
     let h = 1e-3;
-    let fixed = LuGreParams::CANUDAS_1995.build_at::<Fixed32>(h)?;
-    let float = LuGreParams::CANUDAS_1995.build_at::<f64>(h)?;
-    let (mut sf, mut sd) = (LuGreAtState::default(), LuGreAtState::default());
+    let fixed = LuGreParams::CANUDAS_1995.build_fixed_step::<Fixed32>(h)?;
+    let float = LuGreParams::CANUDAS_1995.build_fixed_step::<f64>(h)?;
+    let (mut sf, mut sd) = (
+        LuGreFixedStepState::default(),
+        LuGreFixedStepState::default(),
+    );
     let (mut worst, mut sum, n) = (0.0f64, 0.0, 4000);
     for k in 0..n {
         let v = 0.02 * (std::f64::consts::PI * k as f64 * h).sin();

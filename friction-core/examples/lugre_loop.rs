@@ -4,13 +4,13 @@
 //!
 //! Run with `cargo run -p friction-core --example lugre_loop`.
 
-use friction_core::{FixedStepModel, LuGreAtState, LuGreParams, ParamError};
+use friction_core::{FixedStepModel, LuGreFixedStepState, LuGreParams, ParamError};
 
 fn main() -> Result<(), ParamError> {
     let h = 1e-3; // the control period (s)
                   // Canudas de Wit et al. 1995, Table I; rejected when built if invalid.
-    let model = LuGreParams::CANUDAS_1995.build_at::<f32>(h)?;
-    let mut state = LuGreAtState::default();
+    let model = LuGreParams::CANUDAS_1995.build_fixed_step::<f32>(h)?;
+    let mut state = LuGreFixedStepState::default();
     println!("   t (s)    v (m/s)      F (N)");
     for k in 0..=4000 {
         let t = k as f64 * h;

@@ -7,7 +7,7 @@
 //! Run with `cargo run -p friction-core --example observer_servo`.
 
 use friction_core::{
-    AtPeriod, Compensator, CompensatorParams, CompensatorState, FrictionModel, LuGreParams,
+    Compensator, CompensatorParams, CompensatorState, FixedPeriod, FrictionModel, LuGreParams,
     LuGreServo, LuGreState, NoCompensation, Observer, ParamError, Setpoint,
 };
 
@@ -54,8 +54,8 @@ fn track(seconds: f64, mut tick: impl FnMut(f32, Setpoint<f32>) -> f32) -> Resul
 }
 
 fn main() -> Result<(), ParamError> {
-    let model = LuGreParams::OLSSON_1998.build_at::<f32>(H)?;
-    let servo: LuGreServo<f32> = gains().build(AtPeriod(Observer::new(model, 200.0)?))?;
+    let model = LuGreParams::OLSSON_1998.build_fixed_step::<f32>(H)?;
+    let servo: LuGreServo<f32> = gains().build(FixedPeriod(Observer::new(model, 200.0)?))?;
     let mut state = CompensatorState::default();
     let with = track(4.0, |x, r| servo.tick(&mut state, x, r).command)?;
 

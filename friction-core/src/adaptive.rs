@@ -1,55 +1,8 @@
-//! The θ-adaptive observer: friction compensation that follows a plant
-//! whose friction is a multiple of the model's (Canudas de Wit et al. 1995,
-//! IEEE TAC 40(3), Section V; Olsson et al. 1998, Eur. J. Control 4(3);
-//! Canudas de Wit & Lischinsky 1997, Int. J. Adapt. Control Signal Process.
-//! 11(1)).
-//!
-//! The plant's friction is taken to be `θ F(v, z)`, the model's friction
-//! scaled by an unknown, slowly varying factor `θ` (normal force,
-//! temperature, wear, or a model whose `Fc` and `Fs` are off by a common
-//! factor). The [`Observer`] estimates the model's friction `F^` from the
-//! measured velocity and the position error `e = x - x_ref`; the estimate
-//! sent to the drive is `θ^ F^`, and `θ^` follows a gradient law with
-//! leakage, projected onto `[θmin, θmax]`:
-//!
-//! ```text
-//! F^      = observer(v, e)                        the model's friction (as Observer)
-//! dθ^/dt  = -(γ e + γd de/dt) F^ - ρ (θ^ - θ0)     gradient law, leakage ρ
-//! θ^      = min(θmax, max(θmin, θ^))              projection
-//! output  = θ^ F^                                 within θmax B(v), as |F^| <= B(v)
-//! ```
-//!
-//! Sign: a plant with more friction than the estimate lags its reference
-//! (`e < 0` while `F^ > 0` in forward sliding), so `θ^` grows. With the
-//! opposite sign of `e` the law diverges. Discretised with explicit Euler at
-//! the compensator's period `h` (`de/dt h` is the change of `e` since the
-//! last step), after the observer's step, and the output uses the updated
-//! `θ^`.
-//!
-//! Choosing the gains: in a PD(+I) loop with gains `kp`, `kd` and torque
-//! constant `kc`, a friction error `δF` drives the composite error
-//! `s = de/dt + (kp / kd) e` like `J ds/dt + kd s ≈ -δF / kc`, the error
-//! model of Slotine and Li (1987) for which a gradient law on `s F^` is
-//! stable; `γd = γ kd / kp` gives that law (`γ e + γd de/dt = γd s`). With
-//! `γ = a kc kp / Fs^2` ([`AdaptiveParams::gain_for_rate`]) `θ^` converges
-//! at a rate near `a` (1/s) while sliding at the friction level `Fs`; `a`
-//! of 1 to 10 is a starting point. Without the `de/dt` term (`γd = 0`) the
-//! law reads the error alone, which lags the friction error by the loop's
-//! phase: on a loop that is slow against its friction (`friction servo` on
-//! `params/astrom2008-drift.toml`) it drove `θ^` the wrong way, to `θmax`.
-//! The integral action absorbs the steady error, so adaptation is driven
-//! by the transients at reversals: a persistently reversing motion adapts,
-//! a standstill does not (`s F^` is then small), and leakage `ρ` slowly
-//! returns `θ^` to `θ0`.
-//!
-//! Bounds, for any finite inputs: `θ^` stays in `[θmin, θmax]`, the output
-//! is finite and within `θmax B(v)`, and the model's state stays within its
-//! bounds (those of [`Observer`]). A NaN or infinite input leaves the state
-//! untouched.
-//!
-//! In fixed point `θ^` is carried scaled by a power of two
-//! ([`Scalar::force_scale`] of its range): per-tick increments of `1e-6`
-//! would otherwise round to 0 in Q16.16.
+//! The θ-adaptive observer: friction compensation that follows a plant whose
+//! friction is a multiple of the model's (Canudas de Wit et al. 1995, IEEE TAC
+//! 40(3), Section V; Olsson et al. 1998, Eur. J. Control 4(3); Canudas de Wit
+//! & Lischinsky 1997, Int. J. Adapt. Control Signal Process. 11(1)): see
+//! [`AdaptiveObserver`].
 
 use crate::bits::Flag;
 use crate::compensator::Compensation;
@@ -101,8 +54,8 @@ impl AdaptiveParams {
 
     /// `γ = a kc kp / fs^2`: the gain that adapts at about `a` (1/s) in a
     /// loop with proportional gain `kp` and torque constant `kc` on friction
-    /// of level `fs`; pair it with `gamma_derivative = γ kd / kp` (see the
-    /// [module documentation](self)).
+    /// of level `fs`; pair it with `gamma_derivative = γ kd / kp` (see
+    /// [`AdaptiveObserver`]).
     pub fn gain_for_rate(rate: f64, kp: f64, torque_constant: f64, fs: f64) -> f64 {
         rate * torque_constant * kp / (fs * fs)
     }
@@ -216,7 +169,60 @@ pub struct AdaptiveState<T, S> {
 /// The built θ-adaptive observer: immutable, shared by any number of
 /// [`AdaptiveState`]s. A [`Compensation`] for the
 /// [`Compensator`](crate::Compensator) (wrap it in
-/// [`AtPeriod`](crate::AtPeriod) for a fixed-step model).
+/// [`FixedPeriod`](crate::FixedPeriod) for a fixed-step model).
+///
+/// The θ-adaptive observer: friction compensation that follows a plant
+/// whose friction is a multiple of the model's (Canudas de Wit et al. 1995,
+/// IEEE TAC 40(3), Section V; Olsson et al. 1998, Eur. J. Control 4(3);
+/// Canudas de Wit & Lischinsky 1997, Int. J. Adapt. Control Signal Process.
+/// 11(1)).
+///
+/// The plant's friction is taken to be `θ F(v, z)`, the model's friction
+/// scaled by an unknown, slowly varying factor `θ` (normal force,
+/// temperature, wear, or a model whose `Fc` and `Fs` are off by a common
+/// factor). The [`Observer`] estimates the model's friction `F^` from the
+/// measured velocity and the position error `e = x - x_ref`; the estimate
+/// sent to the drive is `θ^ F^`, and `θ^` follows a gradient law with
+/// leakage, projected onto `[θmin, θmax]`:
+///
+/// ```text
+/// F^      = observer(v, e)                        the model's friction (as Observer)
+/// dθ^/dt  = -(γ e + γd de/dt) F^ - ρ (θ^ - θ0)     gradient law, leakage ρ
+/// θ^      = min(θmax, max(θmin, θ^))              projection
+/// output  = θ^ F^                                 within θmax B(v), as |F^| <= B(v)
+/// ```
+///
+/// Sign: a plant with more friction than the estimate lags its reference
+/// (`e < 0` while `F^ > 0` in forward sliding), so `θ^` grows. With the
+/// opposite sign of `e` the law diverges. Discretised with explicit Euler at
+/// the compensator's period `h` (`de/dt h` is the change of `e` since the
+/// last step), after the observer's step, and the output uses the updated
+/// `θ^`.
+///
+/// Choosing the gains: in a PD(+I) loop with gains `kp`, `kd` and torque
+/// constant `kc`, a friction error `δF` drives the composite error
+/// `s = de/dt + (kp / kd) e` like `J ds/dt + kd s ≈ -δF / kc`, the error
+/// model of Slotine and Li (1987) for which a gradient law on `s F^` is
+/// stable; `γd = γ kd / kp` gives that law (`γ e + γd de/dt = γd s`). With
+/// `γ = a kc kp / Fs^2` ([`AdaptiveParams::gain_for_rate`]) `θ^` converges
+/// at a rate near `a` (1/s) while sliding at the friction level `Fs`; `a`
+/// of 1 to 10 is a starting point. Without the `de/dt` term (`γd = 0`) the
+/// law reads the error alone, which lags the friction error by the loop's
+/// phase: on a loop that is slow against its friction (`friction servo` on
+/// `params/astrom2008-drift.toml`) it drove `θ^` the wrong way, to `θmax`.
+/// The integral action absorbs the steady error, so adaptation is driven
+/// by the transients at reversals: a persistently reversing motion adapts,
+/// a standstill does not (`s F^` is then small), and leakage `ρ` slowly
+/// returns `θ^` to `θ0`.
+///
+/// Bounds, for any finite inputs: `θ^` stays in `[θmin, θmax]`, the output
+/// is finite and within `θmax B(v)`, and the model's state stays within its
+/// bounds (those of [`Observer`]). A NaN or infinite input leaves the state
+/// untouched.
+///
+/// In fixed point `θ^` is carried scaled by a power of two
+/// ([`Scalar::force_scale`] of its range): per-tick increments of `1e-6`
+/// would otherwise round to 0 in Q16.16.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct AdaptiveObserver<M, S> {
@@ -398,7 +404,7 @@ impl<S: Scalar, M: Observable<S>> Compensation<S> for AdaptiveObserver<M, S> {
 /// for (otherwise a negative period, which no compensator accepts:
 /// [`ParamError::PeriodMismatch`]).
 impl<S: Scalar, M: FixedStepObservable<S>> Compensation<S>
-    for crate::AtPeriod<AdaptiveObserver<M, S>>
+    for crate::FixedPeriod<AdaptiveObserver<M, S>>
 {
     type State = AdaptiveState<M::State, S>;
     const USES_H: bool = false;

@@ -1,31 +1,34 @@
-//! The fixed-step form: a model built for one sample period `h`.
-//!
-//! Most firmware runs a model at one rate. `XxxParams::build_at::<S>(h)`
-//! returns a model whose `step(&self, state, v)` takes no `h`: everything
-//! that depends on `h` (such as `sigma0 h`) is formed once, in `f64`, when it
-//! is built, and `h` needs no run-time check. Its states carry forces rather
-//! than deflections (`w = sigma0 z` in newtons instead of `z` in metres), so
-//! that the same code runs on a fixed-point scalar, where micrometres do not
-//! fit. The discretisation is the variable-step form's (the same exact
-//! held-velocity solution), so the two agree to rounding.
-//!
-//! The step contract is the variable-step one ([`FrictionModel`]) without
-//! `h`: a non-finite `v` leaves the state untouched and returns
-//! [`FixedStepModel::hold_force`]; `|v|` is clamped to [`VELOCITY_LIMIT`];
-//! the force is always finite.
-//!
-//! The [`Observer`](crate::Observer) runs on a fixed-step model with
-//! [`Observer::step_at`](crate::Observer::step_at), and the
-//! [`Compensator`](crate::Compensator) accepts such an observer when it is
-//! built for the same period.
-//!
-//! [`FrictionModel`]: crate::FrictionModel
-//! [`VELOCITY_LIMIT`]: crate::VELOCITY_LIMIT
+//! The fixed-step form: a model built for one sample period `h`: see
+//! [`FixedStepModel`].
 
 use crate::Scalar;
 use core::fmt::Debug;
 
 /// A friction model built for one sample period.
+///
+/// The fixed-step form: a model built for one sample period `h`.
+///
+/// Most firmware runs a model at one rate. `XxxParams::build_fixed_step::<S>(h)`
+/// returns a model whose `step(&self, state, v)` takes no `h`: everything
+/// that depends on `h` (such as `sigma0 h`) is formed once, in `f64`, when it
+/// is built, and `h` needs no run-time check. Its states carry forces rather
+/// than deflections (`w = sigma0 z` in newtons instead of `z` in metres), so
+/// that the same code runs on a fixed-point scalar, where micrometres do not
+/// fit. The discretisation is the variable-step form's (the same exact
+/// held-velocity solution), so the two agree to rounding.
+///
+/// The step contract is the variable-step one ([`FrictionModel`]) without
+/// `h`: a non-finite `v` leaves the state untouched and returns
+/// [`FixedStepModel::hold_force`]; `|v|` is clamped to [`VELOCITY_LIMIT`];
+/// the force is always finite.
+///
+/// The [`Observer`](crate::Observer) runs on a fixed-step model with
+/// [`Observer::step_at`](crate::Observer::step_at), and the
+/// [`Compensator`](crate::Compensator) accepts such an observer when it is
+/// built for the same period.
+///
+/// [`FrictionModel`]: crate::FrictionModel
+/// [`VELOCITY_LIMIT`]: crate::VELOCITY_LIMIT
 pub trait FixedStepModel<S: Scalar> {
     /// The internal state; `Default` is the contact at rest, unstrained.
     type State: Copy + Default + Debug;

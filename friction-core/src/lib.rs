@@ -13,24 +13,24 @@
 #[cfg(test)]
 extern crate std;
 
-pub mod adaptive;
+mod adaptive;
 mod bits;
-pub mod commissioning;
-pub mod compensator;
+mod commissioning;
+mod compensator;
 #[cfg(feature = "fixed")]
-pub mod fixed_point;
-pub mod fixed_step;
+mod fixed_point;
+mod fixed_step;
 mod gain;
-pub mod load_friction;
-pub mod model;
-pub mod models;
-pub mod observer;
-pub mod parameter_adaptive;
-pub mod random;
-pub mod rls;
-pub mod scalar;
-pub mod stribeck;
-pub mod supervisor;
+mod load_friction;
+mod model;
+mod models;
+mod observer;
+mod parameter_adaptive;
+mod random;
+mod rls;
+mod scalar;
+mod stribeck;
+mod supervisor;
 #[cfg(test)]
 mod test_rng;
 #[cfg(test)]
@@ -38,63 +38,76 @@ mod test_servo;
 
 pub use adaptive::{AdaptiveObserver, AdaptiveParams, AdaptiveState};
 pub use commissioning::{
-    Abort, CommissionError, Commissioned, Commissioning, CommissioningParams, CommissioningState,
-    CommissioningTick, Identified, Phase, PlateauPoint,
+    CommissionError, Commissioned, Commissioning, CommissioningAbort, CommissioningIdentified,
+    CommissioningParams, CommissioningPhase, CommissioningState, CommissioningTick, PlateauPoint,
+    COMMISSIONING_MAX_SPEEDS,
 };
 pub use compensator::{
-    AtPeriod, Compensation, Compensator, CompensatorParams, CompensatorState, FeedForward,
-    FrictionSample, NoCompensation, Setpoint, Tick,
+    Compensation, Compensator, CompensatorParams, CompensatorState, CompensatorTick, FeedForward,
+    FixedPeriod, FrictionSample, NoCompensation, Setpoint,
 };
 #[cfg(feature = "fixed")]
 pub use fixed_point::Fixed32;
 pub use fixed_step::{FixedStepModel, FixedStepObservable};
 pub use load_friction::{LoadForm, LoadFriction, LoadFrictionParams};
 pub use model::{FrictionModel, ParamError, PARAM_RANGE, VELOCITY_LIMIT};
-pub use models::bristle::{Bristle, BristleParams, BristleState};
-pub use models::dahl::{Dahl, DahlAt, DahlParams, DahlState};
-pub use models::elasto_plastic::{ElastoPlastic, ElastoPlasticAt, ElastoPlasticParams};
-pub use models::gms::{Gms, GmsAt, GmsElement, GmsParams, GmsState, SlipMode};
-pub use models::leuven::{Leuven, LeuvenParams, LeuvenState, Reversal};
-pub use models::lugre::{LuGre, LuGreAt, LuGreAtState, LuGreParams, LuGreState};
+pub use models::bristle::{
+    Bristle, BristleParams, BristleState, BRISTLE_DEFAULT_SNAPS, BRISTLE_MAX_SNAPS,
+};
+pub use models::dahl::{Dahl, DahlFixedStep, DahlFixedStepState, DahlParams, DahlState};
+pub use models::elasto_plastic::{
+    ElastoPlastic, ElastoPlasticFixedStep, ElastoPlasticFixedStepState, ElastoPlasticParams,
+    ElastoPlasticState,
+};
+pub use models::gms::{
+    Gms, GmsElement, GmsFixedStep, GmsFixedStepState, GmsParams, GmsSlipMode, GmsState,
+};
+pub use models::leuven::{Leuven, LeuvenParams, LeuvenReversal, LeuvenState};
+pub use models::lugre::{LuGre, LuGreFixedStep, LuGreFixedStepState, LuGreParams, LuGreState};
 pub use models::reset_integrator::{ResetIntegrator, ResetIntegratorParams, ResetIntegratorState};
-pub use models::xiong::{Xiong, XiongAt, XiongAtState, XiongElement, XiongParams, XiongState};
+pub use models::xiong::{
+    Xiong, XiongElement, XiongFixedStep, XiongFixedStepState, XiongParams, XiongState,
+};
 pub use observer::{Observable, Observer};
 pub use parameter_adaptive::{
-    ParameterAdaptive, ParameterAdaptiveAt, ParameterAdaptiveAtState, ParameterAdaptiveParams,
-    ParameterAdaptiveState,
+    ParameterAdaptive, ParameterAdaptiveFixedStep, ParameterAdaptiveFixedStepState,
+    ParameterAdaptiveParams, ParameterAdaptiveState, PARAMETER_ADAPTIVE_ESTIMATES,
 };
+pub use random::CounterRng;
 pub use rls::{RlsFeedForward, RlsParams, RlsState};
-pub use scalar::{Conversion, Scalar};
+pub use scalar::{Scalar, ScalarConversion};
 pub use stribeck::{
     AsymmetricCoulombViscous, AsymmetricCoulombViscousParams, CoulombParams, CoulombViscous,
     CoulombViscousParams, Karnopp, StribeckCurve, StribeckMap, StribeckMapParams, StribeckParams,
 };
-pub use supervisor::{Mode, Supervised, SupervisedState, SupervisorParams, SupervisorStatus};
+pub use supervisor::{
+    Supervised, SupervisedState, SupervisorMode, SupervisorParams, SupervisorStatus,
+};
 
 /// A compensated servo tick on a fixed-step model's observer, the firmware
-/// case: `Compensator<S, AtPeriod<Observer<M, S>>>` in one name.
+/// case: `Compensator<S, FixedPeriod<Observer<M, S>>>` in one name.
 ///
 /// ```
-/// use friction_core::{CompensatorParams, LuGreAt, LuGreParams, Observer, ObserverServo, AtPeriod};
-/// let model = LuGreParams::CANUDAS_1995.build_at::<f32>(1e-3)?;
-/// let servo: ObserverServo<LuGreAt<f32>, f32> = CompensatorParams {
+/// use friction_core::{CompensatorParams, LuGreFixedStep, LuGreParams, Observer, ObserverServo, FixedPeriod};
+/// let model = LuGreParams::CANUDAS_1995.build_fixed_step::<f32>(1e-3)?;
+/// let servo: ObserverServo<LuGreFixedStep<f32>, f32> = CompensatorParams {
 ///     h: 1e-3, kp: 400.0, ki: 0.0, kd: 40.0, inertia: 1.0, torque_constant: 1.0, limit: 20.0,
 /// }
-/// .build(AtPeriod(Observer::new(model, 200.0)?))?;
+/// .build(FixedPeriod(Observer::new(model, 200.0)?))?;
 /// # let _ = servo;
 /// # Ok::<(), friction_core::ParamError>(())
 /// ```
-pub type ObserverServo<M, S> = Compensator<S, AtPeriod<Observer<M, S>>>;
+pub type ObserverServo<M, S> = Compensator<S, FixedPeriod<Observer<M, S>>>;
 
 /// [`ObserverServo`] on the fixed-step LuGre model.
-pub type LuGreServo<S> = ObserverServo<LuGreAt<S>, S>;
+pub type LuGreServo<S> = ObserverServo<LuGreFixedStep<S>, S>;
 
 /// A compensated servo tick on the θ-adaptive observer of a fixed-step
-/// model: `Compensator<S, AtPeriod<AdaptiveObserver<M, S>>>`.
-pub type AdaptiveServo<M, S> = Compensator<S, AtPeriod<AdaptiveObserver<M, S>>>;
+/// model: `Compensator<S, FixedPeriod<AdaptiveObserver<M, S>>>`.
+pub type AdaptiveServo<M, S> = Compensator<S, FixedPeriod<AdaptiveObserver<M, S>>>;
 
 /// [`AdaptiveServo`] on the fixed-step LuGre model.
-pub type AdaptiveLuGreServo<S> = AdaptiveServo<LuGreAt<S>, S>;
+pub type AdaptiveLuGreServo<S> = AdaptiveServo<LuGreFixedStep<S>, S>;
 
 /// A compensated servo tick with a static feed-forward map `F`, e.g.
 /// `FeedForwardServo<CoulombViscous<f32>, f32>`.
@@ -109,7 +122,7 @@ pub type FeedForwardServo<F, S> = Compensator<S, FeedForward<F>>;
 ///     ParameterAdaptiveParams, ParameterAdaptiveServo, SupervisorParams};
 /// let servo = CompensatorParams { h: 1e-3, kp: 60.0, ki: 200.0, kd: 1.2,
 ///     inertia: 0.0023, torque_constant: 1.02, limit: 10.0 };
-/// let adaptive = ParameterAdaptiveParams::new(LuGreParams::OLSSON_1998, 20.0).build_at::<f32>(&servo)?;
+/// let adaptive = ParameterAdaptiveParams::new(LuGreParams::OLSSON_1998, 20.0).build_fixed_step::<f32>(&servo)?;
 /// let fallback = CoulombViscousParams { fc: 0.28, sigma2: 0.0176 }.build::<f32>()?;
 /// let supervised = SupervisorParams::DEFAULT.build(adaptive, fallback, servo.h)?;
 /// let ctl: ParameterAdaptiveServo<f32> = servo.build(supervised)?;
@@ -117,4 +130,4 @@ pub type FeedForwardServo<F, S> = Compensator<S, FeedForward<F>>;
 /// # Ok::<(), friction_core::ParamError>(())
 /// ```
 pub type ParameterAdaptiveServo<S> =
-    Compensator<S, Supervised<ParameterAdaptiveAt<S>, CoulombViscous<S>, S>>;
+    Compensator<S, Supervised<ParameterAdaptiveFixedStep<S>, CoulombViscous<S>, S>>;

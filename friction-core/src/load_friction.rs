@@ -1,30 +1,8 @@
 //! Friction that grows with the torque a transmission carries, in the forms
 //! identified for real servo actuators by BAM (Duclusaud, Passault et al.
 //! 2024, "Extended Friction Models for the Physics Simulation of Servo
-//! Actuators", arXiv:2410.08650): the models `m1` to `m6`.
-//!
-//! Each is a friction **budget** `tau_fm >= 0`, the largest torque the
-//! friction can oppose at joint speed `v`, motor torque `tau_m` and
-//! external torque `tau_e` (gravity, a load):
-//!
-//! ```text
-//! s      = exp(-|v / vs|^alpha)                                   Stribeck factor
-//! m1     tau_fm = Fb                          (+ the viscous Fv |v| in every form)
-//! m2     + Fs s
-//! m3     + kb |tau_e - tau_m|                                      load-dependent
-//! m4     + Fs s + ks s |tau_e - tau_m|
-//! m5     + |ke tau_e - km tau_m| + s |kes tau_e - kms tau_m| + Fs s   directional
-//! m6     m5 + s (qe tau_e^2 [|tau_e| < |tau_m|] + qm tau_m^2 [|tau_e| > |tau_m|])
-//!           where tau_e and tau_m have opposite signs                 quadratic
-//! ```
-//!
-//! (`Fb` friction_base, `Fs` friction_stribeck, `Fv` friction_viscous, `vs`
-//! dtheta_stribeck, `kb`/`ks` load_friction_base/_stribeck, `km`/`ke` and
-//! `kms`/`kes` load_friction_motor/_external and their `_stribeck`, `qm`/`qe`
-//! load_friction_motor_quad/_external_quad.) The viscous part
-//! `Fv |v|` is returned apart ([`LoadFriction::budget`] gives both): a
-//! simulator applies it as a damping force and the rest as a bounded
-//! sticking force.
+//! Actuators", arXiv:2410.08650): the models `m1` to `m6`: see
+//! [`LoadFriction`].
 
 use crate::model::{non_negative, positive, ParamError};
 use crate::Scalar;
@@ -191,7 +169,35 @@ impl LoadFrictionParams {
     }
 }
 
-/// The built budget (see the [module documentation](self)).
+/// The built budget.
+///
+/// Friction that grows with the torque a transmission carries, in the forms
+/// identified for real servo actuators by BAM (Duclusaud, Passault et al.
+/// 2024, "Extended Friction Models for the Physics Simulation of Servo
+/// Actuators", arXiv:2410.08650): the models `m1` to `m6`.
+///
+/// Each is a friction **budget** `tau_fm >= 0`, the largest torque the
+/// friction can oppose at joint speed `v`, motor torque `tau_m` and
+/// external torque `tau_e` (gravity, a load):
+///
+/// ```text
+/// s      = exp(-|v / vs|^alpha)                                   Stribeck factor
+/// m1     tau_fm = Fb                          (+ the viscous Fv |v| in every form)
+/// m2     + Fs s
+/// m3     + kb |tau_e - tau_m|                                      load-dependent
+/// m4     + Fs s + ks s |tau_e - tau_m|
+/// m5     + |ke tau_e - km tau_m| + s |kes tau_e - kms tau_m| + Fs s   directional
+/// m6     m5 + s (qe tau_e^2 [|tau_e| < |tau_m|] + qm tau_m^2 [|tau_e| > |tau_m|])
+///           where tau_e and tau_m have opposite signs                 quadratic
+/// ```
+///
+/// (`Fb` friction_base, `Fs` friction_stribeck, `Fv` friction_viscous, `vs`
+/// dtheta_stribeck, `kb`/`ks` load_friction_base/_stribeck, `km`/`ke` and
+/// `kms`/`kes` load_friction_motor/_external and their `_stribeck`, `qm`/`qe`
+/// load_friction_motor_quad/_external_quad.) The viscous part
+/// `Fv |v|` is returned apart ([`LoadFriction::budget`] gives both): a
+/// simulator applies it as a damping force and the rest as a bounded
+/// sticking force.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct LoadFriction<S> {

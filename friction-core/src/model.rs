@@ -1,15 +1,7 @@
-//! The shape every model follows, and the error its parameters can raise.
-//!
-//! A model comes in three parts (after quartiq/idsp):
-//!
-//! - `XxxParams`: design-time parameters in `f64`, checked by `validate()`;
-//! - `Xxx<S>`: the built run-time form (`XxxParams::build::<S>()`), immutable,
-//!   with reciprocals precomputed, shared by any number of states;
-//! - `XxxState<S>`: the mutable internal state (`Default` is at rest).
-//!
-//! The hot path, [`FrictionModel::step`], never fails and never panics.
+//! The shape every model follows, and the error its parameters can raise: see
+//! [`FrictionModel`].
 
-use crate::scalar::Conversion;
+use crate::scalar::ScalarConversion;
 use crate::Scalar;
 use core::fmt;
 
@@ -157,8 +149,8 @@ pub(crate) fn convert<S: Scalar>(name: &'static str, value: f64) -> Result<S, Pa
     // `+ 0.0`: a parameter of -0 (which validation lets through as 0) is
     // carried as +0, so that no product with it flips the sign of a zero
     S::try_from_f64(value + 0.0).map_err(|e| match e {
-        Conversion::Overflow => ParamError::NotRepresentable(name),
-        Conversion::Underflow | Conversion::Rounding => ParamError::Underflow(name),
+        ScalarConversion::Overflow => ParamError::NotRepresentable(name),
+        ScalarConversion::Underflow | ScalarConversion::Rounding => ParamError::Underflow(name),
     })
 }
 
@@ -178,7 +170,7 @@ pub(crate) fn convert_derived<S: Scalar>(name: &'static str, value: f64) -> Resu
 /// intermediate sums; the error names the parameter that carries it.
 pub(crate) fn check_force<S: Scalar>(name: &'static str, magnitude: f64) -> Result<(), ParamError> {
     match S::try_from_f64(4.0 * magnitude) {
-        Err(Conversion::Overflow) => Err(ParamError::ForceOverflow(name)),
+        Err(ScalarConversion::Overflow) => Err(ParamError::ForceOverflow(name)),
         _ => Ok(()),
     }
 }
@@ -189,6 +181,23 @@ pub(crate) fn check_force<S: Scalar>(name: &'static str, magnitude: f64) -> Resu
 pub const VELOCITY_LIMIT: f64 = 1e6;
 
 /// A friction model driven by the sliding velocity.
+///
+/// The shape every model follows, and the error its parameters can raise.
+///
+/// A model comes in three parts (after quartiq/idsp):
+///
+/// - `XxxParams`: design-time parameters in `f64`, checked by `validate()`;
+/// - `Xxx<S>`: the built run-time form (`XxxParams::build::<S>()`), immutable,
+///   with reciprocals precomputed, shared by any number of states;
+/// - `XxxState<S>`: the mutable internal state (`Default` is at rest);
+/// - and, with a fixed-step form, `XxxFixedStep<S>`
+///   (`XxxParams::build_fixed_step::<S>(h)`, a
+///   [`FixedStepModel`](crate::FixedStepModel)) and its state
+///   `XxxFixedStepState<S>`. Where a form reuses another's state, its
+///   state name is an alias of that state (`ElastoPlasticState<S> =
+///   LuGreState<S>`, `DahlFixedStepState<S> = DahlState<S>`).
+///
+/// The hot path, [`FrictionModel::step`], never fails and never panics.
 ///
 /// `step` advances the state over a sample period `h` with the velocity `v`
 /// held, and returns the friction force at the end of the step. `F` opposes

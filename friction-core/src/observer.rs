@@ -1,34 +1,5 @@
 //! Friction observer with a correction gain (Canudas de Wit et al. 1995;
-//! Olsson et al. 1998), for every state model.
-//!
-//! The friction state is not measured. The observer runs the model on the
-//! measured velocity `v` with a correction from the position error
-//! `e = x - x_ref` (measured minus desired). The correction is a velocity
-//! offset on the model's elastic input: `v - k e` is what strains the
-//! bristles (elements, bond), while the sliding law and the Stribeck curve
-//! still see the measured `v`. For LuGre:
-//!
-//! ```text
-//! dz^/dt = (v - k e) - sigma0 |v| z^ / g(v)
-//! F^     = sigma0 z^ + sigma1 dz^/dt + sigma2 v
-//! ```
-//!
-//! and a controller adds `F^` to its output. With the opposite sign of `e`
-//! the correction destabilises the loop.
-//!
-//! The estimate is bounded by what the model can produce:
-//! - `k e` saturates at [`VELOCITY_LIMIT`](crate::VELOCITY_LIMIT) instead of overflowing;
-//! - each state is clamped to its bound (`|z^| <= Fs/sigma0` for LuGre), an
-//!   anti-windup the continuous-time observer does not have, and the
-//!   `sigma1 dz^/dt` term uses the rate the state actually took: zero while
-//!   the state is held at its bound;
-//! - `F^` is clipped to [`Observable::force_bound`]`(v)`, the largest force
-//!   the model produces at that velocity from any state (`Fs` at `v = 0`).
-//!
-//! So any finite `v`, `e`, `k` and `h` give a finite estimate and a finite
-//! state. In a sampled loop the velocity is a sample late and noisy, so the
-//! `sigma1 dz^/dt` feed-forward can cost more than it gains: it is a switch
-//! ([`Observer::with_damping`]).
+//! Olsson et al. 1998), for every state model: see [`Observer`].
 
 use crate::bits::Flag;
 use crate::fixed_step::FixedStepObservable;
@@ -73,6 +44,38 @@ pub trait Observable<S: Scalar>: FrictionModel<S> {
 
 /// An observer built around a model `M`.
 ///
+/// Friction observer with a correction gain (Canudas de Wit et al. 1995;
+/// Olsson et al. 1998), for every state model.
+///
+/// The friction state is not measured. The observer runs the model on the
+/// measured velocity `v` with a correction from the position error
+/// `e = x - x_ref` (measured minus desired). The correction is a velocity
+/// offset on the model's elastic input: `v - k e` is what strains the
+/// bristles (elements, bond), while the sliding law and the Stribeck curve
+/// still see the measured `v`. For LuGre:
+///
+/// ```text
+/// dz^/dt = (v - k e) - sigma0 |v| z^ / g(v)
+/// F^     = sigma0 z^ + sigma1 dz^/dt + sigma2 v
+/// ```
+///
+/// and a controller adds `F^` to its output. With the opposite sign of `e`
+/// the correction destabilises the loop.
+///
+/// The estimate is bounded by what the model can produce:
+/// - `k e` saturates at [`VELOCITY_LIMIT`](crate::VELOCITY_LIMIT) instead of overflowing;
+/// - each state is clamped to its bound (`|z^| <= Fs/sigma0` for LuGre), an
+///   anti-windup the continuous-time observer does not have, and the
+///   `sigma1 dz^/dt` term uses the rate the state actually took: zero while
+///   the state is held at its bound;
+/// - `F^` is clipped to [`Observable::force_bound`]`(v)`, the largest force
+///   the model produces at that velocity from any state (`Fs` at `v = 0`).
+///
+/// So any finite `v`, `e`, `k` and `h` give a finite estimate and a finite
+/// state. In a sampled loop the velocity is a sample late and noisy, so the
+/// `sigma1 dz^/dt` feed-forward can cost more than it gains: it is a switch
+/// ([`Observer::with_damping`]).
+///
 /// ```
 /// use friction_core::{LuGreParams, LuGreState, Observer};
 /// let model = LuGreParams::CANUDAS_1995.build::<f32>()?;
@@ -105,8 +108,8 @@ impl<S: Scalar, M> Observer<M, S> {
     /// ```
     /// # #[cfg(feature = "fixed")] {
     /// use friction_core::{Fixed32, LuGreParams, Observer, ParamError};
-    /// let model = LuGreParams::OLSSON_1998.build_at::<Fixed32>(1e-3)?;
-    /// type Q = Observer<friction_core::LuGreAt<Fixed32>, Fixed32>;
+    /// let model = LuGreParams::OLSSON_1998.build_fixed_step::<Fixed32>(1e-3)?;
+    /// type Q = Observer<friction_core::LuGreFixedStep<Fixed32>, Fixed32>;
     /// assert!(Q::new(model, 200.0).is_ok());
     /// assert_eq!(Q::new(model, 1e9).err(), Some(ParamError::NotRepresentable("gain")));
     /// assert_eq!(Q::new(model, 1e-6).err(), Some(ParamError::Underflow("gain")));
@@ -170,15 +173,15 @@ impl<S: Scalar, M: Observable<S>> Observer<M, S> {
 
 impl<S: Scalar, M: FixedStepObservable<S>> Observer<M, S> {
     /// [`Observer::step`] for a model built for one period
-    /// ([`crate::fixed_step`]): advances the estimate by that period with
+    /// ([`FixedStepModel`](crate::FixedStepModel)): advances the estimate by that period with
     /// measured velocity `v` and position error `e`; the same bounds and the
     /// same handling of non-finite inputs.
     ///
     /// ```
-    /// use friction_core::{LuGreAtState, LuGreParams, Observer};
-    /// let model = LuGreParams::CANUDAS_1995.build_at::<f32>(1e-3)?;
+    /// use friction_core::{LuGreFixedStepState, LuGreParams, Observer};
+    /// let model = LuGreParams::CANUDAS_1995.build_fixed_step::<f32>(1e-3)?;
     /// let observer = Observer::new(model, 100.0)?;
-    /// let mut w_hat = LuGreAtState::default();
+    /// let mut w_hat = LuGreFixedStepState::default();
     /// let f_hat = observer.step_at(&mut w_hat, 1e-3, 1e-6);
     /// assert!(f_hat > 0.0 && f_hat.is_finite());
     /// assert!(observer.step_at(&mut w_hat, 0.0, 1e30).abs() <= 1.5);

@@ -1,24 +1,27 @@
-//! A small deterministic, seedable pseudo-random generator.
-//!
-//! Counter-based: the number drawn for `(stream, index)` is a hash of the
-//! seed and that pair, so a draw does not depend on the order in which
-//! streams are consumed. The bristle model uses one stream per bristle and
-//! one index per re-bond: runs repeat exactly, whatever the step size.
-//!
-//! [`CounterRng::bits`] is SplitMix64's finaliser (Steele, Lea & Flood
-//! 2014) of seed and pair. [`CounterRng::unit`], what the bristle model
-//! draws, uses 32-bit arithmetic only (a Cortex-M has no 64-bit multiply):
-//! a Weyl sequence per stream, offset by a key formed from the seed when
-//! the generator is made, mixed by MurmurHash3's 32-bit finaliser
-//! (Appleby): 32-bit products, where SplitMix64's 64-bit ones take several
-//! each on a Cortex-M (and a library call on a Cortex-M0).
+//! A small deterministic, seedable pseudo-random generator: see
+//! [`CounterRng`].
 
 use crate::Scalar;
 
 /// A seeded counter-based generator.
 ///
+/// A small deterministic, seedable pseudo-random generator.
+///
+/// Counter-based: the number drawn for `(stream, index)` is a hash of the
+/// seed and that pair, so a draw does not depend on the order in which
+/// streams are consumed. The bristle model uses one stream per bristle and
+/// one index per re-bond: runs repeat exactly, whatever the step size.
+///
+/// [`CounterRng::bits`] is SplitMix64's finaliser (Steele, Lea & Flood
+/// 2014) of seed and pair. [`CounterRng::unit`], what the bristle model
+/// draws, uses 32-bit arithmetic only (a Cortex-M has no 64-bit multiply):
+/// a Weyl sequence per stream, offset by a key formed from the seed when
+/// the generator is made, mixed by MurmurHash3's 32-bit finaliser
+/// (Appleby): 32-bit products, where SplitMix64's 64-bit ones take several
+/// each on a Cortex-M (and a library call on a Cortex-M0).
+///
 /// ```
-/// use friction_core::random::CounterRng;
+/// use friction_core::CounterRng;
 /// let rng = CounterRng::new(42);
 /// let a: f64 = rng.unit(3, 7);
 /// assert!(a > 0.0 && a < 1.0);

@@ -1,31 +1,7 @@
 //! Model-free adaptive feed-forward: Coulomb + viscous friction fitted online
 //! by recursive least squares with forgetting (Ljung & Söderström 1983; as
-//! friction identification: Canudas de Wit & Lischinsky 1997).
-//!
-//! The compensator measures the friction residual over the last two periods
-//! ([`FrictionSample`]: command force minus inertia times the measured
-//! acceleration). Each sample above a minimum speed updates the weights `w`
-//! of the regressors `φ = (sign v, v / v_ref)`:
-//!
-//! ```text
-//! K = P φ / (λ + φᵀ P φ)
-//! w = w + K (y - φᵀ w)
-//! P = (P - K φᵀ P) / λ,   then scaled down to trace(P) <= p_max
-//! F^ = sat(F_max, w0 sign(v) + w1 v / v_ref)        on the measured velocity
-//! ```
-//!
-//! so `w0` estimates the Coulomb level and `w1 / v_ref` the viscous
-//! coefficient. `v_ref` (the speed scale, e.g. the largest speed of the
-//! motion) makes both regressors of order one, so that `P` is dimensionless
-//! and one `p0` suits both. Forgetting `λ < 1` follows drift with a memory
-//! of about `1 / (1 - λ)` samples; a too small `λ` follows the noise of a
-//! quantized acceleration. Samples below `v_min` are skipped (at rest the
-//! sign regressor is meaningless and the residual is stiction), and nothing
-//! is forgotten without a sample, so a standstill cannot wind `P` up; the
-//! trace bound holds it bounded in any case, and `|w| <= F_max`.
-//!
-//! `P` starts at `p0 I` and `w` at 0 (or the given initial weights): the
-//! first samples move `w` fast, by about `p0 / (1 + p0)` of each residual.
+//! friction identification: Canudas de Wit & Lischinsky 1997): see
+//! [`RlsFeedForward`].
 
 use crate::bits::Flag;
 use crate::compensator::{Compensation, FrictionSample};
@@ -172,6 +148,35 @@ impl<S: Scalar> RlsState<S> {
 
 /// The built least-squares feed-forward: a [`Compensation`] that learns from
 /// the compensator's [`FrictionSample`]s.
+///
+/// Model-free adaptive feed-forward: Coulomb + viscous friction fitted online
+/// by recursive least squares with forgetting (Ljung & Söderström 1983; as
+/// friction identification: Canudas de Wit & Lischinsky 1997).
+///
+/// The compensator measures the friction residual over the last two periods
+/// ([`FrictionSample`]: command force minus inertia times the measured
+/// acceleration). Each sample above a minimum speed updates the weights `w`
+/// of the regressors `φ = (sign v, v / v_ref)`:
+///
+/// ```text
+/// K = P φ / (λ + φᵀ P φ)
+/// w = w + K (y - φᵀ w)
+/// P = (P - K φᵀ P) / λ,   then scaled down to trace(P) <= p_max
+/// F^ = sat(F_max, w0 sign(v) + w1 v / v_ref)        on the measured velocity
+/// ```
+///
+/// so `w0` estimates the Coulomb level and `w1 / v_ref` the viscous
+/// coefficient. `v_ref` (the speed scale, e.g. the largest speed of the
+/// motion) makes both regressors of order one, so that `P` is dimensionless
+/// and one `p0` suits both. Forgetting `λ < 1` follows drift with a memory
+/// of about `1 / (1 - λ)` samples; a too small `λ` follows the noise of a
+/// quantized acceleration. Samples below `v_min` are skipped (at rest the
+/// sign regressor is meaningless and the residual is stiction), and nothing
+/// is forgotten without a sample, so a standstill cannot wind `P` up; the
+/// trace bound holds it bounded in any case, and `|w| <= F_max`.
+///
+/// `P` starts at `p0 I` and `w` at 0 (or the given initial weights): the
+/// first samples move `w` fast, by about `p0 / (1 + p0)` of each residual.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RlsFeedForward<S> {

@@ -1,9 +1,4 @@
-//! The number trait the models are generic over.
-//!
-//! It is the project's own and deliberately small: it names only what the
-//! models need, so that a fixed-point type (from the `fixed` crate) can
-//! implement it with table or polynomial approximations where `f32`/`f64`
-//! call [`libm`]. `num_traits::Float` cannot be implemented for fixed point.
+//! The number trait the models are generic over: see [`Scalar`].
 
 use crate::fixed_step::signed;
 use core::fmt::Debug;
@@ -12,7 +7,7 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 /// Why [`Scalar::try_from_f64`] refused a value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Conversion {
+pub enum ScalarConversion {
     /// Too large in magnitude for the type (or not finite).
     Overflow,
     /// Non-zero, but below the smallest positive value the type carries
@@ -23,6 +18,13 @@ pub enum Conversion {
 }
 
 /// A real number as the models compute with it.
+///
+/// The number trait the models are generic over.
+///
+/// It is the project's own and deliberately small: it names only what the
+/// models need, so that a fixed-point type (from the `fixed` crate) can
+/// implement it with table or polynomial approximations where `f32`/`f64`
+/// call [`libm`]. `num_traits::Float` cannot be implemented for fixed point.
 ///
 /// Implemented for `f32` and `f64` through `libm`, and (feature `fixed`) for
 /// the Q16.16 `Fixed32`. Parameters are designed
@@ -63,22 +65,22 @@ pub trait Scalar:
         Self::from_f64((f64::from(m) + 0.5) * (1.0 / 16_777_216.0))
     }
 
-    /// Converts a design-time `f64`, checked: [`Conversion::Overflow`] if it
-    /// does not fit (or is not finite), [`Conversion::Underflow`] if a
+    /// Converts a design-time `f64`, checked: [`ScalarConversion::Overflow`] if it
+    /// does not fit (or is not finite), [`ScalarConversion::Underflow`] if a
     /// non-zero value lands below [`Scalar::MIN_POSITIVE`] (zero, or a
-    /// subnormal float), [`Conversion::Rounding`] if it loses more than
+    /// subnormal float), [`ScalarConversion::Rounding`] if it loses more than
     /// 0.1 % to rounding. Every `build()` converts its parameters with it.
-    fn try_from_f64(x: f64) -> Result<Self, Conversion> {
+    fn try_from_f64(x: f64) -> Result<Self, ScalarConversion> {
         if !x.is_finite() {
-            return Err(Conversion::Overflow);
+            return Err(ScalarConversion::Overflow);
         }
         let s = Self::from_f64(x);
         if !s.is_finite() {
-            Err(Conversion::Overflow)
+            Err(ScalarConversion::Overflow)
         } else if x != 0.0 && s.abs() < Self::MIN_POSITIVE {
-            Err(Conversion::Underflow)
+            Err(ScalarConversion::Underflow)
         } else if (s.to_f64() - x).abs() > 1e-3 * x.abs() {
-            Err(Conversion::Rounding)
+            Err(ScalarConversion::Rounding)
         } else {
             Ok(s)
         }
@@ -151,7 +153,7 @@ pub trait Scalar:
 
     /// `self * b` where the caller has shown the product within the scalar's
     /// range, with a margin, for every input a model accepts (by the checks
-    /// of its `build_at` and the clamp of its velocity): fixed point then skips
+    /// of its `build_fixed_step` and the clamp of its velocity): fixed point then skips
     /// its overflow test (on ARMv6-M three 32-bit products without the test
     /// of the operands' high halves). The product whenever it is within the
     /// range; beyond it, fixed point wraps instead of saturating (never a

@@ -1,10 +1,5 @@
-//! The Stribeck curve `g(v)` and the static friction maps.
-//!
-//! `g(v) = Fc + (Fs - Fc) exp(-|v / vs|^delta)` (Stribeck 1902; the form used
-//! by Canudas de Wit et al. 1995 with `delta = 2`, and by Åström & Canudas de
-//! Wit 2008 with `delta = 1`). Static maps have no state: they are the
-//! baseline every dynamic model is compared with, and the feed-forward of
-//! the simplest compensators.
+//! The Stribeck curve `g(v)` and the static friction maps: see
+//! [`StribeckCurve`].
 
 use crate::model::{
     check_force, checked_inputs, convert, convert_derived, magnitude, magnitude_or_zero,
@@ -118,6 +113,14 @@ impl<S: Scalar> StoredShape<S> {
 }
 
 /// The built Stribeck curve `g(v)`: magnitude, even, between `Fc` and `Fs`.
+///
+/// The Stribeck curve `g(v)` and the static friction maps.
+///
+/// `g(v) = Fc + (Fs - Fc) exp(-|v / vs|^delta)` (Stribeck 1902; the form used
+/// by Canudas de Wit et al. 1995 with `delta = 2`, and by Åström & Canudas de
+/// Wit 2008 with `delta = 1`). Static maps have no state: they are the
+/// baseline every dynamic model is compared with, and the feed-forward of
+/// the simplest compensators.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct StribeckCurve<S> {

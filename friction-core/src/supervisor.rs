@@ -1,32 +1,6 @@
-//! A supervisor that makes an adaptive compensation safe to ship enabled:
-//! it applies whichever of three candidates predicts the measured friction
-//! best, with hysteresis.
-//!
-//! The candidates are the primary compensation (an adaptive observer), a
-//! static feed-forward map `F(v)` on the measured velocity (the fallback),
-//! and no compensation at all. All three run every tick; only the active
-//! one reaches the command. The evidence is the friction the compensator
-//! measures ([`FrictionSample`]: commands less inertia times the second
-//! difference of the position). Summed over a window of `N` ticks, the
-//! second differences telescope, so the window's mean measured friction
-//! carries the encoder's rounding only from its two ends:
-//!
-//! ```text
-//! E_c     = mean over the window of (force - (F_c[k-1] + F_c[k-2]) / 2)   each candidate c
-//! P_c    += (E_c^2 - P_c) / memory                                          per window
-//! switch from the active a to the best b when P_b < ratio P_a (after warm-up, and at most once per window)
-//! ```
-//!
-//! `F_c[k-1]`, `F_c[k-2]` are the candidate's estimates at the ticks whose
-//! commands the sample averages. An external torque (gravity, a load) is
-//! in the measured friction for every candidate alike. A candidate that
-//! predicts worse than no compensation loses to it: the compensator falls
-//! back to the static map or to nothing, and returns to the primary when its
-//! prediction is better again. The primary keeps running in the background
-//! on the measured velocity, with its adaptation held (it sees no tracking
-//! error while it is not applied).
-//!
-//! The state and the reason are readable ([`Supervised::status`]).
+//! A supervisor that makes an adaptive compensation safe to ship enabled: it
+//! applies whichever of three candidates predicts the measured friction best,
+//! with hysteresis: see [`Supervised`].
 
 use crate::compensator::{Compensation, FrictionSample};
 use crate::model::{non_negative, positive, FrictionModel, ParamError};
@@ -35,7 +9,7 @@ use crate::Scalar;
 /// Which candidate the supervisor applies.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Mode {
+pub enum SupervisorMode {
     /// The primary (adaptive) compensation.
     #[default]
     Primary,
@@ -45,14 +19,18 @@ pub enum Mode {
     Off,
 }
 
-impl Mode {
-    const ALL: [Mode; 3] = [Mode::Primary, Mode::Fallback, Mode::Off];
+impl SupervisorMode {
+    const ALL: [SupervisorMode; 3] = [
+        SupervisorMode::Primary,
+        SupervisorMode::Fallback,
+        SupervisorMode::Off,
+    ];
 
     fn index(self) -> usize {
         match self {
-            Mode::Primary => 0,
-            Mode::Fallback => 1,
-            Mode::Off => 2,
+            SupervisorMode::Primary => 0,
+            SupervisorMode::Fallback => 1,
+            SupervisorMode::Off => 2,
         }
     }
 
@@ -61,13 +39,13 @@ impl Mode {
         self.index() as u8
     }
 
-    /// The mode of a [`Mode::code`], any byte being one (`Primary` for a
+    /// The mode of a [`SupervisorMode::code`], any byte being one (`Primary` for a
     /// byte no mode has): a state stores the code (`crate::bits`).
     fn of_code(code: u8) -> Self {
         match code {
-            1 => Mode::Fallback,
-            2 => Mode::Off,
-            _ => Mode::Primary,
+            1 => SupervisorMode::Fallback,
+            2 => SupervisorMode::Off,
+            _ => SupervisorMode::Primary,
         }
     }
 }
@@ -181,7 +159,7 @@ impl Default for SupervisorParams {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SupervisorStatus<S> {
     /// The applied candidate.
-    pub mode: Mode,
+    pub mode: SupervisorMode,
     /// Switches so far.
     pub switches: u32,
     /// Completed evidence windows.
@@ -241,13 +219,43 @@ impl<S: Copy> StoredStatus<S> {
     }
 
     #[inline]
-    fn mode(&self) -> Mode {
-        Mode::of_code(self.mode)
+    fn mode(&self) -> SupervisorMode {
+        SupervisorMode::of_code(self.mode)
     }
 }
 
 /// The built supervisor around a primary compensation `P` and a static
 /// fallback map `F`: a [`Compensation`] itself.
+///
+/// A supervisor that makes an adaptive compensation safe to ship enabled:
+/// it applies whichever of three candidates predicts the measured friction
+/// best, with hysteresis.
+///
+/// The candidates are the primary compensation (an adaptive observer), a
+/// static feed-forward map `F(v)` on the measured velocity (the fallback),
+/// and no compensation at all. All three run every tick; only the active
+/// one reaches the command. The evidence is the friction the compensator
+/// measures ([`FrictionSample`]: commands less inertia times the second
+/// difference of the position). Summed over a window of `N` ticks, the
+/// second differences telescope, so the window's mean measured friction
+/// carries the encoder's rounding only from its two ends:
+///
+/// ```text
+/// E_c     = mean over the window of (force - (F_c[k-1] + F_c[k-2]) / 2)   each candidate c
+/// P_c    += (E_c^2 - P_c) / memory                                          per window
+/// switch from the active a to the best b when P_b < ratio P_a (after warm-up, and at most once per window)
+/// ```
+///
+/// `F_c[k-1]`, `F_c[k-2]` are the candidate's estimates at the ticks whose
+/// commands the sample averages. An external torque (gravity, a load) is
+/// in the measured friction for every candidate alike. A candidate that
+/// predicts worse than no compensation loses to it: the compensator falls
+/// back to the static map or to nothing, and returns to the primary when its
+/// prediction is better again. The primary keeps running in the background
+/// on the measured velocity, with its adaptation held (it sees no tracking
+/// error while it is not applied).
+///
+/// The state and the reason are readable ([`Supervised::status`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Supervised<P, F, S> {
@@ -306,7 +314,7 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
             return;
         }
         let floor = self.floor;
-        let error = |m: Mode| {
+        let error = |m: SupervisorMode| {
             st.errors
                 .get(m.index())
                 .copied()
@@ -314,7 +322,7 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
                 .max(floor)
         };
         let mut next = st.mode;
-        for m in Mode::ALL {
+        for m in SupervisorMode::ALL {
             if error(m) < error(next) {
                 next = m;
             }
@@ -323,11 +331,11 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
             next = st.mode;
         }
         if next == st.mode
-            && st.mode != Mode::Primary
+            && st.mode != SupervisorMode::Primary
             && self.retry > 0
             && st.since_switch >= self.retry
         {
-            next = Mode::Primary;
+            next = SupervisorMode::Primary;
         }
         if next != st.mode {
             st.mode = next;
@@ -352,7 +360,7 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
     /// another compensation caused would teach it the wrong values.
     #[inline]
     fn estimate(&self, state: &mut Self::State, v: S, e: S, h: S) -> S {
-        let e = if state.status.mode() == Mode::Primary {
+        let e = if state.status.mode() == SupervisorMode::Primary {
             e
         } else {
             S::ZERO
@@ -367,9 +375,9 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
         let [newest, _] = state.last;
         state.last = [[primary, fallback], newest];
         match state.status.mode() {
-            Mode::Primary => primary,
-            Mode::Fallback => fallback,
-            Mode::Off => S::ZERO,
+            SupervisorMode::Primary => primary,
+            SupervisorMode::Fallback => fallback,
+            SupervisorMode::Off => S::ZERO,
         }
     }
 
@@ -436,8 +444,8 @@ mod tests {
         ctl: &crate::Compensator<f64, C>,
         scale: impl Fn(f64) -> f64,
         seconds: usize,
-        status: impl Fn(&C, &C::State) -> Mode,
-    ) -> std::vec::Vec<Mode> {
+        status: impl Fn(&C, &C::State) -> SupervisorMode,
+    ) -> std::vec::Vec<SupervisorMode> {
         let mut s = CompensatorState::default();
         let (mut x, mut v) = (0.0f64, 0.0f64);
         let w = 2.0 * core::f64::consts::PI * 0.5;
@@ -478,13 +486,22 @@ mod tests {
             40,
             |c, s| c.status(s).mode,
         );
-        assert_eq!(modes[0], Mode::Primary, "{modes:?}"); // warm-up
-                                                          // in the fallback from the second second on, but for the retry of
-                                                          // the primary after 10 s in it (one dwell of 1 s)
-        let tried = modes[1..20].iter().filter(|m| **m == Mode::Primary).count();
+        assert_eq!(modes[0], SupervisorMode::Primary, "{modes:?}"); // warm-up
+                                                                    // in the fallback from the second second on, but for the retry of
+                                                                    // the primary after 10 s in it (one dwell of 1 s)
+        let tried = modes[1..20]
+            .iter()
+            .filter(|m| **m == SupervisorMode::Primary)
+            .count();
         assert_eq!(tried, 1, "{modes:?}");
-        assert!(modes[1..20].iter().all(|m| *m != Mode::Off), "{modes:?}");
-        assert!(modes[30..].iter().all(|m| *m == Mode::Primary), "{modes:?}");
+        assert!(
+            modes[1..20].iter().all(|m| *m != SupervisorMode::Off),
+            "{modes:?}"
+        );
+        assert!(
+            modes[30..].iter().all(|m| *m == SupervisorMode::Primary),
+            "{modes:?}"
+        );
     }
 
     #[test]
@@ -495,7 +512,10 @@ mod tests {
             .unwrap();
         let ctl = servo().build(sup).unwrap();
         let modes = run(&ctl, |_| 1.0, 20, |c, s| c.status(s).mode);
-        assert!(modes.iter().all(|m| *m == Mode::Primary), "{modes:?}");
+        assert!(
+            modes.iter().all(|m| *m == SupervisorMode::Primary),
+            "{modes:?}"
+        );
     }
 
     #[test]

@@ -138,11 +138,13 @@ fn theta_converges_in_f32_too() {
 fn theta_adapts_in_fixed_point() {
     // Q16.16 with the loop of a real drive at 1 kHz: theta^ must move (its
     // offset is carried scaled, so per-tick increments do not round to 0)
-    let model = LuGreParams::OLSSON_1998.build_at::<Fixed32>(1e-3).unwrap();
+    let model = LuGreParams::OLSSON_1998
+        .build_fixed_step::<Fixed32>(1e-3)
+        .unwrap();
     let a = adaptive_params(4.0)
         .build(Observer::new(model, 20.0).unwrap(), 1e-3)
         .unwrap();
-    let ctl = loop_params().build(AtPeriod(a)).unwrap();
+    let ctl = loop_params().build(FixedPeriod(a)).unwrap();
     let mut theta = 1.0;
     run(&ctl, scaled_lugre(1.5), 40.0, |_, s| {
         theta = ctl.compensation().0.theta(s.friction()).to_f64();
@@ -155,8 +157,10 @@ fn theta_adapts_in_fixed_point() {
 fn the_fixed_step_form_adapts_like_the_general_one() {
     let p = adaptive_params(4.0);
     let general = adaptive::<f64>(4.0);
-    let at_model = LuGreParams::OLSSON_1998.build_at::<f64>(1e-3).unwrap();
-    let at = AtPeriod(
+    let at_model = LuGreParams::OLSSON_1998
+        .build_fixed_step::<f64>(1e-3)
+        .unwrap();
+    let at = FixedPeriod(
         p.build(Observer::new(at_model, 20.0).unwrap(), 1e-3)
             .unwrap(),
     );
@@ -173,7 +177,7 @@ fn the_fixed_step_form_adapts_like_the_general_one() {
     });
     assert!(gap < 1e-6, "theta gap {gap}");
     // and a fixed-step adaptation built for another period is refused
-    let other = AtPeriod(
+    let other = FixedPeriod(
         p.build(Observer::new(at_model, 20.0).unwrap(), 2e-3)
             .unwrap(),
     );
@@ -433,14 +437,14 @@ fn the_fixed_point_servo_builds_from_1_to_40_khz() {
     // with the fixed-step LuGre observer at the drive's 1 kHz and 10 kHz
     for hz in [1e3, 1e4] {
         let model = LuGreParams::OLSSON_1998
-            .build_at::<Fixed32>(1.0 / hz)
+            .build_fixed_step::<Fixed32>(1.0 / hz)
             .unwrap();
         let p = CompensatorParams {
             h: 1.0 / hz,
             ..loop_params()
         };
         assert!(p
-            .build(AtPeriod(Observer::new(model, 20.0).unwrap()))
+            .build(FixedPeriod(Observer::new(model, 20.0).unwrap()))
             .is_ok());
     }
 }
@@ -450,10 +454,12 @@ fn the_fixed_point_servo_builds_from_1_to_40_khz() {
 #[cfg(feature = "fixed")]
 #[test]
 fn the_fixed_point_servo_tracks_like_f32() {
-    fn observer_servo<S: Scalar>() -> Compensator<S, AtPeriod<Observer<LuGreAt<S>, S>>> {
-        let model = LuGreParams::OLSSON_1998.build_at::<S>(1e-3).unwrap();
+    fn observer_servo<S: Scalar>() -> Compensator<S, FixedPeriod<Observer<LuGreFixedStep<S>, S>>> {
+        let model = LuGreParams::OLSSON_1998
+            .build_fixed_step::<S>(1e-3)
+            .unwrap();
         loop_params()
-            .build(AtPeriod(Observer::new(model, 20.0).unwrap()))
+            .build(FixedPeriod(Observer::new(model, 20.0).unwrap()))
             .unwrap()
     }
     let fixed = run(

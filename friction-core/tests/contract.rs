@@ -127,9 +127,9 @@ fn gms_state<S: Scalar>(fractions: &[f64; 8], modes: [u32; 8]) -> GmsState<S, 4>
     for i in 0..4 {
         s.force[i] = S::from_f64(fractions[i] * p.elements[i].alpha * p.curve.fs);
         s.mode[i] = match modes[i] % 3 {
-            0 => SlipMode::Stick,
-            1 => SlipMode::Forward,
-            _ => SlipMode::Backward,
+            0 => GmsSlipMode::Stick,
+            1 => GmsSlipMode::Forward,
+            _ => GmsSlipMode::Backward,
         };
     }
     s

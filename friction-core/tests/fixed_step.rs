@@ -49,7 +49,7 @@ fn lugre_at_is_the_variable_step_solution() {
     for p in [LuGreParams::CANUDAS_1995, LuGreParams::OLSSON_1998] {
         for h in [1e-3, 1e-4] {
             let var = p.build::<f64>().unwrap();
-            let at = p.build_at::<f64>(h).unwrap();
+            let at = p.build_fixed_step::<f64>(h).unwrap();
             let (m, o) = max_gap(var, at, h, p.curve.fs, 100.0);
             assert!(m < 1e-9, "model gap {m} at h {h}");
             assert!(o < 1e-9, "observer gap {o} at h {h}");
@@ -59,7 +59,7 @@ fn lugre_at_is_the_variable_step_solution() {
             };
             let (m, _) = max_gap(
                 dissipative.build::<f64>().unwrap(),
-                dissipative.build_at::<f64>(h).unwrap(),
+                dissipative.build_fixed_step::<f64>(h).unwrap(),
                 h,
                 p.curve.fs,
                 0.0,
@@ -76,8 +76,8 @@ fn lugre_at_f32_tracks_f64() {
     let p = LuGreParams::CANUDAS_1995;
     let h = 1e-4;
     let var = p.build::<f64>().unwrap();
-    let at = p.build_at::<f32>(h).unwrap();
-    let (mut sv, mut sa) = (LuGreState::default(), LuGreAtState::default());
+    let at = p.build_fixed_step::<f32>(h).unwrap();
+    let (mut sv, mut sa) = (LuGreState::default(), LuGreFixedStepState::default());
     let mut worst = 0.0f64;
     for k in 0..(4.0 / h) as usize {
         let v = signal(k, h);
@@ -92,25 +92,27 @@ fn lugre_at_f32_tracks_f64() {
 fn build_at_rejects_bad_periods_and_overflow() {
     let p = LuGreParams::CANUDAS_1995;
     for h in [0.0, -1e-3, f64::NAN, f64::INFINITY] {
-        assert!(p.build_at::<f32>(h).is_err(), "h {h}");
+        assert!(p.build_fixed_step::<f32>(h).is_err(), "h {h}");
     }
     assert_eq!(
-        p.build_at::<f32>(0.0).err(),
+        p.build_fixed_step::<f32>(0.0).err(),
         Some(ParamError::NotPositive("h"))
     );
     // sigma0 h 1e6 overflows f32 (sigma0 and h at the top of PARAM_RANGE)
     let stiff = LuGreParams { sigma0: 1e20, ..p };
-    assert!(stiff.build_at::<f32>(1e-3).is_ok());
+    assert!(stiff.build_fixed_step::<f32>(1e-3).is_ok());
     assert_eq!(
-        stiff.build_at::<f32>(1e20).err(),
+        stiff.build_fixed_step::<f32>(1e20).err(),
         Some(ParamError::ForceOverflow("sigma0"))
     );
 }
 
 #[test]
 fn compensator_checks_the_period() {
-    let model = LuGreParams::OLSSON_1998.build_at::<f64>(1e-3).unwrap();
-    let observer = AtPeriod(Observer::new(model, 100.0).unwrap());
+    let model = LuGreParams::OLSSON_1998
+        .build_fixed_step::<f64>(1e-3)
+        .unwrap();
+    let observer = FixedPeriod(Observer::new(model, 100.0).unwrap());
     let mut params = CompensatorParams {
         h: 1e-3,
         kp: 60.0,
@@ -145,8 +147,8 @@ fn compensator_at_period_matches_variable_step() {
         .build(Observer::new(p.build::<f64>().unwrap(), 100.0).unwrap())
         .unwrap();
     let at = params
-        .build(AtPeriod(
-            Observer::new(p.build_at::<f64>(1e-3).unwrap(), 100.0).unwrap(),
+        .build(FixedPeriod(
+            Observer::new(p.build_fixed_step::<f64>(1e-3).unwrap(), 100.0).unwrap(),
         ))
         .unwrap();
     let (mut sv, mut sa) = (CompensatorState::default(), CompensatorState::default());
@@ -174,8 +176,8 @@ proptest! {
         h in prop_oneof![Just(1e-5), Just(1e-4), Just(1e-3), 1e-6f64..1e-1],
     ) {
         let p = LuGreParams::CANUDAS_1995;
-        let m = p.build_at::<f32>(h).unwrap();
-        let mut s = LuGreAtState::default();
+        let m = p.build_fixed_step::<f32>(h).unwrap();
+        let mut s = LuGreFixedStepState::default();
         for v in vs {
             let before = s;
             let f = m.step(&mut s, v as f32);
@@ -197,9 +199,9 @@ proptest! {
         gain in prop_oneof![Just(0.0), 0.0f64..1e9],
     ) {
         let p = LuGreParams::CANUDAS_1995;
-        let m = p.build_at::<f64>(1e-3).unwrap();
+        let m = p.build_fixed_step::<f64>(1e-3).unwrap();
         let o = Observer::new(m, gain).unwrap();
-        let mut s = LuGreAtState::default();
+        let mut s = LuGreFixedStepState::default();
         for (v, e) in inputs {
             let f = o.step_at(&mut s, v, e);
             prop_assert!(f.is_finite());
@@ -320,7 +322,10 @@ where
 fn dahl_at_is_the_variable_step_solution() {
     for p in dahl_sets() {
         for h in [1e-3, 1e-4] {
-            let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f64>(h).unwrap());
+            let (var, at) = (
+                p.build::<f64>().unwrap(),
+                p.build_fixed_step::<f64>(h).unwrap(),
+            );
             assert_agrees("dahl", var, at, h, p.fc);
         }
     }
@@ -333,7 +338,7 @@ fn elasto_plastic_at_is_the_variable_step_solution() {
             // the full step; the default (bounded) step is judged against it
             // by `bounded_zone_substeps_stay_within_their_documented_error`
             let var = p.build::<f64>().unwrap();
-            let at = p.build_at::<f64>(h).unwrap().with_full_step();
+            let at = p.build_fixed_step::<f64>(h).unwrap().with_full_step();
             assert_agrees("elasto-plastic", var, at, h, p.lugre.curve.fs);
         }
     }
@@ -343,11 +348,17 @@ fn elasto_plastic_at_is_the_variable_step_solution() {
 fn gms_at_is_the_variable_step_solution() {
     for h in [1e-3, 1e-4] {
         for p in gms_sets::<1>() {
-            let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f64>(h).unwrap());
+            let (var, at) = (
+                p.build::<f64>().unwrap(),
+                p.build_fixed_step::<f64>(h).unwrap(),
+            );
             assert_agrees("gms 1", var, at, h, p.curve.fs);
         }
         for p in gms_sets::<4>() {
-            let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f64>(h).unwrap());
+            let (var, at) = (
+                p.build::<f64>().unwrap(),
+                p.build_fixed_step::<f64>(h).unwrap(),
+            );
             assert_agrees("gms 4", var, at, h, p.curve.fs);
         }
     }
@@ -357,11 +368,17 @@ fn gms_at_is_the_variable_step_solution() {
 fn xiong_at_is_the_variable_step_solution() {
     for h in [1e-3, 1e-4] {
         for p in xiong_sets::<1>() {
-            let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f64>(h).unwrap());
+            let (var, at) = (
+                p.build::<f64>().unwrap(),
+                p.build_fixed_step::<f64>(h).unwrap(),
+            );
             assert_agrees("xiong 1", var, at, h, p.curve.fs);
         }
         for p in xiong_sets::<4>() {
-            let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f64>(h).unwrap());
+            let (var, at) = (
+                p.build::<f64>().unwrap(),
+                p.build_fixed_step::<f64>(h).unwrap(),
+            );
             assert_agrees("xiong 4", var, at, h, p.curve.fs);
         }
     }
@@ -391,7 +408,7 @@ fn new_fixed_step_forms_f32_track_f64() {
     for p in dahl_sets() {
         let gap = f32_gap(
             p.build::<f64>().unwrap(),
-            p.build_at::<f32>(h).unwrap(),
+            p.build_fixed_step::<f32>(h).unwrap(),
             h,
             p.fc,
         );
@@ -399,17 +416,23 @@ fn new_fixed_step_forms_f32_track_f64() {
     }
     for p in ep_sets() {
         let var = p.build::<f64>().unwrap();
-        let at = p.build_at::<f32>(h).unwrap().with_full_step();
+        let at = p.build_fixed_step::<f32>(h).unwrap().with_full_step();
         let gap = f32_gap(var, at, h, p.lugre.curve.fs);
         assert!(gap < 1e-5, "elasto-plastic {p:?}: {gap} of Fs");
     }
     for p in gms_sets::<4>() {
-        let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f32>(h).unwrap());
+        let (var, at) = (
+            p.build::<f64>().unwrap(),
+            p.build_fixed_step::<f32>(h).unwrap(),
+        );
         let gap = f32_gap(var, at, h, p.curve.fs);
         assert!(gap < 1e-5, "gms: {gap} of Fs");
     }
     for p in xiong_sets::<4>() {
-        let (var, at) = (p.build::<f64>().unwrap(), p.build_at::<f32>(h).unwrap());
+        let (var, at) = (
+            p.build::<f64>().unwrap(),
+            p.build_fixed_step::<f32>(h).unwrap(),
+        );
         let gap = f32_gap(var, at, h, p.curve.fs);
         assert!(gap < 1e-5, "xiong: {gap} of Fs");
     }
@@ -427,10 +450,14 @@ fn new_build_at_reject_bad_periods_and_overflow() {
         } else {
             ParamError::NotFinite("h")
         });
-        assert_eq!(dahl.build_at::<f32>(h).err(), expect, "dahl h {h}");
-        assert_eq!(ep.build_at::<f32>(h).err(), expect, "ep h {h}");
-        assert_eq!(gms.build_at::<f32>(h).err(), expect, "gms h {h}");
-        assert_eq!(xiong.build_at::<f32>(h).err(), expect, "xiong h {h}");
+        assert_eq!(dahl.build_fixed_step::<f32>(h).err(), expect, "dahl h {h}");
+        assert_eq!(ep.build_fixed_step::<f32>(h).err(), expect, "ep h {h}");
+        assert_eq!(gms.build_fixed_step::<f32>(h).err(), expect, "gms h {h}");
+        assert_eq!(
+            xiong.build_fixed_step::<f32>(h).err(),
+            expect,
+            "xiong h {h}"
+        );
     }
     // a correction's sigma h c, k_i h (v - c), (sigma_i + h K_i) (v - c)
     // overflowing f32 at the velocity limit (a stiffness and h near the
@@ -440,31 +467,33 @@ fn new_build_at_reject_bad_periods_and_overflow() {
         ..dahl
     };
     assert_eq!(
-        stiff.build_at::<f32>(1e20).err(),
+        stiff.build_fixed_step::<f32>(1e20).err(),
         Some(ParamError::ForceOverflow("sigma"))
     );
     let mut stiff = ep;
     stiff.lugre.sigma0 = 1e19;
     stiff.z_ba = 0.5 / 1e19;
     assert_eq!(
-        stiff.build_at::<f32>(1e20).err(),
+        stiff.build_fixed_step::<f32>(1e20).err(),
         Some(ParamError::ForceOverflow("sigma0"))
     );
     let mut stiff = gms;
     stiff.elements[3].k = 1e20;
     assert_eq!(
-        stiff.build_at::<f32>(1e20).err(),
+        stiff.build_fixed_step::<f32>(1e20).err(),
         Some(ParamError::ForceOverflow("k"))
     );
     let mut stiff = xiong;
     stiff.elements[3].k = 1e20;
     assert_eq!(
-        stiff.build_at::<f32>(1e20).err(),
+        stiff.build_fixed_step::<f32>(1e20).err(),
         Some(ParamError::ForceOverflow("k"))
     );
     // the same parameter sets at a sane h build
-    assert!(dahl.build_at::<f32>(1e-3).is_ok() && ep.build_at::<f32>(1e-3).is_ok());
-    assert!(gms.build_at::<f32>(1e-3).is_ok() && xiong.build_at::<f32>(1e-3).is_ok());
+    assert!(dahl.build_fixed_step::<f32>(1e-3).is_ok() && ep.build_fixed_step::<f32>(1e-3).is_ok());
+    assert!(
+        gms.build_fixed_step::<f32>(1e-3).is_ok() && xiong.build_fixed_step::<f32>(1e-3).is_ok()
+    );
 }
 
 /// The compensator takes each new fixed-step observer at its period and
@@ -487,7 +516,7 @@ fn compensator_at_period_runs_every_new_form() {
         };
         let a = params.build(Observer::new(var, 100.0).unwrap()).unwrap();
         let b = params
-            .build(AtPeriod(Observer::new(at, 100.0).unwrap()))
+            .build(FixedPeriod(Observer::new(at, 100.0).unwrap()))
             .unwrap();
         let (mut sa, mut sb) = (CompensatorState::default(), CompensatorState::default());
         for k in 0..3000 {
@@ -505,7 +534,7 @@ fn compensator_at_period_runs_every_new_form() {
         params.h = 1.001e-3;
         assert_eq!(
             params
-                .build(AtPeriod(Observer::new(at, 100.0).unwrap()))
+                .build(FixedPeriod(Observer::new(at, 100.0).unwrap()))
                 .err(),
             Some(ParamError::PeriodMismatch),
             "{name}"
@@ -513,7 +542,11 @@ fn compensator_at_period_runs_every_new_form() {
     }
     let o = LuGreParams::OLSSON_1998;
     let dahl = dahl_sets()[2];
-    run("dahl", dahl.build().unwrap(), dahl.build_at(1e-3).unwrap());
+    run(
+        "dahl",
+        dahl.build().unwrap(),
+        dahl.build_fixed_step(1e-3).unwrap(),
+    );
     let ep = ElastoPlasticParams {
         lugre: o,
         z_ba: 0.5 * o.curve.fc / o.sigma0,
@@ -521,15 +554,19 @@ fn compensator_at_period_runs_every_new_form() {
     run(
         "ep",
         ep.build().unwrap(),
-        ep.build_at(1e-3).unwrap().with_full_step(),
+        ep.build_fixed_step(1e-3).unwrap().with_full_step(),
     );
     let gms = gms_sets::<4>()[1];
-    run("gms", gms.build().unwrap(), gms.build_at(1e-3).unwrap());
+    run(
+        "gms",
+        gms.build().unwrap(),
+        gms.build_fixed_step(1e-3).unwrap(),
+    );
     let xiong = xiong_sets::<4>()[1];
     run(
         "xiong",
         xiong.build().unwrap(),
-        xiong.build_at(1e-3).unwrap(),
+        xiong.build_fixed_step(1e-3).unwrap(),
     );
 }
 
@@ -599,14 +636,14 @@ proptest! {
     #[test]
     fn dahl_at_contract(vs in arb_velocities(), h in arb_period(), set in 0usize..3) {
         let p = dahl_sets()[set];
-        let m = p.build_at::<f32>(h).unwrap();
+        let m = p.build_fixed_step::<f32>(h).unwrap();
         contract(&m, &vs, |s| s.f.abs() <= p.fc as f32)?;
     }
 
     #[test]
     fn elasto_plastic_at_contract(vs in arb_velocities(), h in arb_period(), set in 0usize..6) {
         let p = ep_sets().nth(set).unwrap();
-        let m = p.build_at::<f32>(h).unwrap();
+        let m = p.build_fixed_step::<f32>(h).unwrap();
         let fs = p.lugre.curve.fs as f32;
         contract(&m, &vs, |s| s.w.abs() <= fs)?;
     }
@@ -614,11 +651,11 @@ proptest! {
     #[test]
     fn gms_at_contract(vs in arb_velocities(), h in arb_period(), set in 0usize..2) {
         let p = gms_sets::<4>()[set];
-        let m = p.build_at::<f32>(h).unwrap();
+        let m = p.build_fixed_step::<f32>(h).unwrap();
         let bounds = m.force_bounds();
         contract(&m, &vs, |s| s.force.iter().zip(&bounds).all(|(f, b)| f.abs() <= *b))?;
         let p = gms_sets::<1>()[set];
-        let m = p.build_at::<f32>(h).unwrap();
+        let m = p.build_fixed_step::<f32>(h).unwrap();
         let bounds = m.force_bounds();
         contract(&m, &vs, |s| s.force.iter().zip(&bounds).all(|(f, b)| f.abs() <= *b))?;
     }
@@ -626,13 +663,13 @@ proptest! {
     #[test]
     fn xiong_at_contract(vs in arb_velocities(), h in arb_period(), set in 0usize..2) {
         let p = xiong_sets::<4>()[set];
-        let m = p.build_at::<f32>(h).unwrap();
+        let m = p.build_fixed_step::<f32>(h).unwrap();
         let (fc, fs) = (p.curve.fc as f32, p.curve.fs as f32);
         contract(&m, &vs, |s| {
             let gamma = m.gamma(s);
             gamma >= fc * (1.0 - 1e-6) && gamma <= fs && s.w.iter().sum::<f32>().abs() <= gamma * (1.0 + 1e-6)
         })?;
-        let m = xiong_sets::<1>()[set].build_at::<f32>(h).unwrap();
+        let m = xiong_sets::<1>()[set].build_fixed_step::<f32>(h).unwrap();
         contract(&m, &vs, |s| {
             let gamma = m.gamma(s);
             gamma >= fc * (1.0 - 1e-6) && gamma <= fs && s.w[0].abs() <= gamma * (1.0 + 1e-6)
@@ -647,21 +684,21 @@ proptest! {
     ) {
         let h = 1e-3;
         let d = dahl_sets()[set];
-        observer_bounds(d.build_at::<f64>(h).unwrap(), gain, &inputs, |s| s.f.abs() <= d.fc)?;
+        observer_bounds(d.build_fixed_step::<f64>(h).unwrap(), gain, &inputs, |s| s.f.abs() <= d.fc)?;
         let e = ep_sets().nth(3 * set + 1).unwrap();
         let fs = e.lugre.curve.fs;
-        observer_bounds(e.build_at::<f64>(h).unwrap(), gain, &inputs, |s| s.w.abs() <= fs)?;
+        observer_bounds(e.build_fixed_step::<f64>(h).unwrap(), gain, &inputs, |s| s.w.abs() <= fs)?;
         let g = gms_sets::<4>()[set];
-        let m = g.build_at::<f64>(h).unwrap();
+        let m = g.build_fixed_step::<f64>(h).unwrap();
         let bounds = m.force_bounds();
         observer_bounds(m, gain, &inputs, |s| s.force.iter().zip(&bounds).all(|(f, b)| f.abs() <= *b))?;
         let x = xiong_sets::<4>()[set];
-        let m = x.build_at::<f64>(h).unwrap();
+        let m = x.build_fixed_step::<f64>(h).unwrap();
         observer_bounds(m, gain, &inputs, |s| s.w.iter().sum::<f64>().abs() <= m.gamma(s) * (1.0 + 1e-12))?;
     }
 }
 
-/// Fixed point (feature `fixed`): LuGreAt in Q16.16 against f64, and the
+/// Fixed point (feature `fixed`): LuGreFixedStep in Q16.16 against f64, and the
 /// variable-step form refused with a typed error.
 #[cfg(feature = "fixed")]
 mod fixed_point {
@@ -669,8 +706,8 @@ mod fixed_point {
 
     fn rms_gap(p: LuGreParams, h: f64, scale: f64) -> f64 {
         let var = p.build::<f64>().unwrap();
-        let at = p.build_at::<Fixed32>(h).unwrap();
-        let (mut sv, mut sa) = (LuGreState::default(), LuGreAtState::default());
+        let at = p.build_fixed_step::<Fixed32>(h).unwrap();
+        let (mut sv, mut sa) = (LuGreState::default(), LuGreFixedStepState::default());
         let mut sum = 0.0;
         let n = (4.0 / h) as usize;
         for k in 0..n {
@@ -751,7 +788,7 @@ mod fixed_point {
         // 2.4e-5, 3.7e-5, 1.8e-5 at 10 kHz (the three sets)
         for h in [1e-3, 1e-4] {
             for p in dahl_sets() {
-                let at = p.build_at::<Fixed32>(h).unwrap();
+                let at = p.build_fixed_step::<Fixed32>(h).unwrap();
                 let gaps = fixed_gaps(p.build::<f64>().unwrap(), at, h, p.fc);
                 check(
                     &std::format!("dahl delta {}", p.delta),
@@ -773,7 +810,7 @@ mod fixed_point {
             for p in ep_sets() {
                 // the full step: the fixed-point arithmetic against f64, not
                 // the bounded default's own error
-                let at = p.build_at::<Fixed32>(h).unwrap().with_full_step();
+                let at = p.build_fixed_step::<Fixed32>(h).unwrap().with_full_step();
                 let gaps = fixed_gaps(p.build::<f64>().unwrap(), at, h, p.lugre.curve.fs);
                 check(
                     &std::format!("elasto-plastic z_ba {:.1e}", p.z_ba),
@@ -792,12 +829,12 @@ mod fixed_point {
         // (the arithmetic alone 6e-6, 1.3e-5)
         for h in [1e-3, 1e-4] {
             for p in gms_sets::<4>() {
-                let at = p.build_at::<Fixed32>(h).unwrap();
+                let at = p.build_fixed_step::<Fixed32>(h).unwrap();
                 let gaps = fixed_gaps(p.build::<f64>().unwrap(), at, h, p.curve.fs);
                 check("gms 4", h, gaps, (1e-2, 2e-4));
             }
             for p in gms_sets::<1>() {
-                let at = p.build_at::<Fixed32>(h).unwrap();
+                let at = p.build_fixed_step::<Fixed32>(h).unwrap();
                 let gaps = fixed_gaps(p.build::<f64>().unwrap(), at, h, p.curve.fs);
                 check("gms 1", h, gaps, (1e-2, 2e-4));
             }
@@ -809,12 +846,12 @@ mod fixed_point {
         // measured total 3.5e-4, 7.7e-5 of Fs at 1 kHz, 5.0e-5, 2.5e-5 at 10 kHz
         for h in [1e-3, 1e-4] {
             for p in xiong_sets::<4>() {
-                let at = p.build_at::<Fixed32>(h).unwrap();
+                let at = p.build_fixed_step::<Fixed32>(h).unwrap();
                 let gaps = fixed_gaps(p.build::<f64>().unwrap(), at, h, p.curve.fs);
                 check("xiong 4", h, gaps, (2e-3, 2e-4));
             }
             for p in xiong_sets::<1>() {
-                let at = p.build_at::<Fixed32>(h).unwrap();
+                let at = p.build_fixed_step::<Fixed32>(h).unwrap();
                 let gaps = fixed_gaps(p.build::<f64>().unwrap(), at, h, p.curve.fs);
                 check("xiong 1", h, gaps, (2e-3, 2e-4));
             }
@@ -956,7 +993,7 @@ mod fixed_point {
     /// flip on several periods in a row; there sigma1_i |v| is tiny.)
     fn gms_gap<const N: usize>(
         p: &GmsParams<N>,
-        at: GmsAt<Fixed32, N>,
+        at: GmsFixedStep<Fixed32, N>,
         h: f64,
         program: &[(f64, usize)],
     ) -> Result<f64, TestCaseError> {
@@ -1041,7 +1078,7 @@ mod fixed_point {
             let var = p.build::<f64>().unwrap();
             // the bound in Fs: BOUNDED_GAP of Fs + sigma1 v_max
             let bound = BOUNDED_GAP * (1.0 + 4.0 * lugre.sigma1 / lugre.curve.fs);
-            judge("elasto-plastic (bounded)", bound, p.build_at::<Fixed32>(c.h), p.build_at::<f64>(c.h).is_ok(), |at| {
+            judge("elasto-plastic (bounded)", bound, p.build_fixed_step::<Fixed32>(c.h), p.build_fixed_step::<f64>(c.h).is_ok(), |at| {
                 Ok(random_gap(var, at, c.h, lugre.curve.fs, &program))
             })?;
         }
@@ -1064,7 +1101,7 @@ mod fixed_point {
         fn random_lugre_agrees_or_is_refused(c in arb_common(), program in arb_program()) {
             let p = lugre_of(&c);
             let var = p.build::<f64>().unwrap();
-            judge("lugre", RANDOM_BOUND, p.build_at::<Fixed32>(c.h), p.build_at::<f64>(c.h).is_ok(), |at| {
+            judge("lugre", RANDOM_BOUND, p.build_fixed_step::<Fixed32>(c.h), p.build_fixed_step::<f64>(c.h).is_ok(), |at| {
                 Ok(random_gap(var, at, c.h, p.curve.fs, &program))
             })?;
         }
@@ -1078,7 +1115,7 @@ mod fixed_point {
             let lugre = lugre_of(&c);
             let p = ElastoPlasticParams { lugre, z_ba: frac * lugre.curve.fc / lugre.sigma0 };
             let var = p.build::<f64>().unwrap();
-            judge("elasto-plastic", RANDOM_BOUND, p.build_at::<Fixed32>(c.h).map(|m| m.with_full_step()), p.build_at::<f64>(c.h).is_ok(), |at| {
+            judge("elasto-plastic", RANDOM_BOUND, p.build_fixed_step::<Fixed32>(c.h).map(|m| m.with_full_step()), p.build_fixed_step::<f64>(c.h).is_ok(), |at| {
                 Ok(random_gap(var, at, c.h, lugre.curve.fs, &program))
             })?;
         }
@@ -1097,7 +1134,7 @@ mod fixed_point {
                 sigma2: c.visc * c.curve.fc,
             };
             let var = p.build::<f64>().unwrap();
-            judge("dahl", RANDOM_BOUND, p.build_at::<Fixed32>(c.h), p.build_at::<f64>(c.h).is_ok(), |at| {
+            judge("dahl", RANDOM_BOUND, p.build_fixed_step::<Fixed32>(c.h), p.build_fixed_step::<f64>(c.h).is_ok(), |at| {
                 Ok(random_gap(var, at, c.h, p.fc, &program))
             })?;
         }
@@ -1116,7 +1153,7 @@ mod fixed_point {
             }
             p.sigma2 = c.visc * c.curve.fc;
             // the gap over the periods where the modes agree (see gms_gap)
-            judge("gms", RANDOM_BOUND_GMS, p.build_at::<Fixed32>(c.h), p.build_at::<f64>(c.h).is_ok(), |at| {
+            judge("gms", RANDOM_BOUND_GMS, p.build_fixed_step::<Fixed32>(c.h), p.build_fixed_step::<f64>(c.h).is_ok(), |at| {
                 gms_gap(&p, at, c.h, &program)
             })?;
         }
@@ -1135,7 +1172,7 @@ mod fixed_point {
             }
             p.sigma2 = c.visc * c.curve.fc;
             let var = p.build::<f64>().unwrap();
-            judge("xiong", RANDOM_BOUND_XIONG, p.build_at::<Fixed32>(c.h), p.build_at::<f64>(c.h).is_ok(), |at| {
+            judge("xiong", RANDOM_BOUND_XIONG, p.build_fixed_step::<Fixed32>(c.h), p.build_fixed_step::<f64>(c.h).is_ok(), |at| {
                 Ok(random_gap(var, at, c.h, p.curve.fs, &program))
             })?;
         }
@@ -1165,8 +1202,8 @@ mod fixed_point {
             lugre,
             z_ba: 0.3827 * fc / sigma0,
         };
-        let at = p.build_at::<Fixed32>(1e-3).unwrap();
-        let mut state = LuGreAtState::default();
+        let at = p.build_fixed_step::<Fixed32>(1e-3).unwrap();
+        let mut state = LuGreFixedStepState::default();
         for v in [1.0, 1.0, -1.0, -1.0, 0.5] {
             let f = at.step(&mut state, Fixed32::from_f64(v)).to_f64();
             // one rounding step of the scaled force (k = 4) is 3.8e-6 N
@@ -1189,20 +1226,20 @@ mod fixed_point {
             ..LuGreParams::CANUDAS_1995
         };
         let over = Some(ParamError::ForceOverflow("sigma2"));
-        assert_eq!(lugre.build_at::<Fixed32>(h).err(), over);
+        assert_eq!(lugre.build_fixed_step::<Fixed32>(h).err(), over);
         let ep = ElastoPlasticParams { lugre, z_ba: 1e-6 };
-        assert_eq!(ep.build_at::<Fixed32>(h).err(), over);
+        assert_eq!(ep.build_fixed_step::<Fixed32>(h).err(), over);
         let dahl = DahlParams {
             sigma2: viscous,
             ..dahl_sets()[0]
         };
-        assert_eq!(dahl.build_at::<Fixed32>(h).err(), over);
+        assert_eq!(dahl.build_fixed_step::<Fixed32>(h).err(), over);
         let mut gms = gms_sets::<4>()[0];
         gms.sigma2 = viscous;
-        assert_eq!(gms.build_at::<Fixed32>(h).err(), over);
+        assert_eq!(gms.build_fixed_step::<Fixed32>(h).err(), over);
         let mut xiong = xiong_sets::<4>()[0];
         xiong.sigma2 = viscous;
-        assert_eq!(xiong.build_at::<Fixed32>(h).err(), over);
+        assert_eq!(xiong.build_fixed_step::<Fixed32>(h).err(), over);
         // a Coulomb level below Q16.16's step (1.5e-5 N) after the largest
         // force scale (2^14): it underflows
         let tiny = StribeckParams {
@@ -1214,7 +1251,7 @@ mod fixed_point {
             fc: 1e-10,
             ..dahl_sets()[0]
         }
-        .build_at::<Fixed32>(h)
+        .build_fixed_step::<Fixed32>(h)
         .err();
         assert!(
             matches!(
@@ -1223,7 +1260,9 @@ mod fixed_point {
             ),
             "{err:?}"
         );
-        let err = gms_set::<2>(tiny, 1e5, 100.0).build_at::<Fixed32>(h).err();
+        let err = gms_set::<2>(tiny, 1e5, 100.0)
+            .build_fixed_step::<Fixed32>(h)
+            .err();
         assert!(
             matches!(
                 err,
@@ -1231,7 +1270,9 @@ mod fixed_point {
             ),
             "{err:?}"
         );
-        let err = xiong_set::<2>(tiny, 1e5, 1e-2).build_at::<Fixed32>(h).err();
+        let err = xiong_set::<2>(tiny, 1e5, 1e-2)
+            .build_fixed_step::<Fixed32>(h)
+            .err();
         assert!(
             matches!(
                 err,
@@ -1250,7 +1291,7 @@ mod fixed_point {
     }
 }
 
-/// `ElastoPlasticAt::with_max_substeps`: one step from rest that crosses
+/// `ElastoPlasticFixedStep::with_max_substeps`: one step from rest that crosses
 /// the transition zone, against the full step, over zone shapes and
 /// distances; the worst gap of the state `w` in zone widths
 /// `g(v) - sigma0 z_ba` stays within the documented bound for each `k`.
@@ -1274,15 +1315,18 @@ fn bounded_zone_substeps_stay_within_their_documented_error() {
                 lugre,
                 z_ba: frac * lugre.curve.fc / lugre.sigma0,
             };
-            let full = p.build_at::<f64>(h).unwrap().with_full_step();
-            let bounded = p.build_at::<f64>(h).unwrap().with_max_substeps(k);
+            let full = p.build_fixed_step::<f64>(h).unwrap().with_full_step();
+            let bounded = p.build_fixed_step::<f64>(h).unwrap().with_max_substeps(k);
             let curve = lugre.curve.build::<f64>().unwrap();
             for i in 0..1200 {
                 // slid distance sigma0 h |v| from 1e-3 to 1e3 zone widths past
                 // z_ba (canudas1995; olsson1998's zone is wider)
                 let v = 1e-6 * 10f64.powf(i as f64 / 1200.0 * 7.0);
                 let width = curve.eval(v) - frac * lugre.curve.fc;
-                let (mut a, mut b) = (LuGreAtState::default(), LuGreAtState::default());
+                let (mut a, mut b) = (
+                    LuGreFixedStepState::default(),
+                    LuGreFixedStepState::default(),
+                );
                 full.step(&mut a, v);
                 bounded.step(&mut b, v);
                 worst = worst.max((a.w - b.w).abs() / width);
@@ -1303,7 +1347,7 @@ fn elasto_plastic_at_is_bounded_by_default() {
         lugre: LuGreParams::CANUDAS_1995,
         z_ba: 0.5 * LuGreParams::CANUDAS_1995.curve.fc / LuGreParams::CANUDAS_1995.sigma0,
     };
-    let built = p.build_at::<f64>(1e-3).unwrap();
+    let built = p.build_fixed_step::<f64>(1e-3).unwrap();
     let (k0, full) = (built.with_max_substeps(0), built.with_full_step());
     assert_eq!(built, k0);
     assert_ne!(built, full);
@@ -1312,7 +1356,10 @@ fn elasto_plastic_at_is_bounded_by_default() {
     let differ = (0..100)
         .filter(|i| {
             let v = 5e-3 * 10f64.powf(*i as f64 / 100.0);
-            let (mut a, mut b) = (LuGreAtState::default(), LuGreAtState::default());
+            let (mut a, mut b) = (
+                LuGreFixedStepState::default(),
+                LuGreFixedStepState::default(),
+            );
             built.step(&mut a, v);
             full.step(&mut b, v);
             a.w != b.w

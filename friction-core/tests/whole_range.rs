@@ -199,13 +199,13 @@ fn every_model<S: Scalar>(p: &Sets, inputs: &[(f64, f64, u8)]) {
         vd: p.vd,
     };
     variable::<S, _>("lugre", lugre.build::<S>(), inputs);
-    fixed::<S, _>("lugre at h", lugre.build_at::<S>(p.h), inputs);
+    fixed::<S, _>("lugre at h", lugre.build_fixed_step::<S>(p.h), inputs);
     let ep = ElastoPlasticParams {
         lugre,
         z_ba: p.z * p.curve.fc / p.sigma0,
     };
     variable::<S, _>("elasto-plastic", ep.build::<S>(), inputs);
-    fixed::<S, _>("elasto-plastic at h", ep.build_at::<S>(p.h), inputs);
+    fixed::<S, _>("elasto-plastic at h", ep.build_fixed_step::<S>(p.h), inputs);
     let dahl = DahlParams {
         sigma: p.sigma0,
         fc: p.curve.fc,
@@ -213,7 +213,7 @@ fn every_model<S: Scalar>(p: &Sets, inputs: &[(f64, f64, u8)]) {
         sigma2: p.sigma2,
     };
     variable::<S, _>("dahl", dahl.build::<S>(), inputs);
-    fixed::<S, _>("dahl at h", dahl.build_at::<S>(p.h), inputs);
+    fixed::<S, _>("dahl at h", dahl.build_fixed_step::<S>(p.h), inputs);
     for curve in [None, Some(p.curve)] {
         let reset = ResetIntegratorParams {
             sigma0: p.sigma0,
@@ -242,7 +242,7 @@ fn every_model<S: Scalar>(p: &Sets, inputs: &[(f64, f64, u8)]) {
         elements: [ge(0, 0.5), ge(1, 0.25), ge(2, 0.25)],
     };
     variable::<S, _>("gms", gms.build::<S>(), inputs);
-    fixed::<S, _>("gms at h", gms.build_at::<S>(p.h), inputs);
+    fixed::<S, _>("gms at h", gms.build_fixed_step::<S>(p.h), inputs);
     let xe = |i: usize, lambda| XiongElement {
         k: p.k[i],
         sigma: p.s1[i].max(f64::MIN_POSITIVE),
@@ -255,7 +255,7 @@ fn every_model<S: Scalar>(p: &Sets, inputs: &[(f64, f64, u8)]) {
         elements: [xe(0, 0.5), xe(1, 0.25), xe(2, 0.25)],
     };
     variable::<S, _>("xiong", xiong.build::<S>(), inputs);
-    fixed::<S, _>("xiong at h", xiong.build_at::<S>(p.h), inputs);
+    fixed::<S, _>("xiong at h", xiong.build_fixed_step::<S>(p.h), inputs);
     let leuven = LeuvenParams {
         curve: p.curve,
         sigma1: p.sigma1,
@@ -304,7 +304,11 @@ fn the_sets_from_the_issue_are_rejected_or_finite() {
         },
         ..LuGreParams::CANUDAS_1995
     };
-    fixed::<f64, _>("lugre at 1 ms", lugre.build_at::<f64>(1e-3), &inputs);
+    fixed::<f64, _>(
+        "lugre at 1 ms",
+        lugre.build_fixed_step::<f64>(1e-3),
+        &inputs,
+    );
     let dahl = DahlParams {
         sigma: 1e5,
         fc: 1.0,

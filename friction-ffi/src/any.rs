@@ -18,9 +18,9 @@ use crate::params::{
     FRICTION_BRISTLES as BRISTLES, FRICTION_ELEMENTS as ELEMENTS, FRICTION_LEUVEN_MEMORY as MEMORY,
 };
 use friction_core::{
-    BristleState, DahlState, FixedStepModel, FixedStepObservable, FrictionModel, GmsState,
-    LeuvenState, LuGreAtState, LuGreState, Observable, ResetIntegratorState, Scalar, SlipMode,
-    XiongAtState, XiongState,
+    BristleState, DahlState, FixedStepModel, FixedStepObservable, FrictionModel, GmsSlipMode,
+    GmsState, LeuvenState, LuGreFixedStepState, LuGreState, Observable, ResetIntegratorState,
+    Scalar, XiongFixedStepState, XiongState,
 };
 
 /// The kind of a state before its first step (no union field written).
@@ -159,26 +159,26 @@ impl<S: Scalar, const N: usize> Repair for BristleState<S, N> {}
 impl<S: Scalar> Repair for ResetIntegratorState<S> {}
 impl<S: Scalar> Repair for DahlState<S> {}
 impl<S: Scalar> Repair for LuGreState<S> {}
-impl<S: Scalar> Repair for LuGreAtState<S> {}
+impl<S: Scalar> Repair for LuGreFixedStepState<S> {}
 impl<S: Scalar, const M: usize> Repair for LeuvenState<S, M> {}
 impl<S: Scalar, const N: usize> Repair for XiongState<S, N> {}
-impl<S: Scalar, const N: usize> Repair for XiongAtState<S, N> {}
+impl<S: Scalar, const N: usize> Repair for XiongFixedStepState<S, N> {}
 
 /// GMS's public `mode` field: each byte read as a byte and written back as
-/// the mode `SlipMode::from_byte` reads it as (a `repr(u8)` enum: one byte
+/// the mode `GmsSlipMode::from_byte` reads it as (a `repr(u8)` enum: one byte
 /// each), so that a byte no mode has becomes `Stick` before the array is
-/// read as `SlipMode`s.
+/// read as `GmsSlipMode`s.
 impl<S: Scalar, const N: usize> Repair for GmsState<S, N> {
     #[inline]
     unsafe fn repair(state: *mut Self) {
-        const { assert!(core::mem::size_of::<SlipMode>() == 1) };
+        const { assert!(core::mem::size_of::<GmsSlipMode>() == 1) };
         // SAFETY: `state` is valid (the caller); the field's N modes are
         // N bytes (`repr(u8)`), each read and written as a `u8`.
         unsafe {
             let modes = core::ptr::addr_of_mut!((*state).mode).cast::<u8>();
             for i in 0..N {
                 let byte = modes.add(i);
-                byte.write(SlipMode::from_byte(byte.read()) as u8);
+                byte.write(GmsSlipMode::from_byte(byte.read()) as u8);
             }
         }
     }

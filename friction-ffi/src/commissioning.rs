@@ -11,8 +11,8 @@ use crate::params::{friction_lugre_params, friction_servo_params, friction_strib
 use crate::slot::{self, opaque, Built};
 use crate::status::{friction_error, friction_status, report, Refusal};
 use friction_core::{
-    Abort, CommissionError, Commissioning, CommissioningParams, CommissioningState,
-    CompensatorParams, Phase, Scalar,
+    CommissionError, Commissioning, CommissioningAbort, CommissioningParams, CommissioningPhase,
+    CommissioningState, CompensatorParams, Scalar,
 };
 
 /// Words (8 bytes each) of a `float` commissioning object, room for the
@@ -135,38 +135,38 @@ pub enum friction_abort {
     FRICTION_ABORT_NON_FINITE = 6,
 }
 
-fn phase_code(phase: Phase) -> i32 {
+fn phase_code(phase: CommissioningPhase) -> i32 {
     (match phase {
-        Phase::Breakaway => friction_phase::FRICTION_PHASE_BREAKAWAY,
-        Phase::Presliding => friction_phase::FRICTION_PHASE_PRESLIDING,
-        Phase::Plateaus => friction_phase::FRICTION_PHASE_PLATEAUS,
-        Phase::Done => friction_phase::FRICTION_PHASE_DONE,
-        Phase::Aborted => friction_phase::FRICTION_PHASE_ABORTED,
+        CommissioningPhase::Breakaway => friction_phase::FRICTION_PHASE_BREAKAWAY,
+        CommissioningPhase::Presliding => friction_phase::FRICTION_PHASE_PRESLIDING,
+        CommissioningPhase::Plateaus => friction_phase::FRICTION_PHASE_PLATEAUS,
+        CommissioningPhase::Done => friction_phase::FRICTION_PHASE_DONE,
+        CommissioningPhase::Aborted => friction_phase::FRICTION_PHASE_ABORTED,
     }) as i32
 }
 
-fn abort_code(abort: Option<Abort>) -> i32 {
+fn abort_code(abort: Option<CommissioningAbort>) -> i32 {
     (match abort {
         None => friction_abort::FRICTION_ABORT_NONE,
-        Some(Abort::Travel) => friction_abort::FRICTION_ABORT_TRAVEL,
-        Some(Abort::Timeout) => friction_abort::FRICTION_ABORT_TIMEOUT,
-        Some(Abort::Stall) => friction_abort::FRICTION_ABORT_STALL,
-        Some(Abort::NoBreakaway) => friction_abort::FRICTION_ABORT_NO_BREAKAWAY,
-        Some(Abort::ReversedSign) => friction_abort::FRICTION_ABORT_REVERSED_SIGN,
-        Some(Abort::NonFiniteMeasurement) => friction_abort::FRICTION_ABORT_NON_FINITE,
+        Some(CommissioningAbort::Travel) => friction_abort::FRICTION_ABORT_TRAVEL,
+        Some(CommissioningAbort::Timeout) => friction_abort::FRICTION_ABORT_TIMEOUT,
+        Some(CommissioningAbort::Stall) => friction_abort::FRICTION_ABORT_STALL,
+        Some(CommissioningAbort::NoBreakaway) => friction_abort::FRICTION_ABORT_NO_BREAKAWAY,
+        Some(CommissioningAbort::ReversedSign) => friction_abort::FRICTION_ABORT_REVERSED_SIGN,
+        Some(CommissioningAbort::NonFiniteMeasurement) => friction_abort::FRICTION_ABORT_NON_FINITE,
     }) as i32
 }
 
 /// The abort reason as the parameter a refused result names (the limit
 /// that stopped the routine, as `friction_commissioning_params` names it).
-fn abort_name(abort: Abort) -> &'static str {
+fn abort_name(abort: CommissioningAbort) -> &'static str {
     match abort {
-        Abort::Travel => "travel",
-        Abort::Timeout => "duration",
-        Abort::Stall => "limit",
-        Abort::NoBreakaway => "ramp_rate",
-        Abort::ReversedSign => "torque_constant",
-        Abort::NonFiniteMeasurement => "x",
+        CommissioningAbort::Travel => "travel",
+        CommissioningAbort::Timeout => "duration",
+        CommissioningAbort::Stall => "limit",
+        CommissioningAbort::NoBreakaway => "ramp_rate",
+        CommissioningAbort::ReversedSign => "torque_constant",
+        CommissioningAbort::NonFiniteMeasurement => "x",
     }
 }
 

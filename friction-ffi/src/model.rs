@@ -2,7 +2,7 @@
 //! `friction_model_f64`) holding any core model and its state.
 //!
 //! A constructor per model validates the parameters (the core's `build`
-//! or, for `h > 0`, `build_at(h)`: the fixed-step form) and, only on
+//! or, for `h > 0`, `build_fixed_step(h)`: the fixed-step form) and, only on
 //! success, overwrites the object; on failure the object is left as it
 //! was. `friction_model_step_*` advances the state by `h` with `v` held.
 
@@ -280,7 +280,7 @@ macro_rules! build {
                 at(
                     h,
                     || self.build().map(Variable::$field),
-                    |h| self.build_at(h).map(Fixed::$field),
+                    |h| self.build_fixed_step(h).map(Fixed::$field),
                 )
             }
         }

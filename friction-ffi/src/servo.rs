@@ -12,10 +12,10 @@ use crate::params::{
 use crate::slot::{self, opaque, Built};
 use crate::status::{friction_error, friction_status, report, Refusal};
 use friction_core::{
-    AdaptiveObserver, AdaptiveParams, AdaptiveState, AtPeriod, Compensation, Compensator,
-    CompensatorParams, CompensatorState, CoulombViscous, CoulombViscousParams, FeedForward,
-    LuGreParams, Mode, NoCompensation, Observer, ParameterAdaptiveAt, ParameterAdaptiveParams,
-    Scalar, Setpoint, Supervised, SupervisorParams,
+    AdaptiveObserver, AdaptiveParams, AdaptiveState, Compensation, Compensator, CompensatorParams,
+    CompensatorState, CoulombViscous, CoulombViscousParams, FeedForward, FixedPeriod, LuGreParams,
+    NoCompensation, Observer, ParameterAdaptiveFixedStep, ParameterAdaptiveParams, Scalar,
+    Setpoint, Supervised, SupervisorMode, SupervisorParams,
 };
 
 /// Words (8 bytes each) of a `float` servo object, room for the largest
@@ -85,11 +85,11 @@ pub struct friction_tick_f64 {
     pub friction: f64,
 }
 
-type AdaptiveAt<S> = AtPeriod<AdaptiveObserver<Fixed<S>, S>>;
+type AdaptiveFixedStep<S> = FixedPeriod<AdaptiveObserver<Fixed<S>, S>>;
 
 /// The per-parameter adaptive observer (fixed-step form) under its
 /// supervisor, with a Coulomb + viscous fallback.
-type ParameterLaw<S> = Supervised<ParameterAdaptiveAt<S>, CoulombViscous<S>, S>;
+type ParameterLaw<S> = Supervised<ParameterAdaptiveFixedStep<S>, CoulombViscous<S>, S>;
 
 /// A compensator with its state, one variant per kind of compensation, as
 /// `build` makes it; stored as a kind and a union ([`Stored`]).
@@ -104,16 +104,16 @@ pub(crate) enum Servo<S: Scalar> {
         Compensator<S, Observer<Variable<S>, S>>,
         CompensatorState<S, VariableState<S>>,
     ),
-    ObserverAt(
-        Compensator<S, AtPeriod<Observer<Fixed<S>, S>>>,
+    ObserverFixedStep(
+        Compensator<S, FixedPeriod<Observer<Fixed<S>, S>>>,
         CompensatorState<S, FixedState<S>>,
     ),
     Adaptive(
         Compensator<S, AdaptiveObserver<Variable<S>, S>>,
         CompensatorState<S, AdaptiveState<VariableState<S>, S>>,
     ),
-    AdaptiveAt(
-        Compensator<S, AdaptiveAt<S>>,
+    AdaptiveFixedStep(
+        Compensator<S, AdaptiveFixedStep<S>>,
         CompensatorState<S, AdaptiveState<FixedState<S>, S>>,
     ),
     ParameterAdaptive(
@@ -146,9 +146,9 @@ pub(crate) union Stored<S: Scalar> {
     none: Axis<S, NoCompensation>,
     feed_forward: Axis<S, FeedForward<StaticMap<S>>>,
     observer: Axis<S, Observer<Variable<S>, S>>,
-    observer_at: Axis<S, AtPeriod<Observer<Fixed<S>, S>>>,
+    observer_at: Axis<S, FixedPeriod<Observer<Fixed<S>, S>>>,
     adaptive: Axis<S, AdaptiveObserver<Variable<S>, S>>,
-    adaptive_at: Axis<S, AdaptiveAt<S>>,
+    adaptive_at: Axis<S, AdaptiveFixedStep<S>>,
     parameter_adaptive: Axis<S, ParameterLaw<S>>,
 }
 
@@ -175,14 +175,14 @@ impl<S: Scalar> slot::Built for Servo<S> {
                 },
             ),
             Self::Observer(c, s) => (kind::OBSERVER, Stored { observer: (c, s) }),
-            Self::ObserverAt(c, s) => (
+            Self::ObserverFixedStep(c, s) => (
                 kind::OBSERVER_AT,
                 Stored {
                     observer_at: (c, s),
                 },
             ),
             Self::Adaptive(c, s) => (kind::ADAPTIVE, Stored { adaptive: (c, s) }),
-            Self::AdaptiveAt(c, s) => (
+            Self::AdaptiveFixedStep(c, s) => (
                 kind::ADAPTIVE_AT,
                 Stored {
                     adaptive_at: (c, s),
@@ -255,16 +255,16 @@ fn build<S: Scalar>(
         (Some(Model::Variable(m, _)), None) => {
             Servo::Observer(p.build(Observer::new(*m, gain)?)?, Default::default())
         }
-        (Some(Model::Fixed(m, _)), None) => Servo::ObserverAt(
-            p.build(AtPeriod(Observer::new(*m, gain)?))?,
+        (Some(Model::Fixed(m, _)), None) => Servo::ObserverFixedStep(
+            p.build(FixedPeriod(Observer::new(*m, gain)?))?,
             Default::default(),
         ),
         (Some(Model::Variable(m, _)), Some(a)) => Servo::Adaptive(
             p.build(a.build(Observer::new(*m, gain)?, p.h)?)?,
             Default::default(),
         ),
-        (Some(Model::Fixed(m, _)), Some(a)) => Servo::AdaptiveAt(
-            p.build(AtPeriod(a.build(Observer::new(*m, gain)?, p.h)?))?,
+        (Some(Model::Fixed(m, _)), Some(a)) => Servo::AdaptiveFixedStep(
+            p.build(FixedPeriod(a.build(Observer::new(*m, gain)?, p.h)?))?,
             Default::default(),
         ),
     })
@@ -324,7 +324,7 @@ fn tick<O, S>(
     servo: Option<&mut O>,
     x: S,
     r: Setpoint<S>,
-) -> Result<friction_core::Tick<S>, friction_status>
+) -> Result<friction_core::CompensatorTick<S>, friction_status>
 where
     O: slot::Opaque<Value = Stored<S>>,
     S: Scalar,
@@ -411,9 +411,9 @@ take!(
     None: NoCompensation,
     FeedForward: FeedForward<StaticMap<S>>,
     Observer: Observer<Variable<S>, S>,
-    ObserverAt: AtPeriod<Observer<Fixed<S>, S>>,
+    ObserverFixedStep: FixedPeriod<Observer<Fixed<S>, S>>,
     Adaptive: AdaptiveObserver<Variable<S>, S>,
-    AdaptiveAt: AdaptiveAt<S>,
+    AdaptiveFixedStep: AdaptiveFixedStep<S>,
     ParameterAdaptive: ParameterLaw<S>,
 );
 
@@ -489,9 +489,9 @@ where
 
 /// The status of a tick, writing the tick into `out`.
 fn finish<S: Copy, T>(
-    result: Result<friction_core::Tick<S>, friction_status>,
+    result: Result<friction_core::CompensatorTick<S>, friction_status>,
     out: &mut T,
-    convert: impl FnOnce(friction_core::Tick<S>) -> T,
+    convert: impl FnOnce(friction_core::CompensatorTick<S>) -> T,
 ) -> friction_status {
     match result {
         Ok(t) => {
@@ -764,7 +764,7 @@ where
     };
     let p = CompensatorParams::from(params);
     let built = (|| {
-        let law = ParameterAdaptiveParams::from(adaptive).build_at::<S>(&p)?;
+        let law = ParameterAdaptiveParams::from(adaptive).build_fixed_step::<S>(&p)?;
         let map = CoulombViscousParams::from(fallback).build::<S>()?;
         let supervised = SupervisorParams::from(supervisor).build(law, map, p.h)?;
         p.build(supervised)
@@ -843,7 +843,7 @@ where
     };
     let p = *c.params();
     let built = (|| {
-        let law = ParameterAdaptiveParams::from(adaptive).build_at::<S>(&p)?;
+        let law = ParameterAdaptiveParams::from(adaptive).build_fixed_step::<S>(&p)?;
         let map = CoulombViscousParams::from(fallback).build::<S>()?;
         SupervisorParams::from(supervisor).build(law, map, p.h)
     })();
@@ -933,7 +933,7 @@ pub extern "C" fn friction_supervisor_defaults(
 fn read_estimates<O, S, T>(
     servo: Option<&mut O>,
     out: Option<&mut T>,
-    convert: impl FnOnce([S; friction_core::parameter_adaptive::ESTIMATES]) -> T,
+    convert: impl FnOnce([S; friction_core::PARAMETER_ADAPTIVE_ESTIMATES]) -> T,
 ) -> friction_status
 where
     O: slot::Opaque<Value = Stored<S>>,
@@ -975,9 +975,9 @@ where
             let st = c.compensation().status(s.friction());
             *out = friction_supervisor_status {
                 mode: match st.mode {
-                    Mode::Primary => friction_mode::FRICTION_MODE_PRIMARY,
-                    Mode::Fallback => friction_mode::FRICTION_MODE_FALLBACK,
-                    Mode::Off => friction_mode::FRICTION_MODE_OFF,
+                    SupervisorMode::Primary => friction_mode::FRICTION_MODE_PRIMARY,
+                    SupervisorMode::Fallback => friction_mode::FRICTION_MODE_FALLBACK,
+                    SupervisorMode::Off => friction_mode::FRICTION_MODE_OFF,
                 },
                 switches: st.switches,
                 windows: st.windows,

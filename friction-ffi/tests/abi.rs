@@ -6,10 +6,10 @@
 #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
 
 use friction_core::{
-    AdaptiveParams, AsymmetricCoulombViscousParams, AtPeriod, CompensatorParams,
-    CoulombViscousParams, FixedStepModel, FrictionModel, LuGreAtState, LuGreParams, LuGreServo,
-    LuGreState, Mode, Observer, ParameterAdaptiveParams, ParameterAdaptiveServo, Scalar, Setpoint,
-    SupervisorParams,
+    AdaptiveParams, AsymmetricCoulombViscousParams, CompensatorParams, CoulombViscousParams,
+    FixedPeriod, FixedStepModel, FrictionModel, LuGreFixedStepState, LuGreParams, LuGreServo,
+    LuGreState, Observer, ParameterAdaptiveParams, ParameterAdaptiveServo, Scalar, Setpoint,
+    SupervisorMode, SupervisorParams,
 };
 use friction_ffi::*;
 use friction_status::*;
@@ -379,8 +379,10 @@ fn lugre_through_the_abi_is_the_core_bit_for_bit() {
         assert_eq!(f.to_bits(), core.step(&mut z, v, h).to_bits(), "step {k}");
     }
     // the fixed-step form in f32, the firmware's
-    let core = LuGreParams::CANUDAS_1995.build_at::<f32>(1e-4).unwrap();
-    let mut z = LuGreAtState::default();
+    let core = LuGreParams::CANUDAS_1995
+        .build_fixed_step::<f32>(1e-4)
+        .unwrap();
+    let mut z = LuGreFixedStepState::default();
     let mut m = model_f32();
     assert_eq!(
         friction_lugre_init_f32(Some(&mut m), Some(&LUGRE), 1e-4, None),
@@ -785,8 +787,8 @@ fn servo_tick_matches_the_core() {
         FRICTION_OK
     );
     let core: LuGreServo<f32> = core_servo_params(&sp)
-        .build(AtPeriod(
-            Observer::new(olsson.build_at::<f32>(sp.h).unwrap(), 200.0).unwrap(),
+        .build(FixedPeriod(
+            Observer::new(olsson.build_fixed_step::<f32>(sp.h).unwrap(), 200.0).unwrap(),
         ))
         .unwrap();
     let mut state = Default::default();
@@ -924,7 +926,7 @@ fn servo_tick_matches_the_core() {
         friction_model_step_f32(Some(&mut m), 0.0, 1e-3, Some(&mut 0.0)),
         FRICTION_OK
     );
-    let _ = FixedStepModel::period(&olsson.build_at::<f32>(1e-3).unwrap());
+    let _ = FixedStepModel::period(&olsson.build_fixed_step::<f32>(1e-3).unwrap());
 }
 
 /// Olsson's model as the ABI takes it.
@@ -996,7 +998,7 @@ fn parameter_core<S: Scalar>(sp: &friction_servo_params) -> ParameterAdaptiveSer
     let (p, sup, fb) = parameter_abi();
     let servo = core_servo_params(sp);
     let law = ParameterAdaptiveParams::from(&p)
-        .build_at::<S>(&servo)
+        .build_fixed_step::<S>(&servo)
         .unwrap();
     let map = CoulombViscousParams::from(&fb).build::<S>().unwrap();
     let supervised = SupervisorParams::from(&sup)
@@ -1144,7 +1146,7 @@ fn parameter_adaptive_servo_matches_the_core() {
     if runs(20) == 20 {
         // 20 s of 0.1 s windows; the law predicts best and stays applied
         assert_eq!(st.windows, 199);
-        assert_eq!(status.mode, Mode::Primary);
+        assert_eq!(status.mode, SupervisorMode::Primary);
         // the forward level learnt above the backward one (plant 0.336 and 0.224)
         assert!(
             e.fc_pos > e.fc_neg + 0.05 && e.fc_pos < 0.42 && e.fc_neg < 0.3,
@@ -1655,7 +1657,13 @@ fn retune_through_the_abi_is_the_core_bit_for_bit() {
         FRICTION_OK
     );
     let observer = |p: &friction_lugre_params| {
-        AtPeriod(Observer::new(LuGreParams::from(p).build_at::<f32>(sp.h).unwrap(), 200.0).unwrap())
+        FixedPeriod(
+            Observer::new(
+                LuGreParams::from(p).build_fixed_step::<f32>(sp.h).unwrap(),
+                200.0,
+            )
+            .unwrap(),
+        )
     };
     let mut core: LuGreServo<f32> = core_servo_params(&sp)
         .build(observer(&olsson_abi()))
@@ -1798,7 +1806,7 @@ fn retune_through_the_abi_is_the_core_bit_for_bit() {
                 FRICTION_OK
             );
             let law = ParameterAdaptiveParams::from(&p2)
-                .build_at::<f64>(&core_servo_params(&sp))
+                .build_fixed_step::<f64>(&core_servo_params(&sp))
                 .unwrap();
             let map = CoulombViscousParams::from(&fb2).build::<f64>().unwrap();
             let next = SupervisorParams::from(&sup).build(law, map, sp.h).unwrap();

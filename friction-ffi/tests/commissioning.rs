@@ -8,8 +8,8 @@
 #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
 
 use friction_core::{
-    Commissioned, CommissioningParams, CommissioningState, CompensatorParams, FrictionModel,
-    LuGreParams, LuGreState, Phase, Scalar,
+    Commissioned, CommissioningParams, CommissioningPhase, CommissioningState, CompensatorParams,
+    FrictionModel, LuGreParams, LuGreState, Scalar,
 };
 use friction_ffi::*;
 use friction_status::*;
@@ -205,7 +205,10 @@ macro_rules! commission_both {
             assert_eq!(t.plateaus, u32::from(r.plateaus));
             assert_eq!(t.phase, r.phase as i32, "tick {ticks}");
             ticks += 1;
-            if matches!(r.phase, Phase::Done | Phase::Aborted) {
+            if matches!(
+                r.phase,
+                CommissioningPhase::Done | CommissioningPhase::Aborted
+            ) {
                 break;
             }
             a.step(f64::from(t.command));
@@ -247,11 +250,11 @@ macro_rules! commission_both {
 #[test]
 fn phase_values_are_the_cores() {
     for (phase, value) in [
-        (Phase::Breakaway, FRICTION_PHASE_BREAKAWAY),
-        (Phase::Presliding, FRICTION_PHASE_PRESLIDING),
-        (Phase::Plateaus, FRICTION_PHASE_PLATEAUS),
-        (Phase::Done, FRICTION_PHASE_DONE),
-        (Phase::Aborted, FRICTION_PHASE_ABORTED),
+        (CommissioningPhase::Breakaway, FRICTION_PHASE_BREAKAWAY),
+        (CommissioningPhase::Presliding, FRICTION_PHASE_PRESLIDING),
+        (CommissioningPhase::Plateaus, FRICTION_PHASE_PLATEAUS),
+        (CommissioningPhase::Done, FRICTION_PHASE_DONE),
+        (CommissioningPhase::Aborted, FRICTION_PHASE_ABORTED),
     ] {
         assert_eq!(phase as i32, value as i32);
     }

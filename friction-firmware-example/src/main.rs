@@ -42,12 +42,12 @@ use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use defmt_semihosting as _;
 use embedded_hal::pwm::SetDutyCycle;
 use friction_core::{
-    AtPeriod, BristleParams, Commissioned, CommissioningState, Compensation, Compensator,
+    BristleParams, Commissioned, CommissioningPhase, CommissioningState, Compensation, Compensator,
     CompensatorState, CoulombViscousParams, DahlParams, ElastoPlasticParams, FeedForward,
-    FixedStepModel, FrictionModel, GmsElement, GmsParams, GmsState, LeuvenParams, LeuvenState,
-    LuGre, LuGreAt, LuGreAtState, LuGreParams, LuGreServo, LuGreState, NoCompensation, Observer,
-    ParameterAdaptiveServo, Phase, ResetIntegratorParams, Setpoint, SlipMode, StribeckParams,
-    XiongElement, XiongParams,
+    FixedPeriod, FixedStepModel, FrictionModel, GmsElement, GmsParams, GmsSlipMode, GmsState,
+    LeuvenParams, LeuvenState, LuGre, LuGreFixedStep, LuGreFixedStepState, LuGreParams, LuGreServo,
+    LuGreState, NoCompensation, Observer, ParameterAdaptiveServo, ResetIntegratorParams, Setpoint,
+    StribeckParams, XiongElement, XiongParams,
 };
 use heapless::spsc::Queue;
 use hw::Encoder;
@@ -229,7 +229,7 @@ fn commission() -> Commissioned {
     let mut state = CommissioningState::default();
     // the routine stops itself at its duration: two more ticks are a bug
     let most = libm::ceil(settings.duration / settings.servo.h) as u32 + 2;
-    let (mut widest, mut shown) = (0.0f32, (Phase::Breakaway, 0u8));
+    let (mut widest, mut shown) = (0.0f32, (CommissioningPhase::Breakaway, 0u8));
     defmt::info!("commissioning: break-away ramps");
     for _ in 0..most {
         let Ok(counts) = encoder.read_counts();
@@ -246,7 +246,10 @@ fn commission() -> Commissioned {
                 tick.plateaus
             );
         }
-        if matches!(tick.phase, Phase::Done | Phase::Aborted) {
+        if matches!(
+            tick.phase,
+            CommissioningPhase::Done | CommissioningPhase::Aborted
+        ) {
             break;
         }
         plant.borrow_mut().advance(H, SUBSTEPS);
@@ -361,8 +364,8 @@ fn ticks(n: u32, mut f: impl FnMut()) -> u32 {
 fn count_instructions(
     model: &LuGre<f32>,
     observer: &Observer<LuGre<f32>, f32>,
-    model_at: &LuGreAt<f32>,
-    observer_at: &Observer<LuGreAt<f32>, f32>,
+    model_at: &LuGreFixedStep<f32>,
+    observer_at: &Observer<LuGreFixedStep<f32>, f32>,
     servo: &LuGreServo<f32>,
 ) {
     const N: u32 = 1024;
@@ -404,12 +407,12 @@ fn count_instructions(
         i = (i + 1) & 63;
         black_box(observer.step(&mut z, black_box(vs[i]), black_box(1e-5), black_box(1e-3)));
     });
-    let mut w = LuGreAtState::default();
+    let mut w = LuGreFixedStepState::default();
     let at = ticks(N, || {
         i = (i + 1) & 63;
         black_box(FixedStepModel::step(model_at, &mut w, black_box(vs[i])));
     });
-    let mut w = LuGreAtState::default();
+    let mut w = LuGreFixedStepState::default();
     let obs_at = ticks(N, || {
         i = (i + 1) & 63;
         black_box(observer_at.step_at(&mut w, black_box(vs[i]), black_box(1e-5)));
@@ -525,9 +528,9 @@ fn count_instructions(
     let mut sg = GmsState::<f32, 4>::default();
     for k in 0..4 {
         let (v, mode) = if k % 2 == 0 {
-            (50.0, SlipMode::Forward)
+            (50.0, GmsSlipMode::Forward)
         } else {
-            (-50.0, SlipMode::Backward)
+            (-50.0, GmsSlipMode::Backward)
         };
         gms.step(&mut sg, v, 1e-3);
         if sg.mode != [mode; 4] {
@@ -642,7 +645,7 @@ fn main() -> ! {
     // the loop runs at one rate: the fixed-step form, built for H
     let (Ok(model), Ok(model_at), Ok(coulomb)) = (
         NOMINAL.build::<f32>(),
-        NOMINAL.build_at::<f32>(H as f64),
+        NOMINAL.build_fixed_step::<f32>(H as f64),
         CoulombViscousParams {
             fc: NOMINAL.curve.fc,
             sigma2: NOMINAL.sigma2,
@@ -661,8 +664,8 @@ fn main() -> ! {
     let (Ok(c_none), Ok(c_coul), Ok(c_obs), Ok(c_plain)) = (
         p.build::<f32, _>(NoCompensation),
         p.build(FeedForward(coulomb)),
-        p.build(AtPeriod(observer_at)),
-        p.build(AtPeriod(observer_at.with_damping(false))),
+        p.build(FixedPeriod(observer_at)),
+        p.build(FixedPeriod(observer_at.with_damping(false))),
     ) else {
         fail("controller gains")
     };
@@ -683,8 +686,8 @@ fn main() -> ! {
     // the commissioned model's observer against the same observer on the
     // plant's exact model (issue 33: within 2x its error)
     let (Ok(exact_at), Ok(commissioned_at)) = (
-        ACTUAL.build_at::<f32>(H as f64),
-        commissioned.model.build_at::<f32>(H as f64),
+        ACTUAL.build_fixed_step::<f32>(H as f64),
+        commissioned.model.build_fixed_step::<f32>(H as f64),
     ) else {
         fail("exact or commissioned model")
     };
@@ -695,8 +698,8 @@ fn main() -> ! {
         fail("observer gain")
     };
     let (Ok(c_exact), Ok(c_commissioned)) = (
-        p.build(AtPeriod(exact_observer)),
-        p.build(AtPeriod(commissioned_observer)),
+        p.build(FixedPeriod(exact_observer)),
+        p.build(FixedPeriod(commissioned_observer)),
     ) else {
         fail("controller gains")
     };
@@ -745,9 +748,10 @@ fn main() -> ! {
     ) else {
         fail("drifted plant or adaptation parameters")
     };
-    let (Ok(c_obs2), Ok(c_adaptive)) =
-        (p.build(AtPeriod(observer_at)), p.build(AtPeriod(adaptive)))
-    else {
+    let (Ok(c_obs2), Ok(c_adaptive)) = (
+        p.build(FixedPeriod(observer_at)),
+        p.build(FixedPeriod(adaptive)),
+    ) else {
         fail("controller gains")
     };
     let drift_obs = run_on(drifted_plant, c_obs2);
@@ -757,7 +761,7 @@ fn main() -> ! {
     // the fixed observer, and the per-parameter adaptive observer under its
     // supervisor (ParameterAdaptiveServo), all from the nominal model
     let (Ok(law), Ok(map)) = (
-        parameter_adaptation().build_at::<f32>(&p),
+        parameter_adaptation().build_fixed_step::<f32>(&p),
         fallback().build::<f32>(),
     ) else {
         fail("per-parameter adaptation or fallback parameters")
@@ -767,7 +771,7 @@ fn main() -> ! {
     };
     let (Ok(c_none3), Ok(c_obs3), Ok(c_param)) = (
         p.build::<f32, _>(NoCompensation),
-        p.build(AtPeriod(observer_at)),
+        p.build(FixedPeriod(observer_at)),
         p.build(supervised),
     ) else {
         fail("controller gains")

@@ -23,8 +23,8 @@ use crate::plot::{line_plot, Axis, Series};
 use crate::servo::{build_controller, run_loop, Drive, Law, Row, ServoRun};
 use anyhow::{anyhow, bail, Context, Result};
 use friction_core::{
-    Commissioned, Commissioning, CommissioningParams, CommissioningState, LuGreParams, ParamError,
-    Phase, PlateauPoint,
+    Commissioned, Commissioning, CommissioningParams, CommissioningPhase, CommissioningState,
+    LuGreParams, ParamError, PlateauPoint,
 };
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -124,7 +124,7 @@ pub fn commission(file: &ParamFile, origin: &str, progress: bool) -> Result<Comm
     let mut drive = Drive::new(&cfg, &file.model, true)?;
     let mut state = CommissioningState::default();
     let (mut t, mut command, mut position) = (Vec::new(), Vec::new(), Vec::new());
-    let mut shown = (Phase::Breakaway, 0u8);
+    let mut shown = (CommissioningPhase::Breakaway, 0u8);
     if progress {
         eprintln!("commission: break-away ramps");
     }
@@ -135,11 +135,14 @@ pub fn commission(file: &ParamFile, origin: &str, progress: bool) -> Result<Comm
         t.push(now);
         command.push(tick.command);
         position.push(drive.position());
-        if progress && (tick.phase, tick.plateaus) != shown && tick.phase != Phase::Done {
+        if progress
+            && (tick.phase, tick.plateaus) != shown
+            && tick.phase != CommissioningPhase::Done
+        {
             shown = (tick.phase, tick.plateaus);
             match tick.phase {
-                Phase::Presliding => eprintln!("commission: presliding reversal"),
-                Phase::Plateaus => {
+                CommissioningPhase::Presliding => eprintln!("commission: presliding reversal"),
+                CommissioningPhase::Plateaus => {
                     let last = usize::from(tick.plateaus).checked_sub(1);
                     let point = last.and_then(|i| routine.plateau_points(&state).get(i).copied());
                     match point.flatten() {
@@ -161,7 +164,10 @@ pub fn commission(file: &ParamFile, origin: &str, progress: bool) -> Result<Comm
                 _ => {}
             }
         }
-        if matches!(tick.phase, Phase::Done | Phase::Aborted) {
+        if matches!(
+            tick.phase,
+            CommissioningPhase::Done | CommissioningPhase::Aborted
+        ) {
             break;
         }
         drive.apply(tick.command, now);

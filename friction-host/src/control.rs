@@ -9,13 +9,14 @@ use std::any::Any;
 
 use friction_core::{
     AdaptiveParams, Compensation, Compensator, CompensatorParams, CompensatorState,
-    CoulombViscousParams, Observable, Observer, ParamError, Setpoint, SupervisorParams, Tick,
+    CompensatorTick, CoulombViscousParams, Observable, Observer, ParamError, Setpoint,
+    SupervisorParams,
 };
 
 /// One servo axis: the core's compensator tick with its state.
 pub trait Controller: Send {
     /// One tick with measured position `x` towards the setpoint `r`.
-    fn tick(&mut self, x: f64, r: Setpoint<f64>) -> Tick<f64>;
+    fn tick(&mut self, x: f64, r: Setpoint<f64>) -> CompensatorTick<f64>;
     /// The adapted quantities after the last tick, named by
     /// [`Controller::adapted_names`] (`θ^` for an adaptive observer, the
     /// Coulomb level and viscous coefficient for least squares).
@@ -74,7 +75,7 @@ impl<C: Compensation<f64> + Clone + Send + 'static> Controller for Axis<C>
 where
     C::State: Send,
 {
-    fn tick(&mut self, x: f64, r: Setpoint<f64>) -> Tick<f64> {
+    fn tick(&mut self, x: f64, r: Setpoint<f64>) -> CompensatorTick<f64> {
         self.ctl.tick(&mut self.state, x, r)
     }
     fn adapted(&self) -> Vec<f64> {

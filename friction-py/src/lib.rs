@@ -6,8 +6,9 @@
 //! `identify` runs `identify::identify`.
 
 use friction_core::{
-    AdaptiveParams, CompensatorParams, Mode, ParameterAdaptive, ParameterAdaptiveParams,
-    ParameterAdaptiveState, Setpoint, Supervised, SupervisedState, SupervisorParams,
+    AdaptiveParams, CompensatorParams, ParameterAdaptive, ParameterAdaptiveParams,
+    ParameterAdaptiveState, Setpoint, Supervised, SupervisedState, SupervisorMode,
+    SupervisorParams,
 };
 use friction_host::checks::{self, Refusal, SignalError};
 use friction_host::control::{controller_reading, Controller, Loop, ObserverRequest};
@@ -443,7 +444,7 @@ fn estimates(law: &ParameterAdaptive<f64>, s: &ParameterAdaptiveState<f64>) -> V
 fn estimates_and_mode(
     law: &ParameterAdaptive<f64>,
     s: &ParameterAdaptiveState<f64>,
-    mode: Mode,
+    mode: SupervisorMode,
 ) -> Vec<f64> {
     let mut v = estimates(law, s);
     v.push(f64::from(mode.code()));
@@ -779,27 +780,27 @@ struct Commissioning {
 }
 
 /// The phase's name.
-fn phase_name(phase: friction_core::Phase) -> &'static str {
-    use friction_core::Phase;
+fn phase_name(phase: friction_core::CommissioningPhase) -> &'static str {
+    use friction_core::CommissioningPhase;
     match phase {
-        Phase::Breakaway => "breakaway",
-        Phase::Presliding => "presliding",
-        Phase::Plateaus => "plateaus",
-        Phase::Done => "done",
-        Phase::Aborted => "aborted",
+        CommissioningPhase::Breakaway => "breakaway",
+        CommissioningPhase::Presliding => "presliding",
+        CommissioningPhase::Plateaus => "plateaus",
+        CommissioningPhase::Done => "done",
+        CommissioningPhase::Aborted => "aborted",
     }
 }
 
 /// The abort reason's name.
-fn abort_name(abort: friction_core::Abort) -> &'static str {
-    use friction_core::Abort;
+fn abort_name(abort: friction_core::CommissioningAbort) -> &'static str {
+    use friction_core::CommissioningAbort;
     match abort {
-        Abort::NonFiniteMeasurement => "non_finite",
-        Abort::Travel => "travel",
-        Abort::Timeout => "timeout",
-        Abort::Stall => "stall",
-        Abort::NoBreakaway => "no_breakaway",
-        Abort::ReversedSign => "reversed_sign",
+        CommissioningAbort::NonFiniteMeasurement => "non_finite",
+        CommissioningAbort::Travel => "travel",
+        CommissioningAbort::Timeout => "timeout",
+        CommissioningAbort::Stall => "stall",
+        CommissioningAbort::NoBreakaway => "no_breakaway",
+        CommissioningAbort::ReversedSign => "reversed_sign",
     }
 }
 
@@ -807,14 +808,14 @@ fn abort_name(abort: friction_core::Abort) -> &'static str {
 type Points = Vec<(f64, f64, bool)>;
 
 impl Routine {
-    fn phase(&self) -> friction_core::Phase {
+    fn phase(&self) -> friction_core::CommissioningPhase {
         match self {
             Self::F64(_, s) => s.phase(),
             Self::F32(_, s) => s.phase(),
         }
     }
 
-    fn abort(&self) -> Option<friction_core::Abort> {
+    fn abort(&self) -> Option<friction_core::CommissioningAbort> {
         match self {
             Self::F64(_, s) => s.abort(),
             Self::F32(_, s) => s.abort(),

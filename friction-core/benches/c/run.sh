@@ -39,7 +39,7 @@ if command -v valgrind >/dev/null && command -v callgrind_annotate >/dev/null; t
         printf "  the rest of the step: rust %.1f, c %.1f\n", (r - re - rm - chk) / steps, (c - ce - cm) / steps
         print c / steps > "'"$out"'.c"
       }'
-  # the fixed-step form (build_at(h), no h checks), in a run of its own
+  # the fixed-step form (build_fixed_step(h), no h checks), in a run of its own
   valgrind --tool=callgrind --callgrind-out-file="$out.fixed" "$CARGO_TARGET_DIR/release/callgrind" fixed >/dev/null 2>&1
   callgrind_annotate --inclusive=yes "$out.fixed" 2>/dev/null |
     awk -v steps="$steps" -v c="$(cat "$out.c")" '
@@ -50,7 +50,7 @@ if command -v valgrind >/dev/null && command -v callgrind_annotate >/dev/null; t
       index($0, "libm::math::exp::exp") > 0 { e = most(e) }
       END {
         if (!f) { print "callgrind: fixed-step function not found"; exit 1 }
-        printf "  rust fixed-step (LuGreAt::step)      %7.1f (exp %.1f)\n", f / steps, e / steps
+        printf "  rust fixed-step (LuGreFixedStep::step) %7.1f (exp %.1f)\n", f / steps, e / steps
         printf "  ratio rust fixed-step / c            %7.3f\n", f / steps / c
         if (ie) {
           printf "  c implicit Euler, one exp (lugre.c)  %7.1f\n", ie / steps

@@ -1,91 +1,11 @@
-//! The fit at the end of a commissioning run, in `f64` (outside the
-//! control interrupt; on a core without a double-precision FPU it runs in
-//! software).
-//!
-//! **The steady curve.** Each plateau the loop held steadily gives a point
-//! `(v, F)`. Steady: the distances over blocks of 8 ticks vary by less than
-//! 30 % RMS of their mean beyond the variance `c^2 / 4` that the encoder's
-//! count adds (a steady slide's quantized distances take two adjacent
-//! values); `c`, the count as a fraction of a block's distance, must be at
-//! most 1/4, or the plateau is too slow for the encoder to judge; and the
-//! mean distance within 25 % of the reference's (an axis that lagged the
-//! reference was not at the plateau's speed). The point
-//! is `v` the distance over
-//! the time, `F = kc` times the mean command. A plateau in stick-slip (the
-//! loop's damping below the curve's falling slope) is left out. Per
-//! direction
-//!
-//! ```text
-//! F(v) = ±(Fc± + (Fs± - Fc±) exp(-|v / vs|^delta)) + sigma2± v
-//! ```
-//!
-//! is linear in `Fc+`, `Fc-`, `Fs+ - Fc+`, `Fs- - Fc-`, `sigma2+` and
-//! `sigma2-` (a viscous coefficient per direction) for a
-//! given `(vs, delta)`: least squares over a grid of `vs` (48 log-spaced
-//! values across the measured speeds) and `delta` (1 to 4 by 0.25), then a
-//! golden-section refinement of each around the best. A fit with a negative
-//! Stribeck excess is not physical and is skipped. The Stribeck terms count
-//! (`stribeck` identified) only where their excess is at least 2 % of `Fc`
-//! and they at least halve the RMS of the flat fit (`Fs = Fc`). Where the
-//! slowest plateau has reached 90 % of the excess, the static levels, `vs`
-//! and `delta` are the curve's (identified); else the curve's `vs` and
-//! `delta` are an extrapolation (not identified) and the static levels are
-//! the break-away levels. Otherwise
-//! the curve is flat down to the slowest steady plateau `v_lo`, the static
-//! levels are the break-away levels, `delta = 2`, and `vs` is the largest
-//! value that leaves under 2 % of `Fc` of the excess at `v_lo`: `vs = v_lo /
-//! sqrt(ln((Fs - Fc) / (0.02 Fc)))`, an upper bound.
-//!
-//! **Stiffness.** At rest under a force `a` the LuGre bristle holds `z =
-//! a / sigma0`; reversing to `-a` slowly moves it along `dz/dx = 1 + sigma0
-//! z / Fs`, so the rest positions are `dx = (Fs / sigma0) ln((Fs + a) /
-//! (Fs - a))` apart, which gives `sigma0`. Where `dx` is under 8 encoder
-//! counts, or the axis slipped, `sigma0` is not identified. The
-//! measurement then only rules out the bristles softer than `Fs / (8
-//! counts)` (or `Fs / breakaway_travel` with an exact encoder); among the
-//! stiffer ones, a bristle whose presliding resonance `sqrt(sigma0 / J)`
-//! is above a tenth of the sampling rate is not seen by the loop, and a
-//! softer one makes the observer lag at every reversal. So `sigma0` is
-//! the larger of that bound and `J (2 pi / (10 h))^2`.
-//!
-//! **Load.** Each plateau also keeps its commands by position, over four
-//! equal stretches of the window its moves cover (`0.9 travel` ahead of
-//! the start). At one speed both directions pass a stretch under the same
-//! position-dependent torque `G` (gravity), so there the half-difference
-//! of their mean commands `D = (u+ - u-) / 2` is the friction without
-//! `G`, and their mean magnitude `L = (|u+| + |u-|) / 2` the torque the
-//! drive transmitted. The load-dependent curve of the per-parameter
-//! observer, `g = Fc + Ds s(v) + mu |kc u|`, makes `D = a(v) + mu L`
-//! exactly; `mu` is the least-squares slope of `D` on `L` within each
-//! speed (the speed's means removed), over at least 4 stretches whose `L`
-//! spreads by at least 10 % of `fc` RMS, and identified where it is in
-//! `[0, 1)`. `L` spreads only where `G` exceeds the friction over part of
-//! the window (the axis would fall without the motor); a stretch where it
-//! changes sign within the stretch mixes both regimes and biases `mu`
-//! upward. Where `mu` is identified, the curve is fitted to each speed's
-//! `D` moved by `mu` to the mean transmitted torque (symmetric: the
-//! directions' offsets are `G`'s), unless that fit finds no friction or
-//! fits poorly; then to the directions' own means as without a load. The
-//! levels are the curve at the mean transmitted torque `load_torque`: at no
-//! load they are lower by `mu load_torque`.
-//!
-//! **Damping.** Stepping the force down from `+a` to `a / 2` in stick makes
-//! the inertia `J` ring on the bristle; the overshoot of the displacement
-//! (lowest position against the rest position after the hold, as a ratio
-//! of the step's displacement) falls as `sigma1` grows. `sigma1` is the
-//! value whose step, simulated on the fitted model (the core's LuGre step,
-//! 20 steps a period, over the routine's hold), has the measured ratio:
-//! from `4 sigma_c` (`sigma_c = 2 sqrt(sigma0 J)`) down a grid of 40 to
-//! `sigma_c / 100`, the first value whose overshoot reaches the measured
-//! one, then 30 bisections. Where
-//! the step moved less than 16 counts, its overshoot is under 2 counts (or
-//! absent: overdamped), `sigma0` was not measured, or the loop runs
-//! faster than 100 kHz (the simulations are bounded at 20,000 periods of
-//! the hold, so the fit stays bounded in time), `sigma1` is not
-//! identified and is Canudas de Wit et al. 1995's rule of thumb, the
-//! bristle critically damped on the inertia: `sigma_c`.
+//! The fit at the end of a commissioning run, in `f64` (outside the control
+//! interrupt; on a core without a double-precision FPU it runs in software):
+//! see [`Commissioned`].
 
-use super::{Abort, CommissioningParams, CommissioningState, Plateau, BINS, MAX_SPEEDS};
+use super::{
+    CommissioningAbort, CommissioningParams, CommissioningState, Plateau, BINS,
+    COMMISSIONING_MAX_SPEEDS,
+};
 use crate::model::ParamError;
 use crate::stribeck::StribeckParams;
 use crate::{LuGreParams, Scalar};
@@ -93,7 +13,7 @@ use crate::{LuGreParams, Scalar};
 /// Which parameters the run measured (the rest are documented fallbacks).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Identified {
+pub struct CommissioningIdentified {
     /// `fc` (per direction).
     pub coulomb: bool,
     /// `fs`, `vs` and the exponent.
@@ -109,6 +29,93 @@ pub struct Identified {
 }
 
 /// A commissioning run's result.
+///
+/// The fit at the end of a commissioning run, in `f64` (outside the
+/// control interrupt; on a core without a double-precision FPU it runs in
+/// software).
+///
+/// **The steady curve.** Each plateau the loop held steadily gives a point
+/// `(v, F)`. Steady: the distances over blocks of 8 ticks vary by less than
+/// 30 % RMS of their mean beyond the variance `c^2 / 4` that the encoder's
+/// count adds (a steady slide's quantized distances take two adjacent
+/// values); `c`, the count as a fraction of a block's distance, must be at
+/// most 1/4, or the plateau is too slow for the encoder to judge; and the
+/// mean distance within 25 % of the reference's (an axis that lagged the
+/// reference was not at the plateau's speed). The point
+/// is `v` the distance over
+/// the time, `F = kc` times the mean command. A plateau in stick-slip (the
+/// loop's damping below the curve's falling slope) is left out. Per
+/// direction
+///
+/// ```text
+/// F(v) = ±(Fc± + (Fs± - Fc±) exp(-|v / vs|^delta)) + sigma2± v
+/// ```
+///
+/// is linear in `Fc+`, `Fc-`, `Fs+ - Fc+`, `Fs- - Fc-`, `sigma2+` and
+/// `sigma2-` (a viscous coefficient per direction) for a
+/// given `(vs, delta)`: least squares over a grid of `vs` (48 log-spaced
+/// values across the measured speeds) and `delta` (1 to 4 by 0.25), then a
+/// golden-section refinement of each around the best. A fit with a negative
+/// Stribeck excess is not physical and is skipped. The Stribeck terms count
+/// (`stribeck` identified) only where their excess is at least 2 % of `Fc`
+/// and they at least halve the RMS of the flat fit (`Fs = Fc`). Where the
+/// slowest plateau has reached 90 % of the excess, the static levels, `vs`
+/// and `delta` are the curve's (identified); else the curve's `vs` and
+/// `delta` are an extrapolation (not identified) and the static levels are
+/// the break-away levels. Otherwise
+/// the curve is flat down to the slowest steady plateau `v_lo`, the static
+/// levels are the break-away levels, `delta = 2`, and `vs` is the largest
+/// value that leaves under 2 % of `Fc` of the excess at `v_lo`: `vs = v_lo /
+/// sqrt(ln((Fs - Fc) / (0.02 Fc)))`, an upper bound.
+///
+/// **Stiffness.** At rest under a force `a` the LuGre bristle holds `z =
+/// a / sigma0`; reversing to `-a` slowly moves it along `dz/dx = 1 + sigma0
+/// z / Fs`, so the rest positions are `dx = (Fs / sigma0) ln((Fs + a) /
+/// (Fs - a))` apart, which gives `sigma0`. Where `dx` is under 8 encoder
+/// counts, or the axis slipped, `sigma0` is not identified. The
+/// measurement then only rules out the bristles softer than `Fs / (8
+/// counts)` (or `Fs / breakaway_travel` with an exact encoder); among the
+/// stiffer ones, a bristle whose presliding resonance `sqrt(sigma0 / J)`
+/// is above a tenth of the sampling rate is not seen by the loop, and a
+/// softer one makes the observer lag at every reversal. So `sigma0` is
+/// the larger of that bound and `J (2 pi / (10 h))^2`.
+///
+/// **Load.** Each plateau also keeps its commands by position, over four
+/// equal stretches of the window its moves cover (`0.9 travel` ahead of
+/// the start). At one speed both directions pass a stretch under the same
+/// position-dependent torque `G` (gravity), so there the half-difference
+/// of their mean commands `D = (u+ - u-) / 2` is the friction without
+/// `G`, and their mean magnitude `L = (|u+| + |u-|) / 2` the torque the
+/// drive transmitted. The load-dependent curve of the per-parameter
+/// observer, `g = Fc + Ds s(v) + mu |kc u|`, makes `D = a(v) + mu L`
+/// exactly; `mu` is the least-squares slope of `D` on `L` within each
+/// speed (the speed's means removed), over at least 4 stretches whose `L`
+/// spreads by at least 10 % of `fc` RMS, and identified where it is in
+/// `[0, 1)`. `L` spreads only where `G` exceeds the friction over part of
+/// the window (the axis would fall without the motor); a stretch where it
+/// changes sign within the stretch mixes both regimes and biases `mu`
+/// upward. Where `mu` is identified, the curve is fitted to each speed's
+/// `D` moved by `mu` to the mean transmitted torque (symmetric: the
+/// directions' offsets are `G`'s), unless that fit finds no friction or
+/// fits poorly; then to the directions' own means as without a load. The
+/// levels are the curve at the mean transmitted torque `load_torque`: at no
+/// load they are lower by `mu load_torque`.
+///
+/// **Damping.** Stepping the force down from `+a` to `a / 2` in stick makes
+/// the inertia `J` ring on the bristle; the overshoot of the displacement
+/// (lowest position against the rest position after the hold, as a ratio
+/// of the step's displacement) falls as `sigma1` grows. `sigma1` is the
+/// value whose step, simulated on the fitted model (the core's LuGre step,
+/// 20 steps a period, over the routine's hold), has the measured ratio:
+/// from `4 sigma_c` (`sigma_c = 2 sqrt(sigma0 J)`) down a grid of 40 to
+/// `sigma_c / 100`, the first value whose overshoot reaches the measured
+/// one, then 30 bisections. Where
+/// the step moved less than 16 counts, its overshoot is under 2 counts (or
+/// absent: overdamped), `sigma0` was not measured, or the loop runs
+/// faster than 100 kHz (the simulations are bounded at 20,000 periods of
+/// the hold, so the fit stays bounded in time), `sigma1` is not
+/// identified and is Canudas de Wit et al. 1995's rule of thumb, the
+/// bristle critically damped on the inertia: `sigma_c`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Commissioned {
@@ -131,7 +138,7 @@ pub struct Commissioned {
     /// the Coulomb level at no load.
     pub load_torque: f64,
     /// What was measured.
-    pub identified: Identified,
+    pub identified: CommissioningIdentified,
     /// RMS of the curve fit over the plateaus, relative to the mean `fc`.
     pub residual: f64,
     /// Slowest and fastest measured plateau speed.
@@ -147,7 +154,7 @@ pub enum CommissionError {
     /// The routine has not finished.
     NotFinished,
     /// The routine stopped early.
-    Aborted(Abort),
+    Aborted(CommissioningAbort),
     /// Fewer than three usable plateaus in a direction.
     TooFewPlateaus,
     /// The curve fits the plateaus worse than 10 % of `fc` RMS (the
@@ -330,7 +337,7 @@ fn fit_curve<S: Scalar>(
         breakaway,
         load: load.unwrap_or(0.0),
         load_torque: loads.torque,
-        identified: Identified {
+        identified: CommissioningIdentified {
             coulomb: true,
             stribeck: stribeck && reached,
             viscous,
@@ -348,8 +355,8 @@ fn fit_curve<S: Scalar>(
 fn points<S: Scalar>(
     params: &CommissioningParams,
     state: &CommissioningState<S>,
-) -> ([Point; 2 * MAX_SPEEDS], usize) {
-    let mut out = [Point::default(); 2 * MAX_SPEEDS];
+) -> ([Point; 2 * COMMISSIONING_MAX_SPEEDS], usize) {
+    let mut out = [Point::default(); 2 * COMMISSIONING_MAX_SPEEDS];
     let mut n = 0;
     for p in measured(params, state).into_iter().flatten() {
         if let (true, Some(slot)) = (p.steady, out.get_mut(n)) {
@@ -380,8 +387,8 @@ pub struct PlateauPoint {
 pub(super) fn measured<S: Scalar>(
     params: &CommissioningParams,
     state: &CommissioningState<S>,
-) -> [Option<PlateauPoint>; 2 * MAX_SPEEDS] {
-    let mut out = [None; 2 * MAX_SPEEDS];
+) -> [Option<PlateauPoint>; 2 * COMMISSIONING_MAX_SPEEDS] {
+    let mut out = [None; 2 * COMMISSIONING_MAX_SPEEDS];
     let (h, kc) = (params.servo.h, params.servo.torque_constant);
     let count = usize::from(params.speeds);
     for (index, (p, slot)) in state.plateaus.iter().zip(out.iter_mut()).enumerate() {
@@ -574,9 +581,9 @@ struct Loads {
     /// the half-difference of the two directions' mean commands over the
     /// stretches both passed (the friction, free of any position-dependent
     /// torque).
-    pairs: [Point; MAX_SPEEDS],
+    pairs: [Point; COMMISSIONING_MAX_SPEEDS],
     /// Their mean load `L` over those stretches.
-    pair_loads: [f64; MAX_SPEEDS],
+    pair_loads: [f64; COMMISSIONING_MAX_SPEEDS],
     count: usize,
     /// Within each speed, the sums of the load's (`L`) squared deviations
     /// from the speed's mean, and of its products with the friction's; the
@@ -605,8 +612,8 @@ impl Loads {
     /// The symmetric curve points `(v, F)` and `(-v, -F)` of every pair,
     /// with the friction moved by `mu` from the pair's load to the mean
     /// transmitted torque.
-    fn symmetric(&self, mu: f64) -> ([Point; 2 * MAX_SPEEDS], usize) {
-        let mut out = [Point::default(); 2 * MAX_SPEEDS];
+    fn symmetric(&self, mu: f64) -> ([Point; 2 * COMMISSIONING_MAX_SPEEDS], usize) {
+        let mut out = [Point::default(); 2 * COMMISSIONING_MAX_SPEEDS];
         let pairs = self.pairs.iter().zip(self.pair_loads).take(self.count);
         for (k, (p, load)) in pairs.enumerate() {
             let p = Point {
@@ -637,8 +644,8 @@ fn loads<S: Scalar>(params: &CommissioningParams, state: &CommissioningState<S>)
         .filter(|p| p.steady)
         .fold((0.0, 0.0), |(t, c), p| (t + libm::fabs(p.force), c + 1.0));
     let mut out = Loads {
-        pairs: [Point::default(); MAX_SPEEDS],
-        pair_loads: [0.0; MAX_SPEEDS],
+        pairs: [Point::default(); COMMISSIONING_MAX_SPEEDS],
+        pair_loads: [0.0; COMMISSIONING_MAX_SPEEDS],
         count: 0,
         sxx: 0.0,
         sxy: 0.0,
@@ -648,7 +655,7 @@ fn loads<S: Scalar>(params: &CommissioningParams, state: &CommissioningState<S>)
     // within each speed, the half-difference of the two directions' mean
     // commands (the friction) against their mean magnitude (the load),
     // stretch by stretch
-    for pair in 0..MAX_SPEEDS {
+    for pair in 0..COMMISSIONING_MAX_SPEEDS {
         let (i, j) = (2 * pair, 2 * pair + 1);
         let (Some(forward), Some(backward)) = (state.plateaus.get(i), state.plateaus.get(j)) else {
             continue;
@@ -710,7 +717,7 @@ fn bin_mean<S: Scalar>(p: &Plateau<S>, b: usize) -> Option<f64> {
 }
 
 /// `sigma0` from the presliding reversal and whether it was measured (see
-/// the [module docs](self)).
+/// [`Commissioned`]).
 fn stiffness<S: Scalar>(
     params: &CommissioningParams,
     state: &CommissioningState<S>,
@@ -746,8 +753,8 @@ fn stiffness<S: Scalar>(
     (sigma0, true)
 }
 
-/// `sigma1` from the step's overshoot and whether it was measured (see the
-/// [module docs](self)): the `sigma1` whose simulated step has the measured
+/// `sigma1` from the step's overshoot and whether it was measured (see
+/// [`Commissioned`]): the `sigma1` whose simulated step has the measured
 /// overshoot ratio, by bisection (the ratio falls as `sigma1` grows).
 fn damping<S: Scalar>(
     params: &CommissioningParams,

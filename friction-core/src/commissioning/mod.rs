@@ -1,46 +1,7 @@
-//! Commissioning on the target: from a bare axis to LuGre parameters,
-//! ticked in the control interrupt.
-//!
-//! [`Commissioning::tick`] takes the measured position and returns the
-//! command, one call per control period, through a fixed programme:
-//!
-//! 1. **Break-away**, forward then backward: from rest, an open-loop command
-//!    ramp `u = ±ramp_rate t` until the axis has moved `breakaway_travel`;
-//!    the command reached is the break-away level. The loop then brings the
-//!    axis back to where it started.
-//! 2. **Presliding**: an open-loop command of `+a`, held, a step down to
-//!    `a / 2`, held, then `-a`, held (`a` a quarter of the smaller
-//!    break-away level), the axis in stick throughout: the two rest
-//!    positions give the stiffness of a reversal, the step's overshoot the
-//!    damping.
-//! 3. **Plateaus**: at `speeds` log-spaced speeds from `max_speed` down to
-//!    `min_speed`, a trapezoidal move forward then back through the
-//!    position loop (the [`Compensator`]'s PID without compensation, with
-//!    the gains of `servo`), the friction measured at the speed before fed
-//!    forward. Over each cruise, after `settle`, the mean command is the
-//!    friction at the mean speed: with the command held, the net force over
-//!    a stretch that starts and ends at the same speed is zero on average.
-//!    A plateau the loop could not hold (stick-slip, or lagging the
-//!    reference) is left out of the fit. A speed whose two plateaus would
-//!    not finish within `duration` is not started: the programme ends there
-//!    with the faster plateaus it has measured.
-//!
-//! [`Commissioning::result`] then fits the steady curve (see [`fit`]) and
-//! returns the LuGre parameters with their quality figures.
-//!
-//! Limits: the axis never leaves `±travel` around its first position, the
-//! routine never runs longer than `duration`, and a command held at the
-//! limit for 50 ms is a stall. Any limit reached, a non-finite position, a
-//! ramp that reaches the limit without moving the axis, or an axis that
-//! moves against the command ends the routine in
-//! [`Phase::Aborted`] with an [`Abort`] reason, and every later command is 0.
-//!
-//! Memory: a [`CommissioningState`] holds the loop's state and one record
-//! per plateau (at most [`MAX_SPEEDS`] speeds, two directions), each with
-//! its commands over [`BINS`] stretches of the window (for the load
-//! coefficient, see [`fit`]); no allocation, no panic.
+//! Commissioning on the target: from a bare axis to LuGre parameters, ticked
+//! in the control interrupt: see [`Commissioning`].
 
-pub mod fit;
+mod fit;
 
 use crate::bits::Flag;
 use crate::compensator::{Compensator, CompensatorParams, CompensatorState, NoCompensation};
@@ -48,12 +9,12 @@ use crate::gain::Gain;
 use crate::model::{convert, magnitude, magnitude_or_zero, ParamError};
 use crate::Scalar;
 
-pub use fit::{CommissionError, Commissioned, Identified, PlateauPoint};
+pub use fit::{CommissionError, Commissioned, CommissioningIdentified, PlateauPoint};
 
 /// The most plateau speeds a routine can run (each in both directions).
-pub const MAX_SPEEDS: usize = 16;
+pub const COMMISSIONING_MAX_SPEEDS: usize = 16;
 
-/// The commissioning programme's settings (see the [module docs](self)).
+/// The commissioning programme's settings (see [`Commissioning`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct CommissioningParams {
@@ -69,7 +30,7 @@ pub struct CommissioningParams {
     pub min_speed: f64,
     /// Fastest plateau speed `>= min_speed`.
     pub max_speed: f64,
-    /// Number of plateau speeds, 2 to [`MAX_SPEEDS`].
+    /// Number of plateau speeds, 2 to [`COMMISSIONING_MAX_SPEEDS`].
     pub speeds: u8,
     /// Measuring time `> 0` of a plateau (s); shorter where the travel
     /// does not allow it.
@@ -145,7 +106,7 @@ impl CommissioningParams {
                 limit: "max_speed",
             });
         }
-        if !(2..=MAX_SPEEDS as u8).contains(&self.speeds) {
+        if !(2..=COMMISSIONING_MAX_SPEEDS as u8).contains(&self.speeds) {
             return Err(ParamError::OutOfRange("speeds"));
         }
         if self.breakaway_travel >= self.travel {
@@ -221,7 +182,7 @@ impl CommissioningParams {
             inv_blocks: zero,
             ticks: 0,
             pair_ticks: 0,
-        }; MAX_SPEEDS];
+        }; COMMISSIONING_MAX_SPEEDS];
         for (k, slot) in speeds.iter_mut().enumerate() {
             if k < usize::from(self.speeds) {
                 let v = self.speed(k);
@@ -311,7 +272,7 @@ const STALL: f64 = 0.05;
 /// Where a routine is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Phase {
+pub enum CommissioningPhase {
     /// The break-away ramps and the loop's return to the start.
     Breakaway,
     /// The presliding reversal.
@@ -327,7 +288,7 @@ pub enum Phase {
 /// Why a routine stopped early.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Abort {
+pub enum CommissioningAbort {
     /// A measured position was NaN or infinite.
     NonFiniteMeasurement,
     /// The axis left the travel window.
@@ -352,12 +313,55 @@ pub struct CommissioningTick<S> {
     /// or aborted).
     pub command: S,
     /// Where the routine is after this tick.
-    pub phase: Phase,
+    pub phase: CommissioningPhase,
     /// Plateaus measured so far (of `2 speeds`).
     pub plateaus: u8,
 }
 
 /// The built routine: immutable, one per axis type.
+///
+/// Commissioning on the target: from a bare axis to LuGre parameters,
+/// ticked in the control interrupt.
+///
+/// [`Commissioning::tick`] takes the measured position and returns the
+/// command, one call per control period, through a fixed programme:
+///
+/// 1. **Break-away**, forward then backward: from rest, an open-loop command
+///    ramp `u = ±ramp_rate t` until the axis has moved `breakaway_travel`;
+///    the command reached is the break-away level. The loop then brings the
+///    axis back to where it started.
+/// 2. **Presliding**: an open-loop command of `+a`, held, a step down to
+///    `a / 2`, held, then `-a`, held (`a` a quarter of the smaller
+///    break-away level), the axis in stick throughout: the two rest
+///    positions give the stiffness of a reversal, the step's overshoot the
+///    damping.
+/// 3. **Plateaus**: at `speeds` log-spaced speeds from `max_speed` down to
+///    `min_speed`, a trapezoidal move forward then back through the
+///    position loop (the [`Compensator`]'s PID without compensation, with
+///    the gains of `servo`), the friction measured at the speed before fed
+///    forward. Over each cruise, after `settle`, the mean command is the
+///    friction at the mean speed: with the command held, the net force over
+///    a stretch that starts and ends at the same speed is zero on average.
+///    A plateau the loop could not hold (stick-slip, or lagging the
+///    reference) is left out of the fit. A speed whose two plateaus would
+///    not finish within `duration` is not started: the programme ends there
+///    with the faster plateaus it has measured.
+///
+/// [`Commissioning::result`] then fits the steady curve (see [`Commissioned`]) and
+/// returns the LuGre parameters with their quality figures.
+///
+/// Limits: the axis never leaves `±travel` around its first position, the
+/// routine never runs longer than `duration`, and a command held at the
+/// limit for 50 ms is a stall. Any limit reached, a non-finite position, a
+/// ramp that reaches the limit without moving the axis, or an axis that
+/// moves against the command ends the routine in
+/// [`CommissioningPhase::Aborted`] with a [`CommissioningAbort`] reason, and every later command is 0.
+///
+/// Memory: a [`CommissioningState`] holds the loop's state and one record
+/// per plateau (at most [`COMMISSIONING_MAX_SPEEDS`] speeds, two
+/// directions), each with its commands over four stretches of the window
+/// (for the load coefficient, see [`Commissioned`]); no allocation, no
+/// panic.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Commissioning<S> {
@@ -372,7 +376,7 @@ pub struct Commissioning<S> {
     ratio_cap: S,
     /// The edges of the position stretches, from the start.
     bin_edges: [S; BINS - 1],
-    speeds: [Speed<S>; MAX_SPEEDS],
+    speeds: [Speed<S>; COMMISSIONING_MAX_SPEEDS],
     settle_ticks: u32,
     hold_ticks: u32,
     presliding_ticks: u32,
@@ -395,7 +399,7 @@ pub(crate) struct Plateau<S> {
     pub(crate) ratio_mean: S,
     pub(crate) square_mean: S,
     /// The commands by position: the block sums whose block ended in each
-    /// of [`BINS`] equal stretches of the plateaus' window (`0.9 travel`
+    /// of `BINS` equal stretches of the plateaus' window (`0.9 travel`
     /// ahead of the start), scaled as `command_mean`, and their ticks.
     pub(crate) bins: [S; BINS],
     pub(crate) bin_ticks: [u32; BINS],
@@ -404,7 +408,7 @@ pub(crate) struct Plateau<S> {
 /// Stretches of the plateaus' window whose commands are kept apart: both
 /// directions at one speed pass the same stretch at the same load, so
 /// the stretches with another load (gravity) give the load coefficient.
-pub const BINS: usize = 4;
+pub(crate) const BINS: usize = 4;
 
 // The stored phase: a byte, decoded totally (every byte is some phase).
 const BREAKAWAY: u8 = 0;
@@ -412,7 +416,7 @@ const PRESLIDING: u8 = 1;
 const PLATEAUS: u8 = 2;
 const DONE: u8 = 3;
 
-/// A routine's run-time state (see the [module docs](self) for its size).
+/// A routine's run-time state (see [`Commissioning`] for its size).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct CommissioningState<S> {
@@ -447,7 +451,7 @@ pub struct CommissioningState<S> {
     /// after it, and the last.
     pub(crate) step_response: [S; 3],
     pub(crate) slipped: Flag,
-    pub(crate) plateaus: [Plateau<S>; 2 * MAX_SPEEDS],
+    pub(crate) plateaus: [Plateau<S>; 2 * COMMISSIONING_MAX_SPEEDS],
     measured: u8,
 }
 
@@ -476,7 +480,7 @@ impl<S: Scalar> Default for CommissioningState<S> {
             presliding_level: S::ZERO,
             step_response: [S::ZERO; 3],
             slipped: Flag::new(false),
-            plateaus: [Plateau::default(); 2 * MAX_SPEEDS],
+            plateaus: [Plateau::default(); 2 * COMMISSIONING_MAX_SPEEDS],
             measured: 0,
         }
     }
@@ -484,28 +488,28 @@ impl<S: Scalar> Default for CommissioningState<S> {
 
 impl<S: Scalar> CommissioningState<S> {
     /// Where the routine is.
-    pub fn phase(&self) -> Phase {
+    pub fn phase(&self) -> CommissioningPhase {
         match self.phase {
-            BREAKAWAY => Phase::Breakaway,
-            PRESLIDING => Phase::Presliding,
-            PLATEAUS => Phase::Plateaus,
-            DONE => Phase::Done,
-            _ => Phase::Aborted,
+            BREAKAWAY => CommissioningPhase::Breakaway,
+            PRESLIDING => CommissioningPhase::Presliding,
+            PLATEAUS => CommissioningPhase::Plateaus,
+            DONE => CommissioningPhase::Done,
+            _ => CommissioningPhase::Aborted,
         }
     }
 
     /// Why it stopped, if it was aborted.
-    pub fn abort(&self) -> Option<Abort> {
-        if self.phase() != Phase::Aborted {
+    pub fn abort(&self) -> Option<CommissioningAbort> {
+        if self.phase() != CommissioningPhase::Aborted {
             return None;
         }
         Some(match self.abort {
-            0 => Abort::NonFiniteMeasurement,
-            1 => Abort::Travel,
-            2 => Abort::Timeout,
-            3 => Abort::Stall,
-            4 => Abort::NoBreakaway,
-            _ => Abort::ReversedSign,
+            0 => CommissioningAbort::NonFiniteMeasurement,
+            1 => CommissioningAbort::Travel,
+            2 => CommissioningAbort::Timeout,
+            3 => CommissioningAbort::Stall,
+            4 => CommissioningAbort::NoBreakaway,
+            _ => CommissioningAbort::ReversedSign,
         })
     }
 
@@ -525,7 +529,7 @@ impl<S: Scalar> CommissioningState<S> {
         }
     }
 
-    fn stop(&mut self, why: Abort) {
+    fn stop(&mut self, why: CommissioningAbort) {
         self.phase = u8::MAX;
         self.abort = why as u8;
         self.command = S::ZERO;
@@ -554,21 +558,21 @@ impl<S: Scalar> Commissioning<S> {
     }
 
     /// One control period with measured position `x`: the command to apply
-    /// (see the [module docs](self) for the programme and its limits).
+    /// (see [`Commissioning`] for the programme and its limits).
     ///
     /// ```
-    /// use friction_core::{CommissioningParams, CommissioningState, CompensatorParams, Phase};
+    /// use friction_core::{CommissioningParams, CommissioningState, CompensatorParams, CommissioningPhase};
     /// let servo = CompensatorParams { h: 1e-3, kp: 60.0, ki: 200.0, kd: 1.2,
     ///     inertia: 0.0023, torque_constant: 1.02, limit: 10.0 };
     /// let routine = CommissioningParams::new(servo, 1.0, 2.0).build::<f32>()?;
     /// let mut state = CommissioningState::default();
     /// // an axis that never moves: the break-away ramp reaches the limit
     /// let mut tick = routine.tick(&mut state, 0.0);
-    /// while tick.phase == Phase::Breakaway {
+    /// while tick.phase == CommissioningPhase::Breakaway {
     ///     assert!(tick.command.abs() <= 10.0);
     ///     tick = routine.tick(&mut state, 0.0);
     /// }
-    /// assert_eq!(tick.phase, Phase::Aborted);
+    /// assert_eq!(tick.phase, CommissioningPhase::Aborted);
     /// assert_eq!(tick.command, 0.0);
     /// # Ok::<(), friction_core::ParamError>(())
     /// ```
@@ -587,11 +591,14 @@ impl<S: Scalar> Commissioning<S> {
     }
 
     fn command(&self, state: &mut CommissioningState<S>, x: S) -> S {
-        if matches!(state.phase(), Phase::Done | Phase::Aborted) {
+        if matches!(
+            state.phase(),
+            CommissioningPhase::Done | CommissioningPhase::Aborted
+        ) {
             return S::ZERO;
         }
         if !x.is_finite() {
-            state.stop(Abort::NonFiniteMeasurement);
+            state.stop(CommissioningAbort::NonFiniteMeasurement);
             return S::ZERO;
         }
         if !state.started.get() {
@@ -602,11 +609,11 @@ impl<S: Scalar> Commissioning<S> {
         state.ticks = state.ticks.saturating_add(1);
         state.stage_ticks = state.stage_ticks.saturating_add(1);
         if state.ticks > self.max_ticks {
-            state.stop(Abort::Timeout);
+            state.stop(CommissioningAbort::Timeout);
             return S::ZERO;
         }
         if (x - state.x0).abs() > self.travel {
-            state.stop(Abort::Travel);
+            state.stop(CommissioningAbort::Travel);
             return S::ZERO;
         }
         let command = match state.phase {
@@ -614,7 +621,7 @@ impl<S: Scalar> Commissioning<S> {
             PRESLIDING => self.presliding(state, x),
             _ => self.plateaus(state, x),
         };
-        if matches!(state.phase(), Phase::Aborted) {
+        if matches!(state.phase(), CommissioningPhase::Aborted) {
             return S::ZERO;
         }
         command
@@ -632,7 +639,7 @@ impl<S: Scalar> Commissioning<S> {
         if command.abs() >= self.limit {
             state.stalled = state.stalled.saturating_add(1);
             if state.stalled > self.stall_ticks {
-                state.stop(Abort::Stall);
+                state.stop(CommissioningAbort::Stall);
             }
         } else {
             state.stalled = 0;
@@ -681,9 +688,9 @@ impl<S: Scalar> Commissioning<S> {
             return self.hold(state, x, self.hold_ticks).0;
         }
         if moved < -self.breakaway_travel {
-            state.stop(Abort::ReversedSign);
+            state.stop(CommissioningAbort::ReversedSign);
         } else if state.command > self.limit {
-            state.stop(Abort::NoBreakaway);
+            state.stop(CommissioningAbort::NoBreakaway);
         }
         if forward {
             state.command
@@ -770,7 +777,7 @@ impl<S: Scalar> Commissioning<S> {
     /// difference.
     fn plateaus(&self, state: &mut CommissioningState<S>, x: S) -> S {
         let index = usize::from(state.step);
-        let count = usize::from(self.params.speeds).min(MAX_SPEEDS);
+        let count = usize::from(self.params.speeds).min(COMMISSIONING_MAX_SPEEDS);
         if index / 2 >= count {
             state.next_phase(DONE);
             return S::ZERO;
@@ -898,17 +905,19 @@ impl<S: Scalar> Commissioning<S> {
     pub fn plateau_points(
         &self,
         state: &CommissioningState<S>,
-    ) -> [Option<PlateauPoint>; 2 * MAX_SPEEDS] {
+    ) -> [Option<PlateauPoint>; 2 * COMMISSIONING_MAX_SPEEDS] {
         fit::measured(&self.params, state)
     }
 
-    /// Fits the LuGre parameters to a finished routine (see [`fit`]); runs
+    /// Fits the LuGre parameters to a finished routine (see [`Commissioned`]); runs
     /// in `f64`, outside the control interrupt.
     pub fn result(&self, state: &CommissioningState<S>) -> Result<Commissioned, CommissionError> {
         match state.phase() {
-            Phase::Done => fit::fit(&self.params, state),
-            Phase::Aborted => Err(CommissionError::Aborted(
-                state.abort().unwrap_or(Abort::NonFiniteMeasurement),
+            CommissioningPhase::Done => fit::fit(&self.params, state),
+            CommissioningPhase::Aborted => Err(CommissionError::Aborted(
+                state
+                    .abort()
+                    .unwrap_or(CommissioningAbort::NonFiniteMeasurement),
             )),
             _ => Err(CommissionError::NotFinished),
         }

@@ -54,7 +54,10 @@ fn commission<S: Scalar>(
         let tick = routine.tick(&mut state, S::from_f64(measured));
         let command = tick.command.to_f64();
         assert!(command.is_finite() && command.abs() <= servo.limit);
-        if matches!(tick.phase, Phase::Done | Phase::Aborted) {
+        if matches!(
+            tick.phase,
+            CommissioningPhase::Done | CommissioningPhase::Aborted
+        ) {
             assert_eq!(command, 0.0);
             break;
         }
@@ -211,7 +214,7 @@ fn a_late_programme_drops_its_slowest_plateaus_instead_of_aborting() {
         / (spare + p.scheduled_time() / 3.0);
     let routine = p.build::<f64>().unwrap();
     let (state, _) = commission(&routine, &LuGreParams::OLSSON_1998, EXACT);
-    assert_eq!(state.phase(), Phase::Done);
+    assert_eq!(state.phase(), CommissioningPhase::Done);
     assert!(f64::from(state.ticks()) * p.servo.h <= p.duration);
     let measured = routine.plateau_points(&state).iter().flatten().count();
     assert!(
@@ -297,7 +300,7 @@ fn hostile_axes_end_in_a_typed_abort() {
                 ..EXACT
             },
             LuGreParams::OLSSON_1998,
-            Abort::NoBreakaway,
+            CommissioningAbort::NoBreakaway,
         ),
         (
             Drive {
@@ -305,7 +308,7 @@ fn hostile_axes_end_in_a_typed_abort() {
                 ..EXACT
             },
             LuGreParams::OLSSON_1998,
-            Abort::NoBreakaway,
+            CommissioningAbort::NoBreakaway,
         ),
         (
             Drive {
@@ -313,7 +316,7 @@ fn hostile_axes_end_in_a_typed_abort() {
                 ..EXACT
             },
             LuGreParams::OLSSON_1998,
-            Abort::ReversedSign,
+            CommissioningAbort::ReversedSign,
         ),
     ];
     for (drive, plant, why) in cases {
@@ -334,15 +337,21 @@ fn hostile_axes_end_in_a_typed_abort() {
     let (state, _) = commission(&routine, &sticky, EXACT);
     assert!(matches!(
         state.abort(),
-        Some(Abort::NoBreakaway | Abort::Stall)
+        Some(CommissioningAbort::NoBreakaway | CommissioningAbort::Stall)
     ));
     // a NaN position aborts at once; an unfinished run has no result
     let mut state = CommissioningState::default();
     routine.tick(&mut state, 0.0);
     assert_eq!(routine.result(&state), Err(CommissionError::NotFinished));
     let tick = routine.tick(&mut state, f32::NAN);
-    assert_eq!((tick.command, tick.phase), (0.0, Phase::Aborted));
-    assert_eq!(state.abort(), Some(Abort::NonFiniteMeasurement));
+    assert_eq!(
+        (tick.command, tick.phase),
+        (0.0, CommissioningPhase::Aborted)
+    );
+    assert_eq!(
+        state.abort(),
+        Some(CommissioningAbort::NonFiniteMeasurement)
+    );
 }
 
 /// Random finite positions, from tiny to huge: never a command beyond the

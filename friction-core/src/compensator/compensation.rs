@@ -131,31 +131,31 @@ impl<S: Scalar, M: Observable<S>> Compensation<S> for Observer<M, S> {
     }
 }
 
-/// An [`Observer`] on a fixed-step model ([`crate::fixed_step`]) as the
-/// compensation: `AtPeriod(Observer::new(model, k)?)`. The compensator's `h`
+/// An [`Observer`] on a fixed-step model ([`FixedStepModel`](crate::FixedStepModel)) as the
+/// compensation: `FixedPeriod(Observer::new(model, k)?)`. The compensator's `h`
 /// must be the model's period
 /// ([`CompensatorParams::build`](super::CompensatorParams::build) checks it). A
 /// wrapper, because one blanket `impl` for both observer kinds would overlap.
 ///
 /// ```
-/// use friction_core::{AtPeriod, CompensatorParams, CompensatorState, LuGreParams, Observer, ParamError, Setpoint};
-/// let model = LuGreParams::OLSSON_1998.build_at::<f32>(1e-3)?;
+/// use friction_core::{FixedPeriod, CompensatorParams, CompensatorState, LuGreParams, Observer, ParamError, Setpoint};
+/// let model = LuGreParams::OLSSON_1998.build_fixed_step::<f32>(1e-3)?;
 /// let mut params = CompensatorParams {
 ///     h: 1e-3, kp: 60.0, ki: 200.0, kd: 1.2,
 ///     inertia: 0.0023, torque_constant: 1.0, limit: 5.0,
 /// };
-/// let servo = params.build(AtPeriod(Observer::new(model, 100.0)?))?;
+/// let servo = params.build(FixedPeriod(Observer::new(model, 100.0)?))?;
 /// let tick = servo.tick(&mut CompensatorState::default(), 0.0, Setpoint { x: 1e-3, v: 0.0, a: 0.0 });
 /// assert!(tick.accepted && tick.command > 0.0);
 /// params.h = 5e-4; // not the model's period
-/// assert_eq!(params.build(AtPeriod(Observer::new(model, 100.0)?)).err(), Some(ParamError::PeriodMismatch));
+/// assert_eq!(params.build(FixedPeriod(Observer::new(model, 100.0)?)).err(), Some(ParamError::PeriodMismatch));
 /// # Ok::<(), ParamError>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct AtPeriod<O>(pub O);
+pub struct FixedPeriod<O>(pub O);
 
-impl<S: Scalar, M: FixedStepObservable<S>> Compensation<S> for AtPeriod<Observer<M, S>> {
+impl<S: Scalar, M: FixedStepObservable<S>> Compensation<S> for FixedPeriod<Observer<M, S>> {
     type State = M::State;
     const USES_H: bool = false;
     #[inline]

@@ -1,5 +1,5 @@
 //! The servo tick: PID plus the compensation, anti-windup and saturation:
-//! [`Compensator`], its state, [`Setpoint`] and [`Tick`].
+//! [`Compensator`], its state, [`Setpoint`] and [`CompensatorTick`].
 
 use super::{Compensation, CompensatorParams, FrictionSample};
 use crate::bits::Flag;
@@ -24,7 +24,7 @@ pub struct Setpoint<S> {
 /// What one tick produced.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Tick<S> {
+pub struct CompensatorTick<S> {
     /// The command, finite and within `±limit` (command units).
     pub command: S,
     /// The friction estimate or feed-forward `F^` (force units), included
@@ -78,6 +78,51 @@ impl<S: Scalar, T> CompensatorState<S, T> {
 
 /// The built servo tick: immutable, shared by any number of
 /// [`CompensatorState`]s.
+///
+/// A hardware-free position servo tick: PID with acceleration feed-forward
+/// plus the friction compensation the user chooses.
+///
+/// Each tick takes the measured position `x` and the setpoint
+/// `(x_ref, v_ref, a_ref)` and computes
+///
+/// ```text
+/// e   = x - x_ref                                  measured minus desired
+/// v   = (x - x_prev) / h                           backward difference; 0 on the first tick
+/// F^  = compensation(v, e)                         0, a static map F(v), or an observer
+/// I  += -ki h e                                    integral action, clamped to ±limit (anti-windup)
+/// u   = (J a_ref + F^) / kc - kp e - kd (v - v_ref) + I
+/// command = sat(limit, u)
+/// ```
+///
+/// The PID gains and `limit` are in command units (amperes for a current
+/// drive, N m for a torque command), the model terms `J a_ref` and `F^` in
+/// force units, turned into command units by the torque constant `kc`
+/// (force per command unit; 1 when the command is a torque).
+///
+/// The compensation is a type parameter implementing [`Compensation`]:
+/// [`NoCompensation`](crate::NoCompensation), [`FeedForward`](crate::FeedForward) around any stateless model (e.g.
+/// [`CoulombViscous`](crate::CoulombViscous) on the measured velocity), or an
+/// [`Observer`](crate::Observer) around any [`Observable`](crate::Observable)
+/// model, stepped with `v` and `e`.
+///
+/// Guarantees, for any inputs:
+/// - the command is finite and within `±limit`; each term is clamped to
+///   `±4 limit` before the sum, so no finite input can overflow it (a term
+///   that would overflow counts as `±4 limit`); `|v|` and `|e|` are clamped
+///   to [`VELOCITY_LIMIT`](crate::VELOCITY_LIMIT) before use;
+/// - a NaN or infinite measured position or setpoint gives the **safe
+///   output** `command = 0`, `friction = 0`, `accepted = false`, and leaves
+///   the integral action, the friction state and the last valid position
+///   untouched: only the count of ticks since that position advances, so the
+///   next valid tick's velocity is the mean over the gap;
+/// - **anti-windup**, both ways: the integral action is clamped to
+///   `±limit`, and it is not integrated on a tick where integrating would
+///   push an already saturated command further into saturation
+///   (conditional integration);
+/// - no panics, no allocation.
+///
+/// Immutable configuration ([`Compensator`]) is split from the mutable state
+/// ([`CompensatorState`]): one compensator drives any number of axes.
 ///
 /// ```
 /// use friction_core::{
@@ -260,16 +305,21 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
         })
     }
 
-    /// One tick with measured position `x` towards the setpoint `r`; see the
-    /// [module documentation](crate::compensator) for the control law and the guarantees.
+    /// One tick with measured position `x` towards the setpoint `r`; see
+    /// [`Compensator`] for the control law and the guarantees.
     // Always inlined, with the helpers it calls: it is the interrupt's hot
     // path, and a second caller of the same instance (commissioning ticks the
     // uncompensated servo) must not move it out of line in the servo tick.
     #[inline(always)]
-    pub fn tick(&self, state: &mut CompensatorState<S, C::State>, x: S, r: Setpoint<S>) -> Tick<S> {
+    pub fn tick(
+        &self,
+        state: &mut CompensatorState<S, C::State>,
+        x: S,
+        r: Setpoint<S>,
+    ) -> CompensatorTick<S> {
         if !all_finite([x, r.x, r.v, r.a]) {
             Self::skip(state);
-            return Tick {
+            return CompensatorTick {
                 command: S::ZERO,
                 friction: S::ZERO,
                 accepted: false,
@@ -301,7 +351,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
         state.since_last = 1;
         let command = (base + state.integral).sat(self.limit);
         self.issued(state, command, f);
-        Tick {
+        CompensatorTick {
             command,
             friction: f,
             accepted: true,

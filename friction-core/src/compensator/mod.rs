@@ -1,47 +1,5 @@
 //! A hardware-free position servo tick: PID with acceleration feed-forward
-//! plus the friction compensation the user chooses.
-//!
-//! Each tick takes the measured position `x` and the setpoint
-//! `(x_ref, v_ref, a_ref)` and computes
-//!
-//! ```text
-//! e   = x - x_ref                                  measured minus desired
-//! v   = (x - x_prev) / h                           backward difference; 0 on the first tick
-//! F^  = compensation(v, e)                         0, a static map F(v), or an observer
-//! I  += -ki h e                                    integral action, clamped to ±limit (anti-windup)
-//! u   = (J a_ref + F^) / kc - kp e - kd (v - v_ref) + I
-//! command = sat(limit, u)
-//! ```
-//!
-//! The PID gains and `limit` are in command units (amperes for a current
-//! drive, N m for a torque command), the model terms `J a_ref` and `F^` in
-//! force units, turned into command units by the torque constant `kc`
-//! (force per command unit; 1 when the command is a torque).
-//!
-//! The compensation is a type parameter implementing [`Compensation`]:
-//! [`NoCompensation`], [`FeedForward`] around any stateless model (e.g.
-//! [`CoulombViscous`](crate::CoulombViscous) on the measured velocity), or an
-//! [`Observer`](crate::Observer) around any [`Observable`](crate::Observable)
-//! model, stepped with `v` and `e`.
-//!
-//! Guarantees, for any inputs:
-//! - the command is finite and within `±limit`; each term is clamped to
-//!   `±4 limit` before the sum, so no finite input can overflow it (a term
-//!   that would overflow counts as `±4 limit`); `|v|` and `|e|` are clamped
-//!   to [`VELOCITY_LIMIT`](crate::VELOCITY_LIMIT) before use;
-//! - a NaN or infinite measured position or setpoint gives the **safe
-//!   output** `command = 0`, `friction = 0`, `accepted = false`, and leaves
-//!   the integral action, the friction state and the last valid position
-//!   untouched: only the count of ticks since that position advances, so the
-//!   next valid tick's velocity is the mean over the gap;
-//! - **anti-windup**, both ways: the integral action is clamped to
-//!   `±limit`, and it is not integrated on a tick where integrating would
-//!   push an already saturated command further into saturation
-//!   (conditional integration);
-//! - no panics, no allocation.
-//!
-//! Immutable configuration ([`Compensator`]) is split from the mutable state
-//! ([`CompensatorState`]): one compensator drives any number of axes.
+//! plus the friction compensation the user chooses: see [`Compensator`].
 
 mod compensation;
 mod controller;
@@ -53,8 +11,8 @@ use crate::bits::Flag;
 use crate::gain::Gain;
 use crate::model::{convert, magnitude, magnitude_or_zero, ParamError};
 use crate::Scalar;
-pub use compensation::{AtPeriod, Compensation, FeedForward, FrictionSample, NoCompensation};
-pub use controller::{Compensator, CompensatorState, Setpoint, Tick};
+pub use compensation::{Compensation, FeedForward, FixedPeriod, FrictionSample, NoCompensation};
+pub use controller::{Compensator, CompensatorState, CompensatorTick, Setpoint};
 use core::fmt::Debug;
 
 /// Design-time parameters of the servo tick, in `f64`.

@@ -84,11 +84,11 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
     /// each axis, between the same two ticks:
     ///
     /// ```
-    /// use friction_core::{AtPeriod, CompensatorParams, CompensatorState, LuGreParams, Observer, ParamError, Setpoint};
+    /// use friction_core::{FixedPeriod, CompensatorParams, CompensatorState, LuGreParams, Observer, ParamError, Setpoint};
     /// let p = CompensatorParams { h: 1e-3, kp: 60.0, ki: 200.0, kd: 1.2,
     ///     inertia: 0.0023, torque_constant: 1.02, limit: 10.0 };
-    /// let first = LuGreParams::OLSSON_1998.build_at::<f32>(1e-3)?;
-    /// let mut servo = p.build(AtPeriod(Observer::new(first, 20.0)?))?;
+    /// let first = LuGreParams::OLSSON_1998.build_fixed_step::<f32>(1e-3)?;
+    /// let mut servo = p.build(FixedPeriod(Observer::new(first, 20.0)?))?;
     /// let mut axis = CompensatorState::default();
     /// let r = Setpoint { x: 0.0, v: 0.1, a: 0.0 };
     /// for k in 0..100 {
@@ -96,17 +96,17 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
     /// }
     /// // commissioning measured more friction: swap it in, one axis
     /// let measured = LuGreParams { sigma0: 400.0, sigma2: 0.03, ..LuGreParams::OLSSON_1998 };
-    /// servo.retune(&mut axis, AtPeriod(Observer::new(measured.build_at(1e-3)?, 20.0)?))?;
+    /// servo.retune(&mut axis, FixedPeriod(Observer::new(measured.build_fixed_step(1e-3)?, 20.0)?))?;
     /// let tick = servo.tick(&mut axis, 1e-2, r);
     /// assert!(tick.accepted && tick.command.abs() <= 10.0);
     /// // a model for another period is refused, the axis untouched
     /// let before = axis;
-    /// let other = AtPeriod(Observer::new(measured.build_at(5e-4)?, 20.0)?);
+    /// let other = FixedPeriod(Observer::new(measured.build_fixed_step(5e-4)?, 20.0)?);
     /// assert_eq!(servo.retune(&mut axis, other).err(), Some(ParamError::PeriodMismatch));
     /// assert_eq!(axis, before);
     /// // several axes on one compensator: one new compensator, each axis carried over
     /// let (mut a, mut b) = (axis, axis);
-    /// let next = servo.retuned(AtPeriod(Observer::new(first, 20.0)?))?;
+    /// let next = servo.retuned(FixedPeriod(Observer::new(first, 20.0)?))?;
     /// next.carry_over(&servo, &mut a);
     /// next.carry_over(&servo, &mut b);
     /// servo = next;
@@ -130,7 +130,7 @@ mod tests {
     use super::*;
     use crate::test_servo::olsson_servo as servo;
     use crate::{
-        AdaptiveParams, AtPeriod, CoulombViscousParams, FrictionModel, LuGreParams, LuGreState,
+        AdaptiveParams, CoulombViscousParams, FixedPeriod, FrictionModel, LuGreParams, LuGreState,
         Observer, ParameterAdaptiveParams, RlsParams, Setpoint, SupervisorParams,
     };
     use proptest::prelude::*;
@@ -255,8 +255,10 @@ mod tests {
         }
     }
 
-    fn observer_at<S: Scalar>(p: LuGreParams) -> AtPeriod<Observer<crate::LuGreAt<S>, S>> {
-        AtPeriod(Observer::new(p.build_at::<S>(1e-3).unwrap(), 20.0).unwrap())
+    fn observer_at<S: Scalar>(
+        p: LuGreParams,
+    ) -> FixedPeriod<Observer<crate::LuGreFixedStep<S>, S>> {
+        FixedPeriod(Observer::new(p.build_fixed_step::<S>(1e-3).unwrap(), 20.0).unwrap())
     }
 
     /// Swaps at a reversal (t = 1.25 s), mid-stroke (2.3 s) and near the
@@ -380,7 +382,7 @@ mod tests {
                     ..ParameterAdaptiveParams::new(m, 20.0)
                 };
                 sup.build(
-                    p.build_at::<S>(&servo()).unwrap(),
+                    p.build_fixed_step::<S>(&servo()).unwrap(),
                     fallback(m.curve.fc),
                     1e-3,
                 )
@@ -462,9 +464,9 @@ mod tests {
                 gamma: AdaptiveParams::gain_for_rate(4.0, 60.0, 1.02, 0.33),
                 ..AdaptiveParams::DEFAULT
             };
-            AtPeriod(
+            FixedPeriod(
                 p.build(
-                    Observer::new(m.build_at::<f64>(1e-3).unwrap(), 20.0).unwrap(),
+                    Observer::new(m.build_fixed_step::<f64>(1e-3).unwrap(), 20.0).unwrap(),
                     1e-3,
                 )
                 .unwrap(),
@@ -512,7 +514,9 @@ mod tests {
             1.0,
         );
         let (c0, s0) = (c, s);
-        let other = AtPeriod(Observer::new(MEASURED.build_at::<f32>(2e-3).unwrap(), 20.0).unwrap());
+        let other = FixedPeriod(
+            Observer::new(MEASURED.build_fixed_step::<f32>(2e-3).unwrap(), 20.0).unwrap(),
+        );
         assert_eq!(
             c.retune(&mut s, other).err(),
             Some(ParamError::PeriodMismatch)
@@ -605,20 +609,20 @@ mod tests {
                 .collect();
             hostile_run::<f32, _>(&variable, &positions)?;
             let at: Vec<_> = models.iter()
-                .filter_map(|m| Observer::new(m.build_at::<f32>(1e-3).ok()?, 20.0).ok().map(AtPeriod))
+                .filter_map(|m| Observer::new(m.build_fixed_step::<f32>(1e-3).ok()?, 20.0).ok().map(FixedPeriod))
                 .collect();
             hostile_run::<f32, _>(&at, &positions)?;
             #[cfg(feature = "fixed")]
             {
                 let q: Vec<_> = models.iter()
                     .filter_map(|m| {
-                        Observer::new(m.build_at::<crate::Fixed32>(1e-3).ok()?, 20.0).ok().map(AtPeriod)
+                        Observer::new(m.build_fixed_step::<crate::Fixed32>(1e-3).ok()?, 20.0).ok().map(FixedPeriod)
                     })
                     .collect();
                 hostile_run::<crate::Fixed32, _>(&q, &positions)?;
             }
             let adaptive: Vec<_> = models.iter()
-                .filter_map(|m| ParameterAdaptiveParams::new(*m, 20.0).build_at::<f32>(&servo()).ok())
+                .filter_map(|m| ParameterAdaptiveParams::new(*m, 20.0).build_fixed_step::<f32>(&servo()).ok())
                 .collect();
             hostile_run::<f32, _>(&adaptive, &positions)?;
         }

@@ -322,7 +322,7 @@ fn non_finite_inputs_give_the_safe_output_and_keep_the_state() {
         let t = c.tick(&mut s, x, r);
         assert_eq!(
             t,
-            Tick {
+            CompensatorTick {
                 command: 0.0,
                 friction: 0.0,
                 accepted: false

@@ -1,47 +1,5 @@
-//! Q16.16 fixed point for cores without an FPU (feature `fixed`).
-//!
-//! [`Fixed32`] wraps the `fixed` crate's `I16F16`: 16 integer and 16
-//! fraction bits, so values from -32768 to 32767.99998 in steps of
-//! `2^-16 = 1.53e-5`. Every operation saturates: no overflow panic in a
-//! debug build, no wrap-around in release, and a division by zero gives the
-//! largest value of the dividend's sign (0 / 0 gives 0).
-//!
-//! # What runs on it, and where it is valid
-//!
-//! The fixed-step forms ([`crate::fixed_step`]) are written for it: their
-//! states are forces, and `h` enters only through products such as
-//! `sigma0 h` formed in `f64` at build time. A deflection of micrometres or
-//! a stiffness of 1e5 N/m does not fit, so the variable-step forms (state in
-//! metres) are refused at `build()` with a typed error for any realistic
-//! parameter set.
-//!
-//! A configuration is valid, and checked at `build_at()`, for:
-//! - velocities `|v| <= 4` (m/s or rad/s; larger inputs are clamped to 4),
-//!   resolved to 1.5e-5;
-//! - force terms up to a quarter of the range (8192) at that velocity
-//!   ([`ParamError::ForceOverflow`](crate::ParamError::ForceOverflow)
-//!   otherwise), each parameter and product formed at build time within the
-//!   range and 0.1 % of its design value
-//!   ([`ParamError::Underflow`](crate::ParamError::Underflow) otherwise);
-//! - any `h` for which those products fit.
-//!
-//! Inside, a fixed-step form carries its forces multiplied by a power of
-//! two ([`Scalar::force_scale`]) chosen at build time to use the range: a
-//! servo's 0.3 N m friction is carried as about 300 with 1.5e-5 steps, so
-//! that the small per-step increments of a 10 kHz loop are not rounded
-//! away (unscaled, they stall a slow relaxation short of its equilibrium by
-//! up to 20 % of `Fs`).
-//!
-//! Accuracy against the `f64` reference is measured by `friction validate`
-//! (`--scalar fixed` rows) and stated in the README.
-//!
-//! # Functions
-//!
-//! [`Scalar::exp_neg`], the only transcendental function of the fixed-step
-//! forms, is computed in integer arithmetic (range reduction by `ln 2` and a
-//! degree-6 polynomial, no floating point). `exp`, `exp_m1`, `ln_1p` and
-//! `powf`, which only the variable-step forms and a Stribeck exponent other
-//! than 1 or 2 use, go through `f32` (software floating point on an M0).
+//! Q16.16 fixed point for cores without an FPU (feature `fixed`): see
+//! [`Fixed32`].
 
 mod division;
 mod functions;
@@ -49,7 +7,7 @@ mod kernels;
 #[cfg(test)]
 mod tests;
 
-use crate::scalar::Conversion;
+use crate::scalar::ScalarConversion;
 use crate::Scalar;
 use core::ops::{Add, Mul, Neg, Sub};
 use division::{pow2_over, pow2_quotient};
@@ -57,8 +15,52 @@ use fixed::types::I16F16;
 use functions::{exp_neg_bits, exp_neg_square_bits, zone_curve_bits};
 use kernels::{fraction_product, saturated_product, wrapping_product};
 
-/// A Q16.16 number with saturating arithmetic; see the [module
-/// documentation](self).
+/// A Q16.16 number with saturating arithmetic.
+///
+/// Q16.16 fixed point for cores without an FPU (feature `fixed`).
+///
+/// [`Fixed32`] wraps the `fixed` crate's `I16F16`: 16 integer and 16
+/// fraction bits, so values from -32768 to 32767.99998 in steps of
+/// `2^-16 = 1.53e-5`. Every operation saturates: no overflow panic in a
+/// debug build, no wrap-around in release, and a division by zero gives the
+/// largest value of the dividend's sign (0 / 0 gives 0).
+///
+/// # What runs on it, and where it is valid
+///
+/// The fixed-step forms ([`FixedStepModel`](crate::FixedStepModel)) are written for it: their
+/// states are forces, and `h` enters only through products such as
+/// `sigma0 h` formed in `f64` at build time. A deflection of micrometres or
+/// a stiffness of 1e5 N/m does not fit, so the variable-step forms (state in
+/// metres) are refused at `build()` with a typed error for any realistic
+/// parameter set.
+///
+/// A configuration is valid, and checked at `build_fixed_step()`, for:
+/// - velocities `|v| <= 4` (m/s or rad/s; larger inputs are clamped to 4),
+///   resolved to 1.5e-5;
+/// - force terms up to a quarter of the range (8192) at that velocity
+///   ([`ParamError::ForceOverflow`](crate::ParamError::ForceOverflow)
+///   otherwise), each parameter and product formed at build time within the
+///   range and 0.1 % of its design value
+///   ([`ParamError::Underflow`](crate::ParamError::Underflow) otherwise);
+/// - any `h` for which those products fit.
+///
+/// Inside, a fixed-step form carries its forces multiplied by a power of
+/// two ([`Scalar::force_scale`]) chosen at build time to use the range: a
+/// servo's 0.3 N m friction is carried as about 300 with 1.5e-5 steps, so
+/// that the small per-step increments of a 10 kHz loop are not rounded
+/// away (unscaled, they stall a slow relaxation short of its equilibrium by
+/// up to 20 % of `Fs`).
+///
+/// Accuracy against the `f64` reference is measured by `friction validate`
+/// (`--scalar fixed` rows) and stated in the README.
+///
+/// # Functions
+///
+/// [`Scalar::exp_neg`], the only transcendental function of the fixed-step
+/// forms, is computed in integer arithmetic (range reduction by `ln 2` and a
+/// degree-6 polynomial, no floating point). `exp`, `exp_m1`, `ln_1p` and
+/// `powf`, which only the variable-step forms and a Stribeck exponent other
+/// than 1 or 2 use, go through `f32` (software floating point on an M0).
 ///
 /// ```
 /// use friction_core::{Fixed32, Scalar};
@@ -221,15 +223,15 @@ impl Scalar for Fixed32 {
     }
 
     /// Overflow beyond the range, underflow to 0, or rounding beyond 0.1 %.
-    fn try_from_f64(x: f64) -> Result<Self, Conversion> {
+    fn try_from_f64(x: f64) -> Result<Self, ScalarConversion> {
         if !(-32768.0..32768.0).contains(&x) {
-            return Err(Conversion::Overflow);
+            return Err(ScalarConversion::Overflow);
         }
         let s = Self::from_f64(x);
         if x != 0.0 && s == Self::ZERO {
-            Err(Conversion::Underflow)
+            Err(ScalarConversion::Underflow)
         } else if (s.to_f64() - x).abs() > 1e-3 * x.abs() {
-            Err(Conversion::Rounding)
+            Err(ScalarConversion::Rounding)
         } else {
             Ok(s)
         }

@@ -454,11 +454,17 @@ fn no_operation_panics_on_any_bits() {
 
 #[test]
 fn checked_conversion_names_the_failure() {
-    assert_eq!(Fixed32::try_from_f64(1e5), Err(Conversion::Overflow));
-    assert_eq!(Fixed32::try_from_f64(f64::NAN), Err(Conversion::Overflow));
-    assert_eq!(Fixed32::try_from_f64(1e-6), Err(Conversion::Underflow));
+    assert_eq!(Fixed32::try_from_f64(1e5), Err(ScalarConversion::Overflow));
+    assert_eq!(
+        Fixed32::try_from_f64(f64::NAN),
+        Err(ScalarConversion::Overflow)
+    );
+    assert_eq!(
+        Fixed32::try_from_f64(1e-6),
+        Err(ScalarConversion::Underflow)
+    );
     // 1e-3 is 65.536 steps: 0.7 % rounding
-    assert_eq!(Fixed32::try_from_f64(1e-3), Err(Conversion::Rounding));
+    assert_eq!(Fixed32::try_from_f64(1e-3), Err(ScalarConversion::Rounding));
     assert_eq!(Fixed32::try_from_f64(0.28).map(|x| x.to_bits()), Ok(18_350));
     assert_eq!(Fixed32::try_from_f64(0.0), Ok(Fixed32::ZERO));
 }

@@ -61,7 +61,7 @@ macro_rules! model_list {
                 params: $crate::LuGreParams,
                 field: lugre,
                 variable: $crate::LuGre<S>,
-                fixed: $crate::LuGreAt<S>,
+                fixed: $crate::LuGreFixedStep<S>,
                 sets: ["canudas1995", "astrom2008-drift", "astrom2008-stickslip", "olsson1998-servo"],
             }
             /// `dahl`: `sigma`, `fc`, `delta`, `sigma2`.
@@ -69,7 +69,7 @@ macro_rules! model_list {
                 params: $crate::DahlParams,
                 field: dahl,
                 variable: $crate::Dahl<S>,
-                fixed: $crate::DahlAt<S>,
+                fixed: $crate::DahlFixedStep<S>,
                 sets: ["dahl1968"],
             }
             /// `elasto-plastic`: the LuGre keys and `z_ba`.
@@ -77,7 +77,7 @@ macro_rules! model_list {
                 params: $crate::ElastoPlasticParams,
                 field: elasto_plastic,
                 variable: $crate::ElastoPlastic<S>,
-                fixed: $crate::ElastoPlasticAt<S>,
+                fixed: $crate::ElastoPlasticFixedStep<S>,
                 sets: ["canudas1995-ep", "astrom2008-drift-ep"],
             }
             /// `reset-integrator`: `sigma0`, `sigma1`, `z0`, `stiction`, optional Stribeck keys.
@@ -99,7 +99,7 @@ macro_rules! model_list {
                 params: $crate::GmsParams<ELEMENTS>,
                 field: gms,
                 variable: $crate::Gms<S, ELEMENTS>,
-                fixed: $crate::GmsAt<S, ELEMENTS>,
+                fixed: $crate::GmsFixedStep<S, ELEMENTS>,
                 sets: ["gms-typical"],
             }
             /// `xiong`: Stribeck keys, `tau`, `sigma2`, `[[elements]]` with `k`, `sigma`, `lambda` (1 to 16).
@@ -107,7 +107,7 @@ macro_rules! model_list {
                 params: $crate::XiongParams<ELEMENTS>,
                 field: xiong,
                 variable: $crate::Xiong<S, ELEMENTS>,
-                fixed: $crate::XiongAt<S, ELEMENTS>,
+                fixed: $crate::XiongFixedStep<S, ELEMENTS>,
                 sets: ["xiong-typical"],
             }
             /// `leuven`: Stribeck keys, `sigma1`, `sigma2`, `n`, `xs`, `memory` (1 to 32, default 16).

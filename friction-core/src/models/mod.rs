@@ -1,11 +1,11 @@
 //! One module per state model.
 
-pub mod bristle;
-pub mod dahl;
-pub mod elasto_plastic;
-pub mod gms;
-pub mod leuven;
+pub(crate) mod bristle;
+pub(crate) mod dahl;
+pub(crate) mod elasto_plastic;
+pub(crate) mod gms;
+pub(crate) mod leuven;
 mod list;
-pub mod lugre;
-pub mod reset_integrator;
-pub mod xiong;
+pub(crate) mod lugre;
+pub(crate) mod reset_integrator;
+pub(crate) mod xiong;

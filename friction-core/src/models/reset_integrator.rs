@@ -1,19 +1,4 @@
-//! The reset integrator (Haessig & Friedland 1991).
-//!
-//! ```text
-//! dz/dt = 0   if (v > 0 and z >= z0) or (v < 0 and z <= -z0),   else v
-//! F     = (1 + a(z)) sigma0(v) z + sigma1 dz/dt,   a(z) = a if |z| < z0, else 0
-//! ```
-//!
-//! One bond strain `z` grows with the displacement until the breakaway
-//! deflection `z0`, where it stops ("resets" the integrator). While
-//! `|z| < z0` the stiction factor `a` raises the force; it drops to
-//! `sigma0 z0` once the bond breaks: the force is discontinuous in `z`.
-//! With the optional Stribeck curve, `sigma0(v) = sigma0 g(v) / Fs`.
-//!
-//! Discretisation: with `v` held, `z` moves by `v h` and stops exactly at
-//! `±z0` within the step (the switching instant is handled inside the
-//! step, not at its end). Exact for held `v`.
+//! The reset integrator (Haessig & Friedland 1991): see [`ResetIntegrator`].
 
 use crate::bits::Flag;
 use crate::model::{
@@ -89,6 +74,23 @@ impl ResetIntegratorParams {
 }
 
 /// The built reset integrator.
+///
+/// The reset integrator (Haessig & Friedland 1991).
+///
+/// ```text
+/// dz/dt = 0   if (v > 0 and z >= z0) or (v < 0 and z <= -z0),   else v
+/// F     = (1 + a(z)) sigma0(v) z + sigma1 dz/dt,   a(z) = a if |z| < z0, else 0
+/// ```
+///
+/// One bond strain `z` grows with the displacement until the breakaway
+/// deflection `z0`, where it stops ("resets" the integrator). While
+/// `|z| < z0` the stiction factor `a` raises the force; it drops to
+/// `sigma0 z0` once the bond breaks: the force is discontinuous in `z`.
+/// With the optional Stribeck curve, `sigma0(v) = sigma0 g(v) / Fs`.
+///
+/// Discretisation: with `v` held, `z` moves by `v h` and stops exactly at
+/// `±z0` within the step (the switching instant is handled inside the
+/// step, not at its end). Exact for held `v`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ResetIntegrator<S> {

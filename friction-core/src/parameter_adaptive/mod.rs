@@ -1,68 +1,11 @@
 //! Per-parameter adaptive friction compensation: a LuGre observer whose
 //! friction levels are estimated one by one, each in its own box (after
 //! Canudas de Wit & Lischinsky 1997, Int. J. Adapt. Control Signal Process.
-//! 11(1); Panteley, Ortega & Gäfvert 1998, Syst. Control Lett. 33(5);
-//! robust modifications from Ioannou & Sun 1996, Robust Adaptive Control,
-//! Ch. 8: projection, dead zone, leakage).
-//!
-//! The θ-adaptive observer ([`crate::AdaptiveObserver`]) scales the whole
-//! model: a model whose Coulomb level alone is off is no scaled copy of the
-//! plant, and the error in the Stribeck shape stays. Here the observer is
-//! LuGre's, with the levels of its curve estimated: the steady friction is
-//! linear in them, with the normalized bristle `ζ = sigma0 z / g(v)`
-//! (`|ζ| <= 1`, `ζ = sign v` in steady sliding) as their regressor:
-//!
-//! ```text
-//! g^(v)   = Fc±^ + Ds^ s(v) + mu^ |τ|,  s(v) = exp(-|v / vs|^delta),  Fc+^ for z >= 0, Fc-^ below
-//! dz/dt   = v - k e - sigma0 |v| z / g^(v)                     LuGre observer (gain k)
-//! ζ       = sigma0 z / g^(v), within [-1, 1]                    the normalized bristle
-//! F^      = sigma0 z + sigma1 dz/dt + sigma2^ v
-//! φ       = [max(ζ, 0), min(ζ, 0), s(v) ζ, v, |τ| ζ]            regressors of
-//! θ^      = [Fc+^, Fc-^, Ds^, sigma2^, mu^]                     the estimates
-//! dθ^/dt  = -Γ φ (γ e + γd de/dt) - rho (θ^ - θ0)              per estimate, then
-//! θ^      = clamp(θ^, box)                                      projection
-//! ```
-//!
-//! In steady sliding `sigma0 z = g^(v) ζ` with `ζ = sign v`, so `φ` is the
-//! sensitivity of the steady friction to each estimate; the elastic force
-//! follows a change of the estimates within the bristle's lag
-//! `g / (sigma0 |v|)`.
-//!
-//! `τ` is the torque the transmission carries: the compensator's own last
-//! command times `kc`, less an external torque the user may set
-//! ([`ParameterAdaptive::set_external_torque`]). The adaptation signal is the
-//! θ law's (`γ = a kc kp`, `γd = w γ kd / kp`, the composite error of the
-//! loop's PD part), scaled per estimate by its regressor's size: 1 for the
-//! levels, the reference speed for `sigma2`, the reference torque for `mu`.
-//!
-//! A second law, off by default, learns from the friction the compensator
-//! measures instead of the tracking error ([`ParameterAdaptive::learn`]):
-//! the estimates' prediction `φᵀ θ^` of each measured sample against the
-//! sample (a gradient on the prediction error, as in composite adaptation,
-//! Slotine & Li 1989). It is the one that learns where this compensation
-//! is not in the loop: beside another controller, or on a logged run
-//! replayed through [`Compensator::listen`](crate::Compensator::listen).
-//!
-//! Robust modifications, all optional:
-//! - **dead zone**: no adaptation while `|e|` is within `dead_zone` (one or
-//!   two encoder counts: a quantized error that small carries no
-//!   information about the friction);
-//! - **leakage** `rho` toward the nominal values;
-//! - **excitation**: no adaptation while `|v|` is below `min_speed`;
-//! - **projection** onto each estimate's box (`[θ0 / box, θ0 box]` for the
-//!   Coulomb levels, `[0, box max(Ds0, Fc0)]` for the Stribeck excess, `[0,
-//!   max(box sigma2_0, Fs0 / speed)]` for the viscous coefficient,
-//!   `[0, load_max]` for the load coefficient).
-//!
-//! Bounds, for any finite inputs: every estimate stays in its box, `|ζ| <= 1`,
-//! and the output is finite and within the largest friction the boxes allow
-//! at that speed (see [`ParameterAdaptive::bound`]). A NaN or infinite input
-//! leaves the state untouched.
-//!
-//! The fixed-step form for every scalar, Q16.16 included, is [`at`]
-//! ([`ParameterAdaptiveParams::build_at`]).
+//! 11(1); Panteley, Ortega & Gäfvert 1998, Syst. Control Lett. 33(5); robust
+//! modifications from Ioannou & Sun 1996, Robust Adaptive Control, Ch. 8:
+//! projection, dead zone, leakage): see [`ParameterAdaptive`].
 
-pub mod at;
+mod fixed_step;
 #[cfg(test)]
 mod tests;
 mod variable_step;
@@ -72,12 +15,12 @@ use crate::compensator::CompensatorParams;
 use crate::model::{convert, non_negative, positive, ParamError};
 use crate::models::lugre::LuGreParams;
 use crate::Scalar;
-pub use at::{ParameterAdaptiveAt, ParameterAdaptiveAtState};
+pub use fixed_step::{ParameterAdaptiveFixedStep, ParameterAdaptiveFixedStepState};
 use variable_step::Estimate;
 pub use variable_step::{ParameterAdaptive, ParameterAdaptiveState};
 
 /// The number of estimates: `Fc+`, `Fc-`, `Ds`, `sigma2`, `mu`.
-pub const ESTIMATES: usize = 5;
+pub const PARAMETER_ADAPTIVE_ESTIMATES: usize = 5;
 
 /// Design-time parameters of the per-parameter adaptation, in `f64`.
 ///
@@ -105,7 +48,7 @@ pub struct ParameterAdaptiveParams {
     pub derivative_weight: f64,
     /// Leakage `rho >= 0` (1/s) toward the nominal values.
     pub leakage: f64,
-    /// Box factor `>= 1` of the projection (see the [module docs](self)).
+    /// Box factor `>= 1` of the projection (see [`ParameterAdaptive`]).
     pub box_factor: f64,
     /// Dead zone `>= 0` on `|e|` (position units).
     pub dead_zone: f64,
@@ -119,8 +62,8 @@ pub struct ParameterAdaptiveParams {
     /// Upper bound `load_max >= mu0` of the load coefficient (0: no load term).
     pub load_max: f64,
     /// Rate `>= 0` (1/s) of the prediction-error law (0: off), which
-    /// learns from the friction the compensator measures (see the
-    /// [module docs](self)); `prediction_rate h <= 1`.
+    /// learns from the friction the compensator measures (see
+    /// [`ParameterAdaptive`]); `prediction_rate h <= 1`.
     pub prediction_rate: f64,
 }
 
@@ -172,13 +115,13 @@ impl ParameterAdaptiveParams {
     }
 
     /// The nominal estimates `[Fc, Fc, Fs - Fc, sigma2, mu0]`.
-    pub fn nominal(&self) -> [f64; ESTIMATES] {
+    pub fn nominal(&self) -> [f64; PARAMETER_ADAPTIVE_ESTIMATES] {
         let c = &self.model.curve;
         [c.fc, c.fc, c.fs - c.fc, self.model.sigma2, self.load]
     }
 
     /// The projection boxes `(low, high)` of the estimates.
-    pub fn boxes(&self) -> [(f64, f64); ESTIMATES] {
+    pub fn boxes(&self) -> [(f64, f64); PARAMETER_ADAPTIVE_ESTIMATES] {
         let b = self.box_factor;
         let c = &self.model.curve;
         let excess = c.fs - c.fc;
@@ -229,7 +172,7 @@ impl ParameterAdaptiveParams {
             low: S::ZERO,
             high: S::ZERO,
         };
-        let mut per = [zero; ESTIMATES];
+        let mut per = [zero; PARAMETER_ADAPTIVE_ESTIMATES];
         // the prediction law's sizes: without the slowdown, which helps the
         // tracking law only (its levels and viscous term share one error)
         let predicted_size = [1.0, 1.0, 1.0, self.speed, torque];

@@ -69,7 +69,11 @@ fn invalid_settings_are_named() {
 /// explicit Euler at 10 kHz would be stiff: the plant is the core's own
 /// LuGre at 100 kHz) under the compensator with a wrong nominal model;
 /// returns the final estimates.
-fn adapt_on_olsson(nominal: LuGreParams, plant: LuGreParams, seconds: f64) -> [f64; ESTIMATES] {
+fn adapt_on_olsson(
+    nominal: LuGreParams,
+    plant: LuGreParams,
+    seconds: f64,
+) -> [f64; PARAMETER_ADAPTIVE_ESTIMATES] {
     use crate::{FrictionModel, LuGreState};
     let p = ParameterAdaptiveParams {
         speed: 0.63,

@@ -1,7 +1,7 @@
 //! The variable-step per-parameter adaptive observer: [`ParameterAdaptive`]
 //! and its state.
 
-use super::{ParameterAdaptiveParams, ESTIMATES};
+use super::{ParameterAdaptiveParams, PARAMETER_ADAPTIVE_ESTIMATES};
 use crate::bits::Flag;
 use crate::compensator::{Compensation, FrictionSample};
 use crate::fixed_step::carried;
@@ -17,7 +17,7 @@ pub struct ParameterAdaptiveState<S> {
     /// The bristle deflection `z`, within `g^(v) / sigma0`.
     pub z: S,
     /// The estimates `[Fc+, Fc-, Ds, sigma2, mu]`.
-    estimates: [S; ESTIMATES],
+    estimates: [S; PARAMETER_ADAPTIVE_ESTIMATES],
     last_error: S,
     /// The transmitted torque `kc u - τ_ext`.
     pub(super) torque: S,
@@ -31,7 +31,7 @@ impl<S: Scalar> ParameterAdaptiveState<S> {
     /// The estimates `[Fc+, Fc-, Fs - Fc, sigma2, mu]`: 0 in a `Default`
     /// state until its first step sets them to the nominal values
     /// ([`ParameterAdaptive::initial`] starts there).
-    pub fn estimates(&self) -> [S; ESTIMATES] {
+    pub fn estimates(&self) -> [S; PARAMETER_ADAPTIVE_ESTIMATES] {
         self.estimates
     }
 }
@@ -52,10 +52,75 @@ pub(super) struct Estimate<S> {
 /// The built per-parameter adaptive observer: immutable, shared by any
 /// number of [`ParameterAdaptiveState`]s; a [`Compensation`] for the
 /// [`Compensator`](crate::Compensator) at the period it was built for.
+///
+/// Per-parameter adaptive friction compensation: a LuGre observer whose
+/// friction levels are estimated one by one, each in its own box (after
+/// Canudas de Wit & Lischinsky 1997, Int. J. Adapt. Control Signal Process.
+/// 11(1); Panteley, Ortega & Gäfvert 1998, Syst. Control Lett. 33(5);
+/// robust modifications from Ioannou & Sun 1996, Robust Adaptive Control,
+/// Ch. 8: projection, dead zone, leakage).
+///
+/// The θ-adaptive observer ([`crate::AdaptiveObserver`]) scales the whole
+/// model: a model whose Coulomb level alone is off is no scaled copy of the
+/// plant, and the error in the Stribeck shape stays. Here the observer is
+/// LuGre's, with the levels of its curve estimated: the steady friction is
+/// linear in them, with the normalized bristle `ζ = sigma0 z / g(v)`
+/// (`|ζ| <= 1`, `ζ = sign v` in steady sliding) as their regressor:
+///
+/// ```text
+/// g^(v)   = Fc±^ + Ds^ s(v) + mu^ |τ|,  s(v) = exp(-|v / vs|^delta),  Fc+^ for z >= 0, Fc-^ below
+/// dz/dt   = v - k e - sigma0 |v| z / g^(v)                     LuGre observer (gain k)
+/// ζ       = sigma0 z / g^(v), within [-1, 1]                    the normalized bristle
+/// F^      = sigma0 z + sigma1 dz/dt + sigma2^ v
+/// φ       = [max(ζ, 0), min(ζ, 0), s(v) ζ, v, |τ| ζ]            regressors of
+/// θ^      = [Fc+^, Fc-^, Ds^, sigma2^, mu^]                     the estimates
+/// dθ^/dt  = -Γ φ (γ e + γd de/dt) - rho (θ^ - θ0)              per estimate, then
+/// θ^      = clamp(θ^, box)                                      projection
+/// ```
+///
+/// In steady sliding `sigma0 z = g^(v) ζ` with `ζ = sign v`, so `φ` is the
+/// sensitivity of the steady friction to each estimate; the elastic force
+/// follows a change of the estimates within the bristle's lag
+/// `g / (sigma0 |v|)`.
+///
+/// `τ` is the torque the transmission carries: the compensator's own last
+/// command times `kc`, less an external torque the user may set
+/// ([`ParameterAdaptive::set_external_torque`]). The adaptation signal is the
+/// θ law's (`γ = a kc kp`, `γd = w γ kd / kp`, the composite error of the
+/// loop's PD part), scaled per estimate by its regressor's size: 1 for the
+/// levels, the reference speed for `sigma2`, the reference torque for `mu`.
+///
+/// A second law, off by default, learns from the friction the compensator
+/// measures instead of the tracking error ([`ParameterAdaptive::learn`]):
+/// the estimates' prediction `φᵀ θ^` of each measured sample against the
+/// sample (a gradient on the prediction error, as in composite adaptation,
+/// Slotine & Li 1989). It is the one that learns where this compensation
+/// is not in the loop: beside another controller, or on a logged run
+/// replayed through [`Compensator::listen`](crate::Compensator::listen).
+///
+/// Robust modifications, all optional:
+/// - **dead zone**: no adaptation while `|e|` is within `dead_zone` (one or
+///   two encoder counts: a quantized error that small carries no
+///   information about the friction);
+/// - **leakage** `rho` toward the nominal values;
+/// - **excitation**: no adaptation while `|v|` is below `min_speed`;
+/// - **projection** onto each estimate's box (`[θ0 / box, θ0 box]` for the
+///   Coulomb levels, `[0, box max(Ds0, Fc0)]` for the Stribeck excess, `[0,
+///   max(box sigma2_0, Fs0 / speed)]` for the viscous coefficient,
+///   `[0, load_max]` for the load coefficient).
+///
+/// Bounds, for any finite inputs: every estimate stays in its box, `|ζ| <= 1`,
+/// and the output is finite and within the largest friction the boxes allow
+/// at that speed (see [`ParameterAdaptive::bound`]). A NaN or infinite input
+/// leaves the state untouched.
+///
+/// The fixed-step form for every scalar, Q16.16 included, is
+/// [`ParameterAdaptiveFixedStep`](crate::ParameterAdaptiveFixedStep)
+/// ([`ParameterAdaptiveParams::build_fixed_step`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ParameterAdaptive<S> {
-    pub(super) per: [Estimate<S>; ESTIMATES],
+    pub(super) per: [Estimate<S>; PARAMETER_ADAPTIVE_ESTIMATES],
     pub(super) leakage_h: S,
     pub(super) sigma0_h: S,
     pub(super) sigma0: S,
@@ -105,7 +170,11 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// Sets the estimates of `state` (e.g. restored after a power cycle),
     /// each projected onto its box; a non-finite value leaves that estimate
     /// as it is.
-    pub fn set_estimates(&self, state: &mut ParameterAdaptiveState<S>, values: [f64; ESTIMATES]) {
+    pub fn set_estimates(
+        &self,
+        state: &mut ParameterAdaptiveState<S>,
+        values: [f64; PARAMETER_ADAPTIVE_ESTIMATES],
+    ) {
         self.start(state);
         for ((x, v), k) in state.estimates.iter_mut().zip(values).zip(&self.per) {
             if v.is_finite() {
@@ -142,8 +211,8 @@ impl<S: Scalar> ParameterAdaptive<S> {
         level + level + self.per[4].high * self.torque_limit + self.per[3].high * v.abs()
     }
 
-    /// One step with measured velocity `v` and position error `e` (see the
-    /// [module documentation](crate::parameter_adaptive)); returns `F^`.
+    /// One step with measured velocity `v` and position error `e` (see
+    /// [`ParameterAdaptive`]); returns `F^`.
     #[inline]
     pub fn step(&self, state: &mut ParameterAdaptiveState<S>, v: S, e: S) -> S {
         self.start(state);
@@ -200,7 +269,12 @@ impl<S: Scalar> ParameterAdaptive<S> {
 
     /// The regressors `φ` at normalized bristle `ζ`, shape `s` and speed `v`.
     #[inline]
-    fn regressors(state: &ParameterAdaptiveState<S>, zeta: S, s: S, v: S) -> [S; ESTIMATES] {
+    fn regressors(
+        state: &ParameterAdaptiveState<S>,
+        zeta: S,
+        s: S,
+        v: S,
+    ) -> [S; PARAMETER_ADAPTIVE_ESTIMATES] {
         [
             zeta.max(S::ZERO),
             zeta.min(S::ZERO),
@@ -264,7 +338,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
         // centred at c (see above): the viscous step first, then each
         // level's, less what the viscous step moved the friction at c
         let viscous = ((self.per[3].gamma_p * error).sat(lim) * (v - self.centre * sign)).sat(lim);
-        let mut step = [S::ZERO; ESTIMATES];
+        let mut step = [S::ZERO; PARAMETER_ADAPTIVE_ESTIMATES];
         for ((d, p), k) in step.iter_mut().zip(phi).zip(&self.per) {
             *d = ((k.gamma_p * error).sat(lim) * p).sat(lim);
         }

@@ -47,10 +47,6 @@ use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::hprintln;
 use friction_core::{AdaptiveObserver, AdaptiveState, Leuven, LeuvenState};
 use friction_core::{
-    AtPeriod, DahlAt, ElastoPlasticAt, Fixed32, FixedStepModel, GmsAt, LuGreAt, LuGreAtState,
-    XiongAt, XiongAtState,
-};
-use friction_core::{
     Bristle, BristleParams, BristleState, Compensator, CompensatorState, CoulombViscous,
     CoulombViscousParams, Dahl, DahlParams, DahlState, ElastoPlastic, ElastoPlasticParams,
     FrictionModel, Gms, GmsState, LuGre, LuGreState, Observer, ResetIntegrator,
@@ -58,10 +54,16 @@ use friction_core::{
     Xiong, XiongElement, XiongParams, XiongState,
 };
 use friction_core::{
-    Commissioning, CommissioningParams, CommissioningState, CommissioningTick, Phase,
+    Commissioning, CommissioningParams, CommissioningPhase, CommissioningState, CommissioningTick,
 };
 use friction_core::{
-    ParameterAdaptiveAt, ParameterAdaptiveAtState, ParameterAdaptiveServo, SupervisedState,
+    DahlFixedStep, DahlFixedStepState, ElastoPlasticFixedStep, ElastoPlasticFixedStepState,
+    ElastoPlasticState, Fixed32, FixedPeriod, FixedStepModel, GmsFixedStep, GmsFixedStepState,
+    LuGreFixedStep, LuGreFixedStepState, XiongFixedStep, XiongFixedStepState,
+};
+use friction_core::{
+    ParameterAdaptiveFixedStep, ParameterAdaptiveFixedStepState, ParameterAdaptiveServo,
+    SupervisedState,
 };
 
 // the servo's model, loop period (the variable-step rows pass `H` through
@@ -130,7 +132,7 @@ fn calibrate() -> Option<f32> {
 }
 
 /// The form of a step: `step(&mut state, v, h)` (variable) or, once the
-/// core has it, `build_at(h)` then `step(&mut state, v)` (fixed).
+/// core has it, `build_fixed_step(h)` then `step(&mut state, v)` (fixed).
 #[derive(Clone, Copy)]
 enum Form {
     Variable,
@@ -417,7 +419,7 @@ step_fn!(step_lugre_f32, LuGre<f32>, LuGreState<f32>, f32 => f32, |m, s, v| m.st
 step_fn!(step_lugre_observer_f32, LuGreObserver, LuGreState<f32>, f32 => f32,
     |m, s, v| m.step(s, v, black_box(OBSERVER_ERROR), black_box(H)));
 step_fn!(step_dahl_f32, Dahl<f32>, DahlState<f32>, f32 => f32, |m, s, v| m.step(s, v, black_box(H)));
-step_fn!(step_elasto_plastic_f32, ElastoPlastic<f32>, LuGreState<f32>, f32 => f32,
+step_fn!(step_elasto_plastic_f32, ElastoPlastic<f32>, ElastoPlasticState<f32>, f32 => f32,
     |m, s, v| m.step(s, v, black_box(H)));
 step_fn!(step_reset_integrator_f32, ResetIntegrator<f32>, ResetIntegratorState<f32>, f32 => f32,
     |m, s, v| m.step(s, v, black_box(H)));
@@ -442,27 +444,27 @@ step_fn!(step_servo_lugre_f32, Servo, ServoState, (f32, Setpoint<f32>) => f32,
 step_fn!(step_leuven8_f32, Leuven<f32, 8>, LeuvenState<f32, 8>, f32 => f32,
     |m, s, v| m.step(s, v, black_box(H)));
 
-// the fixed-step forms (`build_at(H)`, step without `h`), f32 and Q16.16
-type LuGreAtObserver<S> = Observer<LuGreAt<S>, S>;
-type ServoAt = Compensator<f32, AtPeriod<LuGreAtObserver<f32>>>;
-type ServoAtState = CompensatorState<f32, LuGreAtState<f32>>;
+// the fixed-step forms (`build_fixed_step(H)`, step without `h`), f32 and Q16.16
+type LuGreFixedStepObserver<S> = Observer<LuGreFixedStep<S>, S>;
+type ServoFixedStep = Compensator<f32, FixedPeriod<LuGreFixedStepObserver<f32>>>;
+type ServoFixedStepState = CompensatorState<f32, LuGreFixedStepState<f32>>;
 macro_rules! fixed_step_fns {
     ($S:ty, $lugre:ident, $observer:ident, $dahl:ident, $ep:ident, $gms1:ident,
      $gms4:ident, $gms16:ident, $xiong1:ident, $xiong4:ident, $xiong16:ident) => {
-        step_fn!($lugre, LuGreAt<$S>, LuGreAtState<$S>, $S => $S, |m, s, v| m.step(s, v));
+        step_fn!($lugre, LuGreFixedStep<$S>, LuGreFixedStepState<$S>, $S => $S, |m, s, v| m.step(s, v));
         // the position error is an input, as the velocity: a caller has it
         // in a register (a constant behind `black_box` would be stored and
         // reloaded inside the measured function)
-        step_fn!($observer, LuGreAtObserver<$S>, LuGreAtState<$S>, ($S, $S) => $S,
+        step_fn!($observer, LuGreFixedStepObserver<$S>, LuGreFixedStepState<$S>, ($S, $S) => $S,
             |m, s, input| m.step_at(s, input.0, input.1));
-        step_fn!($dahl, DahlAt<$S>, DahlState<$S>, $S => $S, |m, s, v| m.step(s, v));
-        step_fn!($ep, ElastoPlasticAt<$S>, LuGreAtState<$S>, $S => $S, |m, s, v| m.step(s, v));
-        step_fn!($gms1, GmsAt<$S, 1>, GmsState<$S, 1>, $S => $S, |m, s, v| m.step(s, v));
-        step_fn!($gms4, GmsAt<$S, 4>, GmsState<$S, 4>, $S => $S, |m, s, v| m.step(s, v));
-        step_fn!($gms16, GmsAt<$S, 16>, GmsState<$S, 16>, $S => $S, |m, s, v| m.step(s, v));
-        step_fn!($xiong1, XiongAt<$S, 1>, XiongAtState<$S, 1>, $S => $S, |m, s, v| m.step(s, v));
-        step_fn!($xiong4, XiongAt<$S, 4>, XiongAtState<$S, 4>, $S => $S, |m, s, v| m.step(s, v));
-        step_fn!($xiong16, XiongAt<$S, 16>, XiongAtState<$S, 16>, $S => $S, |m, s, v| m.step(s, v));
+        step_fn!($dahl, DahlFixedStep<$S>, DahlFixedStepState<$S>, $S => $S, |m, s, v| m.step(s, v));
+        step_fn!($ep, ElastoPlasticFixedStep<$S>, ElastoPlasticFixedStepState<$S>, $S => $S, |m, s, v| m.step(s, v));
+        step_fn!($gms1, GmsFixedStep<$S, 1>, GmsFixedStepState<$S, 1>, $S => $S, |m, s, v| m.step(s, v));
+        step_fn!($gms4, GmsFixedStep<$S, 4>, GmsFixedStepState<$S, 4>, $S => $S, |m, s, v| m.step(s, v));
+        step_fn!($gms16, GmsFixedStep<$S, 16>, GmsFixedStepState<$S, 16>, $S => $S, |m, s, v| m.step(s, v));
+        step_fn!($xiong1, XiongFixedStep<$S, 1>, XiongFixedStepState<$S, 1>, $S => $S, |m, s, v| m.step(s, v));
+        step_fn!($xiong4, XiongFixedStep<$S, 4>, XiongFixedStepState<$S, 4>, $S => $S, |m, s, v| m.step(s, v));
+        step_fn!($xiong16, XiongFixedStep<$S, 16>, XiongFixedStepState<$S, 16>, $S => $S, |m, s, v| m.step(s, v));
     };
 }
 fixed_step_fns!(
@@ -491,26 +493,28 @@ fixed_step_fns!(
     step_xiong4_at_q16,
     step_xiong16_at_q16
 );
-step_fn!(step_servo_lugre_at_f32, ServoAt, ServoAtState, (f32, Setpoint<f32>) => f32,
+step_fn!(step_servo_lugre_at_f32, ServoFixedStep, ServoFixedStepState, (f32, Setpoint<f32>) => f32,
     |m, s, input| m.tick(s, input.0, input.1).command);
 // the same tick with the θ-adaptive observer (issue 16: within the servo tick + 150)
-type ServoAdaptive = Compensator<f32, AtPeriod<AdaptiveObserver<LuGreAt<f32>, f32>>>;
-type ServoAdaptiveState = CompensatorState<f32, AdaptiveState<LuGreAtState<f32>, f32>>;
+type ServoAdaptive = Compensator<f32, FixedPeriod<AdaptiveObserver<LuGreFixedStep<f32>, f32>>>;
+type ServoAdaptiveState = CompensatorState<f32, AdaptiveState<LuGreFixedStepState<f32>, f32>>;
 step_fn!(step_servo_adaptive_at_f32, ServoAdaptive, ServoAdaptiveState, (f32, Setpoint<f32>) => f32,
     |m, s, input| m.tick(s, input.0, input.1).command);
 // both ticks in Q16.16, for cores without an FPU
-type ServoAtQ16 = Compensator<Fixed32, AtPeriod<LuGreAtObserver<Fixed32>>>;
-type ServoAtStateQ16 = CompensatorState<Fixed32, LuGreAtState<Fixed32>>;
-step_fn!(step_servo_lugre_at_q16, ServoAtQ16, ServoAtStateQ16,
+type ServoFixedStepQ16 = Compensator<Fixed32, FixedPeriod<LuGreFixedStepObserver<Fixed32>>>;
+type ServoFixedStepStateQ16 = CompensatorState<Fixed32, LuGreFixedStepState<Fixed32>>;
+step_fn!(step_servo_lugre_at_q16, ServoFixedStepQ16, ServoFixedStepStateQ16,
     (Fixed32, Setpoint<Fixed32>) => Fixed32, |m, s, input| m.tick(s, input.0, input.1).command);
-type ServoAdaptiveQ16 = Compensator<Fixed32, AtPeriod<AdaptiveObserver<LuGreAt<Fixed32>, Fixed32>>>;
+type ServoAdaptiveQ16 =
+    Compensator<Fixed32, FixedPeriod<AdaptiveObserver<LuGreFixedStep<Fixed32>, Fixed32>>>;
 type ServoAdaptiveStateQ16 =
-    CompensatorState<Fixed32, AdaptiveState<LuGreAtState<Fixed32>, Fixed32>>;
+    CompensatorState<Fixed32, AdaptiveState<LuGreFixedStepState<Fixed32>, Fixed32>>;
 step_fn!(step_servo_adaptive_at_q16, ServoAdaptiveQ16, ServoAdaptiveStateQ16,
     (Fixed32, Setpoint<Fixed32>) => Fixed32, |m, s, input| m.tick(s, input.0, input.1).command);
 // the per-parameter adaptive observer's fixed-step form under its supervisor
 // (issue 32: within the servo tick + 200 on the M4F, + 400 in Q16.16 on the M0)
-type ServoParameterState<S> = CompensatorState<S, SupervisedState<ParameterAdaptiveAtState<S>, S>>;
+type ServoParameterState<S> =
+    CompensatorState<S, SupervisedState<ParameterAdaptiveFixedStepState<S>, S>>;
 step_fn!(step_servo_parameter_adaptive_f32, ParameterAdaptiveServo<f32>,
     ServoParameterState<f32>, (f32, Setpoint<f32>) => f32,
     |m, s, input| m.tick(s, input.0, input.1).command);
@@ -519,8 +523,8 @@ step_fn!(step_servo_parameter_adaptive_q16, ParameterAdaptiveServo<Fixed32>,
     |m, s, input| m.tick(s, input.0, input.1).command);
 
 // the same law without its supervisor: what the supervisor costs
-type ServoParameterBare<S> = Compensator<S, ParameterAdaptiveAt<S>>;
-type ServoParameterBareState<S> = CompensatorState<S, ParameterAdaptiveAtState<S>>;
+type ServoParameterBare<S> = Compensator<S, ParameterAdaptiveFixedStep<S>>;
+type ServoParameterBareState<S> = CompensatorState<S, ParameterAdaptiveFixedStepState<S>>;
 step_fn!(step_servo_parameter_bare_f32, ServoParameterBare<f32>,
     ServoParameterBareState<f32>, (f32, Setpoint<f32>) => f32,
     |m, s, input| m.tick(s, input.0, input.1).command);
@@ -532,7 +536,7 @@ step_fn!(step_servo_parameter_bare_q16, ServoParameterBare<Fixed32>,
 fn parameter_servo_bare<S: Scalar>(label: &str) -> ServoParameterBare<S> {
     let p = controller();
     let law = parameter_adaptation()
-        .build_at::<S>(&p)
+        .build_fixed_step::<S>(&p)
         .unwrap_or_else(|_| fail(label));
     p.build(law).unwrap_or_else(|_| fail(label))
 }
@@ -541,7 +545,7 @@ fn parameter_servo_bare<S: Scalar>(label: &str) -> ServoParameterBare<S> {
 fn parameter_servo<S: Scalar>(label: &str) -> ParameterAdaptiveServo<S> {
     let p = controller();
     let law = parameter_adaptation()
-        .build_at::<S>(&p)
+        .build_fixed_step::<S>(&p)
         .unwrap_or_else(|_| fail(label));
     let map = fallback().build::<S>().unwrap_or_else(|_| fail(label));
     let supervised = supervisor()
@@ -557,7 +561,7 @@ macro_rules! fixed_step_rows {
         let f = Form::Fixed;
         let h = f64::from(H);
         let lugre = NOMINAL
-            .build_at::<$S>(h)
+            .build_fixed_step::<$S>(h)
             .unwrap_or_else(|_| fail("fixed-step LuGre parameters"));
         row!($pt, "lugre", $label, f, &lugre, $lugre, $S);
         let observer =
@@ -581,7 +585,7 @@ macro_rules! fixed_step_rows {
             delta: 1.0,
             sigma2: NOMINAL.sigma2,
         }
-        .build_at::<$S>(h)
+        .build_fixed_step::<$S>(h)
         .unwrap_or_else(|_| fail("fixed-step Dahl parameters"));
         row!($pt, "dahl", $label, f, &dahl, $dahl, $S);
         // the default (bounded) step, the full step, and the bounds a
@@ -600,7 +604,7 @@ macro_rules! fixed_step_rows {
                 lugre: NOMINAL,
                 z_ba: frac * NOMINAL.curve.fc / NOMINAL.sigma0,
             }
-            .build_at::<$S>(h)
+            .build_fixed_step::<$S>(h)
             .unwrap_or_else(|_| fail("fixed-step elasto-plastic parameters"));
             let ep = match k {
                 Some(k) => built.with_max_substeps(k),
@@ -637,8 +641,13 @@ fn gms<const N: usize>() -> Gms<f32, N> {
 
 /// The fixed-step GMS in scalar `S`, built for `H`; `None` (and a
 /// `cost-skip` line) where the scalar cannot carry the parameter set.
-fn gms_at<S: Scalar, const N: usize>(label: &str) -> Option<GmsAt<S, N>> {
-    built(gms_params::<N>().build_at(f64::from(H)), "gms", N, label)
+fn gms_at<S: Scalar, const N: usize>(label: &str) -> Option<GmsFixedStep<S, N>> {
+    built(
+        gms_params::<N>().build_fixed_step(f64::from(H)),
+        "gms",
+        N,
+        label,
+    )
 }
 
 /// `Some(model)`, or `None` with a `cost-skip MODEL SCALAR CORE reason` line.
@@ -674,9 +683,9 @@ fn xiong<const N: usize>() -> Xiong<f32, N> {
 }
 
 /// The fixed-step Xiong in scalar `S`, built for `H` (see [`gms_at`]).
-fn xiong_at<S: Scalar, const N: usize>(label: &str) -> Option<XiongAt<S, N>> {
+fn xiong_at<S: Scalar, const N: usize>(label: &str) -> Option<XiongFixedStep<S, N>> {
     built(
-        xiong_params::<N>().build_at(f64::from(H)),
+        xiong_params::<N>().build_fixed_step(f64::from(H)),
         "xiong",
         N,
         label,
@@ -792,10 +801,10 @@ fn commissioning_rows<S: Scalar>(
         let measured = libm::floorf(x * counts_per_rad) / counts_per_rad;
         let input = S::from_f64(f64::from(measured));
         let phase = match state.phase() {
-            Phase::Breakaway => 0,
-            Phase::Presliding => 1,
-            Phase::Plateaus => 2,
-            Phase::Done | Phase::Aborted => {
+            CommissioningPhase::Breakaway => 0,
+            CommissioningPhase::Presliding => 1,
+            CommissioningPhase::Plateaus => 2,
+            CommissioningPhase::Done | CommissioningPhase::Aborted => {
                 finished = true;
                 break;
             }
@@ -829,7 +838,7 @@ fn commissioning_rows<S: Scalar>(
             x += hs * v;
         }
     }
-    if !(finished && state.phase() == Phase::Done) {
+    if !(finished && state.phase() == CommissioningPhase::Done) {
         hprintln!("cost: commissioning in {}: {:?}", scalar, state.abort());
         fail("the commissioning run of the cost rows did not finish");
     }
@@ -1155,10 +1164,10 @@ fn main() -> ! {
         step_xiong16_at_q16
     );
     let lugre_at = NOMINAL
-        .build_at::<f32>(f64::from(H))
+        .build_fixed_step::<f32>(f64::from(H))
         .unwrap_or_else(|_| fail("fixed-step LuGre parameters"));
     let servo_at = controller
-        .build(AtPeriod(
+        .build(FixedPeriod(
             Observer::new(lugre_at, OBSERVER_GAIN).unwrap_or_else(|_| fail("observer gain")),
         ))
         .unwrap_or_else(|_| fail("servo gains"));
@@ -1180,7 +1189,7 @@ fn main() -> ! {
     let adaptive_observer =
         Observer::new(lugre_at, OBSERVER_GAIN).unwrap_or_else(|_| fail("observer gain"));
     let servo_adaptive = controller
-        .build(AtPeriod(
+        .build(FixedPeriod(
             adaptation()
                 .build(adaptive_observer, f64::from(H))
                 .unwrap_or_else(|_| fail("adaptation parameters")),
@@ -1230,12 +1239,12 @@ fn main() -> ! {
     );
     // the same ticks in Q16.16
     let lugre_q16 = NOMINAL
-        .build_at::<Fixed32>(f64::from(H))
+        .build_fixed_step::<Fixed32>(f64::from(H))
         .unwrap_or_else(|_| fail("fixed-step LuGre parameters in Q16.16"));
     let observer_q16 =
         Observer::new(lugre_q16, OBSERVER_GAIN).unwrap_or_else(|_| fail("observer gain"));
     let servo_q16 = controller
-        .build(AtPeriod(observer_q16))
+        .build(FixedPeriod(observer_q16))
         .unwrap_or_else(|_| fail("servo gains in Q16.16"));
     row(
         pt,
@@ -1250,7 +1259,7 @@ fn main() -> ! {
         STRESS_LEN,
     );
     let servo_adaptive_q16 = controller
-        .build(AtPeriod(
+        .build(FixedPeriod(
             adaptation()
                 .build(observer_q16, f64::from(H))
                 .unwrap_or_else(|_| fail("adaptation parameters in Q16.16")),

@@ -79,7 +79,7 @@ fn period<M: FixedStepModel<Fixed32>>(model: &M) {
 fn main() -> ! {
     let h = f64::from(H);
     let lugre = NOMINAL
-        .build_at::<Fixed32>(h)
+        .build_fixed_step::<Fixed32>(h)
         .unwrap_or_else(|_| fail("LuGre parameters"));
     period(&lugre);
     for (k, at) in [(1, 56), (0, 48)] {
@@ -87,13 +87,13 @@ fn main() -> ! {
             lugre: NOMINAL,
             z_ba: 0.5 * NOMINAL.curve.fc / NOMINAL.sigma0,
         }
-        .build_at::<Fixed32>(h)
+        .build_fixed_step::<Fixed32>(h)
         .unwrap_or_else(|_| fail("elasto-plastic parameters"))
         .with_max_substeps(k);
         worst(&ep, at);
     }
     let gms = gms_params::<4>()
-        .build_at::<Fixed32>(h)
+        .build_fixed_step::<Fixed32>(h)
         .unwrap_or_else(|_| fail("GMS parameters"));
     period(&gms);
     debug::exit(EXIT_SUCCESS);

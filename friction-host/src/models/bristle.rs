@@ -11,7 +11,7 @@ use super::{
 use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use crate::signals::Signal;
 use anyhow::{bail, Result};
-use friction_core::random::CounterRng;
+use friction_core::CounterRng;
 use friction_core::{Bristle, BristleParams, BristleState, ParamError, Scalar};
 
 /// The largest bristle count the host dispatches onto the core's const

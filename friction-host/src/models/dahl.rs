@@ -88,10 +88,10 @@ impl HostModel for DahlParams {
     fn stepper(&self, scalar: ScalarKind) -> Result<Box<dyn Stepper>, ParamError> {
         in_scalar!(scalar, build(self))
     }
-    /// `DahlAt` in Q16.16 (`delta > 1` evaluates `powf`, `ln_1p`, `exp_m1` in `f32`).
+    /// `DahlFixedStep` in Q16.16 (`delta > 1` evaluates `powf`, `ln_1p`, `exp_m1` in `f32`).
     fn fixed_stepper(&self, h: f64) -> Option<Result<Box<dyn Stepper>, ParamError>> {
         Some(
-            self.build_at::<Fixed32>(h)
+            self.build_fixed_step::<Fixed32>(h)
                 .map(|m| boxed_fixed(m, &["fh"], states::<Fixed32>)),
         )
     }

@@ -11,7 +11,7 @@ use super::{
 use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use anyhow::{bail, Result};
 use friction_core::LuGreParams;
-use friction_core::{ElastoPlasticParams, Fixed32, LuGreAtState, ParamError, Scalar};
+use friction_core::{ElastoPlasticParams, Fixed32, LuGreFixedStepState, ParamError, Scalar};
 
 impl HostParams for ElastoPlasticParams {
     type Spec = ElastoPlasticParams;
@@ -99,12 +99,13 @@ impl HostModel for ElastoPlasticParams {
     fn stepper(&self, scalar: ScalarKind) -> Result<Box<dyn Stepper>, ParamError> {
         in_scalar!(scalar, build(self))
     }
-    /// `ElastoPlasticAt` in Q16.16 (the state `w = sigma0 z` times its force scale).
+    /// `ElastoPlasticFixedStep` in Q16.16 (the state `w = sigma0 z` times its force scale).
     fn fixed_stepper(&self, h: f64) -> Option<Result<Box<dyn Stepper>, ParamError>> {
-        Some(
-            self.build_at::<Fixed32>(h)
-                .map(|m| boxed_fixed(m, &["w"], |s: &LuGreAtState<Fixed32>| vec![s.w.to_f64()])),
-        )
+        Some(self.build_fixed_step::<Fixed32>(h).map(|m| {
+            boxed_fixed(m, &["w"], |s: &LuGreFixedStepState<Fixed32>| {
+                vec![s.w.to_f64()]
+            })
+        }))
     }
     fn max_static_force(&self) -> f64 {
         self.lugre.curve.fs

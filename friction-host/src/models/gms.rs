@@ -111,9 +111,9 @@ impl GmsSpec {
 fn states<S: Scalar, const K: usize>(s: &GmsState<S, K>) -> Vec<f64> {
     let mut out: Vec<f64> = s.force.iter().map(|x| x.to_f64()).collect();
     out.extend(s.mode.iter().map(|m| match m {
-        friction_core::SlipMode::Stick => 0.0,
-        friction_core::SlipMode::Forward => 1.0,
-        friction_core::SlipMode::Backward => -1.0,
+        friction_core::GmsSlipMode::Stick => 0.0,
+        friction_core::GmsSlipMode::Forward => 1.0,
+        friction_core::GmsSlipMode::Backward => -1.0,
     }));
     out
 }
@@ -177,7 +177,7 @@ fn build_fixed_n<const K: usize>(spec: &GmsSpec, h: f64) -> Result<Box<dyn Stepp
     names.extend((0..K).map(|i| format!("mode{i}")));
     let names: Vec<&str> = names.iter().map(String::as_str).collect();
     Ok(boxed_fixed(
-        p.build_at::<Fixed32>(h)?,
+        p.build_fixed_step::<Fixed32>(h)?,
         &names,
         states::<Fixed32, K>,
     ))
@@ -230,7 +230,7 @@ impl HostModel for GmsSpec {
     fn stepper(&self, scalar: ScalarKind) -> Result<Box<dyn Stepper>, ParamError> {
         in_scalar!(scalar, build(self))
     }
-    /// `GmsAt` in Q16.16 (element forces in the state times its force scale).
+    /// `GmsFixedStep` in Q16.16 (element forces in the state times its force scale).
     fn fixed_stepper(&self, h: f64) -> Option<Result<Box<dyn Stepper>, ParamError>> {
         Some(with_count!(self, build_fixed_n; h))
     }

@@ -10,7 +10,7 @@ use super::{
 use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use anyhow::{bail, Result};
 use friction_core::{
-    Fixed32, LuGreAtState, LuGreParams, LuGreState, ParamError, Scalar, StribeckParams,
+    Fixed32, LuGreFixedStepState, LuGreParams, LuGreState, ParamError, Scalar, StribeckParams,
 };
 
 model_file!(LuGreFile {
@@ -126,10 +126,11 @@ impl HostModel for LuGreParams {
         in_scalar!(scalar, build(self))
     }
     fn fixed_stepper(&self, h: f64) -> Option<Result<Box<dyn Stepper>, ParamError>> {
-        Some(
-            self.build_at::<Fixed32>(h)
-                .map(|m| boxed_fixed(m, &["w"], |s: &LuGreAtState<Fixed32>| vec![s.w.to_f64()])),
-        )
+        Some(self.build_fixed_step::<Fixed32>(h).map(|m| {
+            boxed_fixed(m, &["w"], |s: &LuGreFixedStepState<Fixed32>| {
+                vec![s.w.to_f64()]
+            })
+        }))
     }
     fn max_static_force(&self) -> f64 {
         self.curve.fs

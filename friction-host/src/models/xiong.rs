@@ -10,8 +10,8 @@ use super::{
 use crate::control::{observer_controller, Controller, Loop, ObserverRequest};
 use anyhow::{bail, Result};
 use friction_core::{
-    Fixed32, ParamError, Scalar, StribeckParams, Xiong, XiongAtState, XiongElement, XiongParams,
-    XiongState,
+    Fixed32, ParamError, Scalar, StribeckParams, Xiong, XiongElement, XiongFixedStepState,
+    XiongParams, XiongState,
 };
 
 /// Xiong parameters with any number of elements (1 to 16 on the host).
@@ -124,7 +124,7 @@ fn build<S: Scalar + 'static>(spec: &XiongSpec) -> Result<Box<dyn Stepper>, Para
 }
 
 /// `lag`, then the element forces `w_i` (times the model's force scale).
-fn fixed_states<const K: usize>(s: &XiongAtState<Fixed32, K>) -> Vec<f64> {
+fn fixed_states<const K: usize>(s: &XiongFixedStepState<Fixed32, K>) -> Vec<f64> {
     let mut out = vec![s.lag.to_f64()];
     out.extend(s.w.iter().map(|x| x.to_f64()));
     out
@@ -136,7 +136,7 @@ fn build_fixed_n<const K: usize>(spec: &XiongSpec, h: f64) -> Result<Box<dyn Ste
     names.extend((0..K).map(|i| format!("w{i}")));
     let names: Vec<&str> = names.iter().map(String::as_str).collect();
     Ok(boxed_fixed(
-        p.build_at::<Fixed32>(h)?,
+        p.build_fixed_step::<Fixed32>(h)?,
         &names,
         fixed_states::<K>,
     ))
@@ -229,7 +229,7 @@ impl HostModel for XiongSpec {
     fn stepper(&self, scalar: ScalarKind) -> Result<Box<dyn Stepper>, ParamError> {
         in_scalar!(scalar, build(self))
     }
-    /// `XiongAt` in Q16.16.
+    /// `XiongFixedStep` in Q16.16.
     fn fixed_stepper(&self, h: f64) -> Option<Result<Box<dyn Stepper>, ParamError>> {
         Some(with_count!(self, build_fixed_n; h))
     }

@@ -293,7 +293,7 @@ pub(super) fn write_report(
          difference over the whole signal, as a fraction of the static force `Fs`. `mean-v` is the same RMS \
          when the core is fed the mean velocity over each step (an encoder difference) instead. `f32-f64` is \
          the RMS difference between the core in f32 and in f64, / Fs. `fixed` is the RMS error against the \
-         reference of the fixed-step form (`build_at(h)`) in Q16.16 fixed point (`Fixed32`, feature `fixed`), \
+         reference of the fixed-step form (`build_fixed_step(h)`) in Q16.16 fixed point (`Fixed32`, feature `fixed`), \
          fed the same held velocities, for the models that have that form; bounded at {} (1 kHz) and {} \
          (10 kHz) wherever an accuracy bound is set. Bounds (each model's `HostModel::accuracy_bound`): {}; \
          f32 within {} wherever an accuracy bound is set. \

@@ -7,7 +7,7 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use friction_bench_c::{
     c_ie_step, c_step, rust_fixed_step, rust_step, velocities, CLuGre, H, PARAMS,
 };
-use friction_core::{LuGreAtState, LuGreState};
+use friction_core::{LuGreFixedStepState, LuGreState};
 
 fn compare(c: &mut Criterion) {
     let rust = PARAMS.build::<f64>().expect("canudas1995 builds");
@@ -22,9 +22,11 @@ fn compare(c: &mut Criterion) {
             black_box(rust_step(&rust, &mut s, black_box(vs[i]), black_box(H)))
         })
     });
-    let fixed = PARAMS.build_at::<f64>(H).expect("canudas1995 builds");
+    let fixed = PARAMS
+        .build_fixed_step::<f64>(H)
+        .expect("canudas1995 builds");
     group.bench_function("rust-fixed-step", |b| {
-        let mut w = LuGreAtState::default();
+        let mut w = LuGreFixedStepState::default();
         let mut i = 0;
         b.iter(|| {
             i = (i + 1) & 1023;

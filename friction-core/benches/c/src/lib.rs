@@ -9,7 +9,8 @@
 #![deny(unsafe_code)]
 
 use friction_core::{
-    FixedStepModel, FrictionModel, LuGre, LuGreAt, LuGreAtState, LuGreParams, LuGreState,
+    FixedStepModel, FrictionModel, LuGre, LuGreFixedStep, LuGreFixedStepState, LuGreParams,
+    LuGreState,
 };
 
 /// The C step's parameters, laid out as `struct lugre_c` in `lugre.h`.
@@ -80,9 +81,9 @@ pub fn rust_step(m: &LuGre<f64>, s: &mut LuGreState<f64>, v: f64, h: f64) -> f64
     m.step(s, v, h)
 }
 
-/// One step of friction-core's fixed-step LuGre (`build_at(H)`), out of line.
+/// One step of friction-core's fixed-step LuGre (`build_fixed_step(H)`), out of line.
 #[inline(never)]
-pub fn rust_fixed_step(m: &LuGreAt<f64>, s: &mut LuGreAtState<f64>, v: f64) -> f64 {
+pub fn rust_fixed_step(m: &LuGreFixedStep<f64>, s: &mut LuGreFixedStepState<f64>, v: f64) -> f64 {
     m.step(s, v)
 }
 

@@ -75,7 +75,7 @@ fn huge_steps_are_bounded() {
     assert!(f.is_finite() && f.abs() <= 64.0 * 1e3 * 1e-5 * (1.0 + 1e-6));
     // 2 N draws in all, then every bristle that would snap again is held
     // at its snapping deflection, and the next step's travel snaps it
-    assert_eq!(s.bonds.iter().sum::<u32>(), DEFAULT_SNAPS * 64);
+    assert_eq!(s.bonds.iter().sum::<u32>(), BRISTLE_DEFAULT_SNAPS * 64);
     assert!(s.strain.iter().all(|&z| z == 1e-5));
     let before = s.bonds;
     m.step(&mut s, 1e-3, 1e-6);

@@ -1,4 +1,4 @@
-//! The fixed-step Dahl model, built for one sample period: [`DahlAt`].
+//! The fixed-step Dahl model, built for one sample period: [`DahlFixedStep`].
 
 use super::DahlState;
 use crate::fixed_step::{
@@ -7,9 +7,14 @@ use crate::fixed_step::{
 use crate::models::lugre::{phi_series, relax};
 use crate::Scalar;
 
+/// The state of [`DahlFixedStep`]: the variable-step form's [`DahlState`]
+/// (the force `F`, here times the force scale).
+pub type DahlFixedStepState<S> = DahlState<S>;
+
 /// Dahl built for one sample period `h`
-/// ([`DahlParams::build_at`](super::DahlParams::build_at)). Its state is the
-/// variable-step one, [`DahlState`] (a force, here times the force scale). With
+/// ([`DahlParams::build_fixed_step`](super::DahlParams::build_fixed_step)). Its state is the
+/// variable-step one, [`DahlFixedStepState`] (= [`DahlState`]: a force, here
+/// times the force scale). With
 /// `k = sigma h |v| / Fc` (`sigma h / Fc` formed at build time), `y = 1 -
 /// sign(v) F / Fc` and `d = delta - 1`:
 ///
@@ -28,14 +33,14 @@ use crate::Scalar;
 ///
 /// Forces (the state `F` included) are carried times a power of two `k`
 /// ([`Scalar::force_scale`]: 1 in floating point), as in
-/// [`LuGreAt`](crate::LuGreAt), and the force is returned in newtons. Below
+/// [`LuGreFixedStep`](crate::LuGreFixedStep), and the force is returned in newtons. Below
 /// `L = 0.1` the increment is formed as `Fc y (1 - e^-L) = sigma h |v| y
 /// y^d (ln(1 + q) / q) (1 - e^-L) / L` with `q = d k y^d`: the scaled
 /// `sigma h |v|` first, then factors of order one, so that a small step
 /// keeps its precision in fixed point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct DahlAt<S> {
+pub struct DahlFixedStep<S> {
     pub(super) fc: S,
     pub(super) inv_fc: S,
     pub(super) sigma_h: S,
@@ -81,9 +86,9 @@ fn ln_1p_ratio<S: Scalar>(q: S) -> S {
     }
 }
 
-impl<S: Scalar> DahlAt<S> {
+impl<S: Scalar> DahlFixedStep<S> {
     #[inline]
-    fn advance(&self, state: &mut DahlState<S>, v: S, c: S) -> S {
+    fn advance(&self, state: &mut DahlFixedStepState<S>, v: S, c: S) -> S {
         let mut f = state.f;
         let speed = v.abs();
         // k = sigma h |v| / Fc; the test is not `k > 0`: in fixed point k
@@ -131,15 +136,15 @@ impl<S: Scalar> DahlAt<S> {
     }
 }
 
-impl<S: Scalar> FixedStepModel<S> for DahlAt<S> {
-    type State = DahlState<S>;
+impl<S: Scalar> FixedStepModel<S> for DahlFixedStep<S> {
+    type State = DahlFixedStepState<S>;
 
     fn period(&self) -> f64 {
         self.h
     }
 
     #[inline]
-    fn step(&self, state: &mut DahlState<S>, v: S) -> S {
+    fn step(&self, state: &mut DahlFixedStepState<S>, v: S) -> S {
         match checked_velocity(v) {
             Some(v) => self
                 .advance(state, v, S::ZERO)
@@ -149,15 +154,21 @@ impl<S: Scalar> FixedStepModel<S> for DahlAt<S> {
     }
 
     /// `F`.
-    fn hold_force(&self, state: &DahlState<S>) -> S {
+    fn hold_force(&self, state: &DahlFixedStepState<S>) -> S {
         state.f.rescale_pow2(self.inv_scale_exp)
     }
 }
 
 /// As [`Dahl`](super::Dahl)'s observer form: the correction strains the contact after
 /// the exact step; Dahl has no `sigma1`, `damping` has no effect.
-impl<S: Scalar> FixedStepObservable<S> for DahlAt<S> {
-    fn step_corrected(&self, state: &mut DahlState<S>, v: S, correction: S, _damping: bool) -> S {
+impl<S: Scalar> FixedStepObservable<S> for DahlFixedStep<S> {
+    fn step_corrected(
+        &self,
+        state: &mut DahlFixedStepState<S>,
+        v: S,
+        correction: S,
+        _damping: bool,
+    ) -> S {
         self.advance(state, v, correction)
             .rescale_pow2(self.inv_scale_exp)
     }
@@ -169,7 +180,7 @@ impl<S: Scalar> FixedStepObservable<S> for DahlAt<S> {
 
     /// Keeps the hysteretic force `F`, rescaled to this model's force
     /// scale, within `±Fc`.
-    fn carry_over(&self, old: &Self, state: &mut DahlState<S>) {
+    fn carry_over(&self, old: &Self, state: &mut DahlFixedStepState<S>) {
         let ratio = scale_ratio(old.inv_scale_exp, self.inv_scale_exp);
         state.f = carried(state.f, ratio, self.fc);
     }

@@ -1,24 +1,5 @@
-//! The Dahl model (Dahl 1968, 1976), with general exponent `delta >= 1`.
-//!
-//! ```text
-//! dF/dx = sigma sign(y) |y|^delta,   y = 1 - (F / Fc) sign(v)
-//! dF/dt = dF/dx v;                   friction = F + sigma2 v
-//! ```
-//!
-//! For `delta = 1` this is `dz/dt = v - sigma |v| z / Fc`, `F = sigma z`.
-//! The force depends on the path in displacement only, not on its rate:
-//! hysteresis without stiction, Stribeck effect or frictional lag.
-//!
-//! Discretisation: with `v` held the step covers the displacement
-//! `dx = v h` and the equation in `x` is solved exactly. With
-//! `k = sigma |dx| / Fc` and `d = delta - 1` (here `y >= 0` as `|F| <= Fc`):
-//! `y+ = y e^(-L)` with `L = k` for `delta = 1` and
-//! `L = ln(1 + d k y^d) / d` for `delta > 1` (the closed form
-//! `y+ = (y^(-d) + d k)^(-1/d)` rewritten so that it keeps its accuracy as
-//! `d -> 0`, in `f32` too). The force moves by the increment
-//! `F+ = F - sign(v) Fc y (e^(-L) - 1)`, so a small step is not lost to
-//! rounding. Exact in `x`, so rate independence holds to rounding at any
-//! step, and `|F| <= Fc` is kept.
+//! The Dahl model (Dahl 1968, 1976), with general exponent `delta >= 1`: see
+//! [`Dahl`].
 
 mod fixed_step;
 #[cfg(test)]
@@ -30,7 +11,7 @@ use crate::model::{
     check_force, convert, convert_derived, magnitude, magnitude_or_zero, ParamError,
 };
 use crate::Scalar;
-pub use fixed_step::DahlAt;
+pub use fixed_step::{DahlFixedStep, DahlFixedStepState};
 pub use variable_step::{Dahl, DahlState};
 
 /// Dahl parameters (`model = "dahl"`), in `f64`.
@@ -88,14 +69,14 @@ impl DahlParams {
     }
 
     /// Validates and builds the fixed-step form for sample period `h` (s):
-    /// see [`DahlAt`]. Besides [`Self::build`]'s checks, rejects a bad `h`
+    /// see [`DahlFixedStep`]. Besides [`Self::build`]'s checks, rejects a bad `h`
     /// and an observer correction term `sigma h c` that overflows the scalar
     /// at `c = VELOCITY_LIMIT` ([`ParamError::ForceOverflow`] naming `sigma`).
     ///
     /// ```
     /// use friction_core::{DahlParams, DahlState, FixedStepModel};
     /// let p = DahlParams { sigma: 1e5, fc: 1.0, delta: 1.0, sigma2: 0.0 };
-    /// let model = p.build_at::<f32>(1e-3)?;
+    /// let model = p.build_fixed_step::<f32>(1e-3)?;
     /// let mut state = DahlState::default();
     /// let mut f = 0.0;
     /// for _ in 0..1000 {
@@ -104,16 +85,16 @@ impl DahlParams {
     /// assert!((f - 1.0).abs() < 1e-5); // saturated at Fc
     /// # Ok::<(), friction_core::ParamError>(())
     /// ```
-    pub fn build_at<S: Scalar>(&self, h: f64) -> Result<DahlAt<S>, ParamError> {
+    pub fn build_fixed_step<S: Scalar>(&self, h: f64) -> Result<DahlFixedStep<S>, ParamError> {
         self.validate()?;
         let h = period(h)?;
         let v_max = S::VELOCITY_LIMIT.to_f64();
         let sigma_h = self.sigma * h;
-        // forces carried times k, as in LuGreAt
+        // forces carried times k, as in LuGreFixedStep
         let k = S::force_scale(self.fc.max(sigma_h * v_max).max(self.sigma2 * v_max));
         check_force::<S>("sigma2", k * self.sigma2 * v_max)?;
         check_force::<S>("sigma", k * sigma_h * v_max)?;
-        Ok(DahlAt {
+        Ok(DahlFixedStep {
             fc: convert("fc", k * self.fc)?,
             inv_fc: convert_derived("fc", 1.0 / self.fc)?,
             sigma_h: convert("sigma", k * sigma_h)?,

@@ -7,6 +7,28 @@ use crate::observer::Observable;
 use crate::Scalar;
 
 /// The built Dahl model.
+///
+/// The Dahl model (Dahl 1968, 1976), with general exponent `delta >= 1`.
+///
+/// ```text
+/// dF/dx = sigma sign(y) |y|^delta,   y = 1 - (F / Fc) sign(v)
+/// dF/dt = dF/dx v;                   friction = F + sigma2 v
+/// ```
+///
+/// For `delta = 1` this is `dz/dt = v - sigma |v| z / Fc`, `F = sigma z`.
+/// The force depends on the path in displacement only, not on its rate:
+/// hysteresis without stiction, Stribeck effect or frictional lag.
+///
+/// Discretisation: with `v` held the step covers the displacement
+/// `dx = v h` and the equation in `x` is solved exactly. With
+/// `k = sigma |dx| / Fc` and `d = delta - 1` (here `y >= 0` as `|F| <= Fc`):
+/// `y+ = y e^(-L)` with `L = k` for `delta = 1` and
+/// `L = ln(1 + d k y^d) / d` for `delta > 1` (the closed form
+/// `y+ = (y^(-d) + d k)^(-1/d)` rewritten so that it keeps its accuracy as
+/// `d -> 0`, in `f32` too). The force moves by the increment
+/// `F+ = F - sign(v) Fc y (e^(-L) - 1)`, so a small step is not lost to
+/// rounding. Exact in `x`, so rate independence holds to rounding at any
+/// step, and `|F| <= Fc` is kept.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Dahl<S> {

@@ -1,15 +1,19 @@
 //! The fixed-step elasto-plastic model, built for one sample period:
-//! [`ElastoPlasticAt`].
+//! [`ElastoPlasticFixedStep`].
 
 use super::corrected_shift;
 use super::zone::{relaxed_fraction, zone_rate, zone_step_at, Slip, MAX_SUBSTEPS, XI_CAP};
 use crate::fixed_step::{checked_velocity, signed, FixedStepModel, FixedStepObservable};
-use crate::models::lugre::{LuGreAt, LuGreAtState};
+use crate::models::lugre::{LuGreFixedStep, LuGreFixedStepState};
 use crate::Scalar;
 
+/// The state of [`ElastoPlasticFixedStep`]: the fixed-step LuGre model's,
+/// [`LuGreFixedStepState`] (the elastic force `w = sigma0 z`).
+pub type ElastoPlasticFixedStepState<S> = LuGreFixedStepState<S>;
+
 /// The elasto-plastic model built for one sample period `h`
-/// ([`ElastoPlasticParams::build_at`](super::ElastoPlasticParams::build_at)),
-/// with the elastic force `w = sigma0 z` as its state ([`LuGreAtState`], `|w|
+/// ([`ElastoPlasticParams::build_fixed_step`](super::ElastoPlasticParams::build_fixed_step)),
+/// with the elastic force `w = sigma0 z` as its state ([`ElastoPlasticFixedStepState`], `|w|
 /// <= Fs`). In force units the model of Dupont, Hayward, Armstrong and Altpeter
 /// (2002) reads, along the motion (`W = sign(v) w`, distance `X = sigma0 h
 /// |v|`, `sigma0 h` formed at build time):
@@ -23,24 +27,24 @@ use crate::Scalar;
 /// with the variable-step form's discretisation ([`ElastoPlastic`](super::ElastoPlastic)): exact
 /// below `W_ba` and above `g(v)`, in the zone the exact Riccati tail with
 /// its rate frozen where the step starts (bounded in cost, the default) or
-/// RK4 sub-steps then that tail ([`ElastoPlasticAt::with_full_step`]: the
+/// RK4 sub-steps then that tail ([`ElastoPlasticFixedStep::with_full_step`]: the
 /// two forms then agree to rounding). `c` is an observer's
-/// correction, 0 for the model. As in [`LuGreAt`], forces (the state `w`
+/// correction, 0 for the model. As in [`LuGreFixedStep`], forces (the state `w`
 /// and `W_ba` included) are carried times its force scale (1 in floating
 /// point), ratios of forces are formed from the unscaled `1/g` or as
 /// quotients, and the force is returned in newtons.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct ElastoPlasticAt<S> {
-    pub(super) lugre: LuGreAt<S>,
+pub struct ElastoPlasticFixedStep<S> {
+    pub(super) lugre: LuGreFixedStep<S>,
     /// `sigma0 z_ba` (N), times the LuGre part's force scale.
     pub(super) w_ba: S,
     /// RK4 sub-steps of the transition zone a step may take
-    /// ([`ElastoPlasticAt::with_max_substeps`]).
+    /// ([`ElastoPlasticFixedStep::with_max_substeps`]).
     pub(super) max_substeps: u8,
 }
 
-impl<S: Scalar> ElastoPlasticAt<S> {
+impl<S: Scalar> ElastoPlasticFixedStep<S> {
     /// The same model with at most `k` RK4 sub-steps of the transition zone
     /// a step (0 to 24, clamped; 0 when built, the bounded step; 24, the
     /// full step of [`Self::with_full_step`], is enough for any distance):
@@ -69,7 +73,7 @@ impl<S: Scalar> ElastoPlasticAt<S> {
     /// ```
     /// use friction_core::{ElastoPlasticParams, LuGreParams};
     /// let p = ElastoPlasticParams { lugre: LuGreParams::CANUDAS_1995, z_ba: 0.5 / 1e5 };
-    /// let real_time = p.build_at::<f32>(1e-3)?.with_max_substeps(3);
+    /// let real_time = p.build_fixed_step::<f32>(1e-3)?.with_max_substeps(3);
     /// # let _ = real_time;
     /// # Ok::<(), friction_core::ParamError>(())
     /// ```
@@ -88,7 +92,7 @@ impl<S: Scalar> ElastoPlasticAt<S> {
     /// ```
     /// use friction_core::{ElastoPlasticParams, LuGreParams};
     /// let p = ElastoPlasticParams { lugre: LuGreParams::CANUDAS_1995, z_ba: 0.5 / 1e5 };
-    /// let exact = p.build_at::<f64>(1e-3)?.with_full_step();
+    /// let exact = p.build_fixed_step::<f64>(1e-3)?.with_full_step();
     /// # let _ = exact;
     /// # Ok::<(), friction_core::ParamError>(())
     /// ```
@@ -204,11 +208,11 @@ impl<S: Scalar> ElastoPlasticAt<S> {
     }
 
     // CORRECTED: the observer's step, with its correction `c`; the model's
-    // (c = 0) forms none of its terms (as `LuGreAt`'s)
+    // (c = 0) forms none of its terms (as `LuGreFixedStep`'s)
     #[inline]
     fn advance<const CORRECTED: bool>(
         &self,
-        state: &mut LuGreAtState<S>,
+        state: &mut ElastoPlasticFixedStepState<S>,
         v: S,
         c: S,
         damping: bool,
@@ -268,15 +272,15 @@ impl<S: Scalar> ElastoPlasticAt<S> {
     }
 }
 
-impl<S: Scalar> FixedStepModel<S> for ElastoPlasticAt<S> {
-    type State = LuGreAtState<S>;
+impl<S: Scalar> FixedStepModel<S> for ElastoPlasticFixedStep<S> {
+    type State = ElastoPlasticFixedStepState<S>;
 
     fn period(&self) -> f64 {
         self.lugre.period()
     }
 
     #[inline]
-    fn step(&self, state: &mut LuGreAtState<S>, v: S) -> S {
+    fn step(&self, state: &mut ElastoPlasticFixedStepState<S>, v: S) -> S {
         match checked_velocity(v) {
             Some(v) => self
                 .lugre
@@ -286,7 +290,7 @@ impl<S: Scalar> FixedStepModel<S> for ElastoPlasticAt<S> {
     }
 
     /// `w = sigma0 z`.
-    fn hold_force(&self, state: &LuGreAtState<S>) -> S {
+    fn hold_force(&self, state: &ElastoPlasticFixedStepState<S>) -> S {
         self.lugre.unscale(state.w)
     }
 }
@@ -294,8 +298,14 @@ impl<S: Scalar> FixedStepModel<S> for ElastoPlasticAt<S> {
 /// As [`ElastoPlastic`](super::ElastoPlastic)'s observer form: the correction moves the state
 /// after the model's step against its relaxation, `w <- w - sigma0 h c
 /// phi(lambda h)` (see `corrected_shift`), then `|w| <= Fs`.
-impl<S: Scalar> FixedStepObservable<S> for ElastoPlasticAt<S> {
-    fn step_corrected(&self, state: &mut LuGreAtState<S>, v: S, correction: S, damping: bool) -> S {
+impl<S: Scalar> FixedStepObservable<S> for ElastoPlasticFixedStep<S> {
+    fn step_corrected(
+        &self,
+        state: &mut ElastoPlasticFixedStepState<S>,
+        v: S,
+        correction: S,
+        damping: bool,
+    ) -> S {
         self.lugre
             .unscale(self.advance::<true>(state, v, correction, damping))
     }

@@ -3,7 +3,7 @@
 use super::zone::*;
 use super::*;
 use crate::model::{FrictionModel, ParamError};
-use crate::models::lugre::{LuGreAtState, LuGreParams, LuGreState};
+use crate::models::lugre::{LuGreFixedStepState, LuGreParams, LuGreState};
 use crate::Observer;
 use proptest::prelude::*;
 use std::vec::Vec;
@@ -257,7 +257,7 @@ fn observer_correction_settles_at_the_corrected_steady_state() {
     for z_ba in [5e-6, 1e-6, 9e-6] {
         let p = ElastoPlasticParams { z_ba, ..P };
         let ep = Observer::new(p.build::<f64>().unwrap(), 1000.0).unwrap();
-        let ep_at = Observer::new(p.build_at::<f64>(1e-3).unwrap(), 1000.0).unwrap();
+        let ep_at = Observer::new(p.build_fixed_step::<f64>(1e-3).unwrap(), 1000.0).unwrap();
         for (v, e) in [
             (0.05, 1e-5),
             (0.05, -1e-5),
@@ -265,7 +265,7 @@ fn observer_correction_settles_at_the_corrected_steady_state() {
             (0.02, 0.0),
             (0.1, 3e-5),
         ] {
-            let (mut z, mut w) = (LuGreState::default(), LuGreAtState::default());
+            let (mut z, mut w) = (LuGreState::default(), LuGreFixedStepState::default());
             let (mut f, mut f_at) = (0.0, 0.0);
             for _ in 0..200 {
                 f = ep.step(&mut z, v, e, 1e-3);

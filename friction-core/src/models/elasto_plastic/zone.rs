@@ -106,7 +106,7 @@ pub(super) const MAX_SUBSTEPS: usize = 24;
 /// that its worst step stays within the 4x its average a real-time loop is
 /// sized by on every core and scalar (the full step's worst is 20x on a
 /// Cortex-M4F; see
-/// [`ElastoPlasticAt::with_max_substeps`](super::ElastoPlasticAt::with_max_substeps)).
+/// [`ElastoPlasticFixedStep::with_max_substeps`](super::ElastoPlasticFixedStep::with_max_substeps)).
 pub(super) const DEFAULT_SUBSTEPS: u8 = 0;
 /// Below this normalised distance to `z_max` the closed-form tail takes over.
 const TAIL: f64 = 0.01;

@@ -1,16 +1,16 @@
 //! The fixed-step generalized Maxwell-slip model, built for one sample
-//! period: [`GmsAt`].
+//! period: [`GmsFixedStep`].
 
-use super::{GmsState, SlipMode};
+use super::{GmsSlipMode, GmsState};
 use crate::fixed_step::{checked_velocity, signed, FixedStepModel, FixedStepObservable};
 use crate::models::lugre::phi_series;
 use crate::stribeck::StribeckCurve;
 use crate::Scalar;
 
-/// One element of [`GmsAt`].
+/// One element of [`GmsFixedStep`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub(super) struct ElementAt<S> {
+pub(super) struct ElementFixedStep<S> {
     /// `k_i h`.
     pub(super) k_h: S,
     /// Normalised weight.
@@ -26,9 +26,14 @@ pub(super) struct ElementAt<S> {
     pub(super) sigma1: S,
 }
 
+/// The state of [`GmsFixedStep`]: the variable-step form's [`GmsState`]
+/// (element forces, here times the force scale, and modes).
+pub type GmsFixedStepState<S, const N: usize> = GmsState<S, N>;
+
 /// GMS built for one sample period `h`
-/// ([`GmsParams::build_at`](super::GmsParams::build_at)). Its state is the
-/// variable-step one, [`GmsState`] (element forces and modes). With `b_i =
+/// ([`GmsParams::build_fixed_step`](super::GmsParams::build_fixed_step)). Its state is the
+/// variable-step one, [`GmsFixedStepState`] (= [`GmsState`]: element forces
+/// and modes). With `b_i =
 /// alpha_i g(v)` and `u = v - c` (`c` an observer's correction, 0 for the
 /// model), each element per step:
 ///
@@ -46,7 +51,7 @@ pub(super) struct ElementAt<S> {
 /// point and soft float) and, for the relaxation, a series below `x = 0.1` then
 /// [`Scalar::exp_neg`]. Forces (the element forces of the state included)
 /// are carried times a power of two `k` ([`Scalar::force_scale`]: 1 in
-/// floating point), as in [`LuGreAt`](crate::LuGreAt), and the force is
+/// floating point), as in [`LuGreFixedStep`](crate::LuGreFixedStep), and the force is
 /// returned in newtons.
 ///
 /// `N` must be at least 1:
@@ -55,14 +60,14 @@ pub(super) struct ElementAt<S> {
 /// use friction_core::{GmsParams, StribeckParams};
 /// let curve = StribeckParams { fc: 1.0, fs: 1.5, vs: 1e-3, exponent: 2.0 };
 /// let p = GmsParams::<0> { curve, sigma2: 0.0, c: 100.0, elements: [] };
-/// let m = p.build_at::<f32>(1e-3); // error: N = 0 elements
+/// let m = p.build_fixed_step::<f32>(1e-3); // error: N = 0 elements
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct GmsAt<S, const N: usize> {
+pub struct GmsFixedStep<S, const N: usize> {
     pub(super) curve: StribeckCurve<S>,
     pub(super) sigma2: S,
-    pub(super) elements: [ElementAt<S>; N],
+    pub(super) elements: [ElementFixedStep<S>; N],
     pub(super) sigma1_sum: S,
     pub(super) slip_damping: S,
     pub(super) inv_scale: S,
@@ -70,7 +75,7 @@ pub struct GmsAt<S, const N: usize> {
     pub(super) h: f64,
 }
 
-impl<S: Scalar, const N: usize> GmsAt<S, N> {
+impl<S: Scalar, const N: usize> GmsFixedStep<S, N> {
     /// The Stribeck curve `g`.
     pub fn curve(&self) -> &StribeckCurve<S> {
         &self.curve
@@ -87,7 +92,7 @@ impl<S: Scalar, const N: usize> GmsAt<S, N> {
     }
 
     #[inline]
-    fn advance(&self, state: &mut GmsState<S, N>, v: S, c: S, damping: bool) -> S {
+    fn advance(&self, state: &mut GmsFixedStepState<S, N>, v: S, c: S, damping: bool) -> S {
         // g scaled (>= Fc scaled > 0); 1/g unscaled: in fixed point the
         // reciprocal of a scaled g would be a few steps
         let g = self.curve.eval_fast(v);
@@ -176,21 +181,21 @@ impl<S: Scalar> Reciprocal<S> {
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn element_step_at<S: Scalar>(
-    e: &ElementAt<S>,
+    e: &ElementFixedStep<S>,
     f: S,
-    mode: SlipMode,
+    mode: GmsSlipMode,
     v: S,
     u: S,
     b: S,
     target: S,
     inv_g: &mut Reciprocal<S>,
-) -> (S, SlipMode) {
+) -> (S, GmsSlipMode) {
     let mut f = f;
     let mut mode = mode;
     // fraction of the period left for slipping
     let mut left = S::ONE;
     if !mode.slips_with(v) {
-        mode = SlipMode::Stick;
+        mode = GmsSlipMode::Stick;
         left = S::ZERO;
         if u != S::ZERO {
             // u != 0: `signed(u, x)` is sign(u) x
@@ -211,7 +216,7 @@ fn element_step_at<S: Scalar>(
                     f = signed(u, b);
                 }
                 if with_v {
-                    mode = SlipMode::of_sign(v);
+                    mode = GmsSlipMode::of_sign(v);
                     if room <= S::ZERO {
                         left = S::ONE;
                     }
@@ -219,7 +224,7 @@ fn element_step_at<S: Scalar>(
             }
         }
     }
-    if mode != SlipMode::Stick && left > S::ZERO {
+    if mode != GmsSlipMode::Stick && left > S::ZERO {
         // x = (C h / alpha_i) s / g; below 0.1 the increment
         // (target - F_i)(1 - e^-x) = ((target - F_i) C h / alpha_i) (s / g) phi(x),
         // the scaled difference first, so that a slow relaxation is not lost to rounding
@@ -235,15 +240,15 @@ fn element_step_at<S: Scalar>(
     (f.sat(e.f_max), mode)
 }
 
-impl<S: Scalar, const N: usize> FixedStepModel<S> for GmsAt<S, N> {
-    type State = GmsState<S, N>;
+impl<S: Scalar, const N: usize> FixedStepModel<S> for GmsFixedStep<S, N> {
+    type State = GmsFixedStepState<S, N>;
 
     fn period(&self) -> f64 {
         self.h
     }
 
     #[inline]
-    fn step(&self, state: &mut GmsState<S, N>, v: S) -> S {
+    fn step(&self, state: &mut GmsFixedStepState<S, N>, v: S) -> S {
         match checked_velocity(v) {
             Some(v) => self
                 .advance(state, v, S::ZERO, true)
@@ -253,7 +258,7 @@ impl<S: Scalar, const N: usize> FixedStepModel<S> for GmsAt<S, N> {
     }
 
     /// `sum_i F_i`, within `±Fs` (also after rounding).
-    fn hold_force(&self, state: &GmsState<S, N>) -> S {
+    fn hold_force(&self, state: &GmsFixedStepState<S, N>) -> S {
         let mut sum = S::ZERO;
         for &f in &state.force {
             sum = sum + f;
@@ -264,8 +269,14 @@ impl<S: Scalar, const N: usize> FixedStepModel<S> for GmsAt<S, N> {
 
 /// As [`Gms`](super::Gms)'s observer form: sticking elements deflect with `v - c`,
 /// slipping follows the measured `v`.
-impl<S: Scalar, const N: usize> FixedStepObservable<S> for GmsAt<S, N> {
-    fn step_corrected(&self, state: &mut GmsState<S, N>, v: S, correction: S, damping: bool) -> S {
+impl<S: Scalar, const N: usize> FixedStepObservable<S> for GmsFixedStep<S, N> {
+    fn step_corrected(
+        &self,
+        state: &mut GmsFixedStepState<S, N>,
+        v: S,
+        correction: S,
+        damping: bool,
+    ) -> S {
         self.advance(state, v, correction, damping)
             .rescale(self.inv_scale)
     }

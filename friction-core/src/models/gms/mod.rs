@@ -1,41 +1,5 @@
-//! The generalized Maxwell-slip model, GMS (Lampaert, Al-Bender, Swevers
-//! 2003; Al-Bender, Lampaert, Swevers 2005), with `N` elements.
-//!
-//! ```text
-//! sticking: dF_i/dt = k_i v                              until |F_i| reaches alpha_i g(v)
-//! slipping: dF_i/dt = C (sign(v) - F_i / (alpha_i g(v)))  until v changes sign
-//! F = sum_i (F_i + sigma1_i dz_i/dt) + sigma2 v,   dz_i/dt = v (sticking), dF_i/dt / k_i (slipping)
-//! ```
-//!
-//! Each element remembers whether it slips ([`SlipMode`]): that memory is
-//! the model. A slipping element keeps slipping while `v` keeps its sign,
-//! even when `|F_i|` is below `alpha_i g(v)` because `g` rose as the speed
-//! fell; deciding from `|F_i| <= alpha_i g(v)` alone would make it stick
-//! and stiffen at once. A velocity of exactly 0 ends a slip like a
-//! reversal does: the element sticks and holds its force.
-//!
-//! Discretisation, exact for `v` held over the step:
-//! - a sticking element moves linearly, so the instant it reaches its bound
-//!   `alpha_i g(v)` is found exactly inside the step, and it spends the rest
-//!   of the step slipping;
-//! - a slipping element relaxes exponentially towards `sign(v) alpha_i g(v)`
-//!   with rate `C / (alpha_i g(v))` (the exact solution for held `v`); one
-//!   that reached its bound in the step stays on it.
-//!
-//! So one long step equals many short ones, at any `h`. Every `|F_i|` stays
-//! within `alpha_i Fs` and the steady state is `g(v) sign(v) + sigma2 v`
-//! (the weights are normalised by their sum when the model is built). The
-//! force is evaluated at the end of the step, with `dz_i/dt` from the end
-//! state: it jumps by `sigma1_i v` when an element starts slipping.
-//!
-//! `N` must be at least 1:
-//!
-//! ```compile_fail
-//! use friction_core::{GmsParams, StribeckParams};
-//! let curve = StribeckParams { fc: 1.0, fs: 1.5, vs: 1e-3, exponent: 2.0 };
-//! let p = GmsParams::<0> { curve, sigma2: 0.0, c: 100.0, elements: [] };
-//! let m = p.build::<f32>(); // error: N = 0 elements
-//! ```
+//! The generalized Maxwell-slip model, GMS (Lampaert, Al-Bender, Swevers 2003;
+//! Al-Bender, Lampaert, Swevers 2005), with `N` elements: see [`Gms`].
 
 mod fixed_step;
 #[cfg(test)]
@@ -48,10 +12,10 @@ use crate::model::{
 };
 use crate::stribeck::StribeckParams;
 use crate::Scalar;
-use fixed_step::ElementAt;
-pub use fixed_step::GmsAt;
+use fixed_step::ElementFixedStep;
+pub use fixed_step::{GmsFixedStep, GmsFixedStepState};
 use variable_step::Element;
-pub use variable_step::{Gms, GmsState, SlipMode};
+pub use variable_step::{Gms, GmsSlipMode, GmsState};
 
 /// One elasto-slide element of the GMS model, in `f64`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -167,7 +131,7 @@ impl<const N: usize> GmsParams<N> {
     }
 
     /// Validates and builds the fixed-step form for sample period `h` (s):
-    /// see [`GmsAt`] (`N >= 1`, checked at compile time). Besides
+    /// see [`GmsFixedStep`] (`N >= 1`, checked at compile time). Besides
     /// [`Self::build`]'s checks, rejects a bad `h` and an element whose
     /// stick travel `k_i h (v - c)` overflows the scalar at twice the
     /// velocity limit ([`ParamError::ForceOverflow`] naming `k`).
@@ -177,7 +141,7 @@ impl<const N: usize> GmsParams<N> {
     /// let curve = StribeckParams { fc: 1.0, fs: 1.5, vs: 1e-3, exponent: 2.0 };
     /// let e = |k, alpha| GmsElement { k, alpha, sigma1: 0.0 };
     /// let p = GmsParams { curve, sigma2: 0.4, c: 100.0, elements: [e(1e5, 0.5), e(2e4, 0.5)] };
-    /// let model = p.build_at::<f32>(1e-3)?;
+    /// let model = p.build_fixed_step::<f32>(1e-3)?;
     /// let mut state = GmsState::default();
     /// let mut f = 0.0;
     /// for _ in 0..1000 {
@@ -186,7 +150,7 @@ impl<const N: usize> GmsParams<N> {
     /// assert!((f - (1.0 + 0.4 * 0.1)).abs() < 1e-4);
     /// # Ok::<(), friction_core::ParamError>(())
     /// ```
-    pub fn build_at<S: Scalar>(&self, h: f64) -> Result<GmsAt<S, N>, ParamError> {
+    pub fn build_fixed_step<S: Scalar>(&self, h: f64) -> Result<GmsFixedStep<S, N>, ParamError> {
         const { assert!(N > 0, "the GMS model needs at least one element") };
         self.validate()?;
         let h = period(h)?;
@@ -207,7 +171,7 @@ impl<const N: usize> GmsParams<N> {
             .iter()
             .map(|e| e.k * h * 2.0 * v_max)
             .fold(0.0, f64::max);
-        // forces carried times k, as in LuGreAt
+        // forces carried times k, as in LuGreFixedStep
         let k = S::force_scale(fs.max(damping_max).max(viscous_max).max(travel_max));
         check_force::<S>("c", k * slip_damping)?;
         check_force::<S>("sigma1", k * damping_max)?;
@@ -218,7 +182,7 @@ impl<const N: usize> GmsParams<N> {
             ..self.curve
         }
         .build()?;
-        let mut elements = [ElementAt::<S>::default(); N];
+        let mut elements = [ElementFixedStep::<S>::default(); N];
         for (out, e) in elements.iter_mut().zip(&self.elements) {
             let alpha = e.alpha / sum;
             convert::<S>("alpha", k * alpha * fc)?;
@@ -229,7 +193,7 @@ impl<const N: usize> GmsParams<N> {
             // the slip damping factor sigma1_i C / (alpha_i k_i) / g, formed
             // before its small force difference
             check_force::<S>("c", e.sigma1 * c_over_alpha / e.k / fc)?;
-            *out = ElementAt {
+            *out = ElementFixedStep {
                 k_h: convert("k", k * k_h)?,
                 alpha: convert("alpha", alpha)?,
                 f_max: convert("alpha", k * alpha * fs)?,
@@ -238,7 +202,7 @@ impl<const N: usize> GmsParams<N> {
                 sigma1: convert("sigma1", k * e.sigma1)?,
             };
         }
-        Ok(GmsAt {
+        Ok(GmsFixedStep {
             curve,
             sigma2: convert("sigma2", k * self.sigma2)?,
             elements,

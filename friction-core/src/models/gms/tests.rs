@@ -69,15 +69,15 @@ fn elements_stick_then_slip_one_after_another() {
     let x3 = 0.1 * g / 2e5;
     let h = 0.5 * x3 / v;
     m.step(&mut s, v, h);
-    assert_eq!(s.mode, [SlipMode::Stick; 4]);
+    assert_eq!(s.mode, [GmsSlipMode::Stick; 4]);
     assert!((s.force[3] - 2e5 * 0.5 * x3).abs() < 1e-12);
     m.step(&mut s, v, h * 1.2);
-    assert_eq!(s.mode[3], SlipMode::Forward);
-    assert_eq!(s.mode[..3], [SlipMode::Stick; 3]);
+    assert_eq!(s.mode[3], GmsSlipMode::Forward);
+    assert_eq!(s.mode[..3], [GmsSlipMode::Stick; 3]);
     assert!((s.force[3] - 0.1 * g).abs() < 1e-12);
     // a reversal sticks it again, unloading with its stiffness
     m.step(&mut s, -v, h);
-    assert_eq!(s.mode[3], SlipMode::Stick);
+    assert_eq!(s.mode[3], GmsSlipMode::Stick);
     assert!((s.force[3] - (0.1 * g - 2e5 * v * h)).abs() < 1e-12);
 }
 
@@ -92,7 +92,7 @@ fn a_slipping_element_remembers_it_slips() {
     for _ in 0..1000 {
         m.step(&mut s, 1e-2, 1e-3);
     }
-    assert_eq!(s.mode, [SlipMode::Forward; 4]);
+    assert_eq!(s.mode, [GmsSlipMode::Forward; 4]);
     let (v, h) = (2e-4, 1e-4);
     let g = m.curve().eval(v);
     let before = s;
@@ -100,7 +100,7 @@ fn a_slipping_element_remembers_it_slips() {
     for i in 0..4 {
         let alpha = P.elements[i].alpha;
         assert!(before.force[i] < alpha * g - 0.1 * alpha);
-        assert_eq!(s.mode[i], SlipMode::Forward, "element {i}");
+        assert_eq!(s.mode[i], GmsSlipMode::Forward, "element {i}");
         let target = alpha * g;
         let expect = target + (before.force[i] - target) * (-(P.c / (alpha * g)) * h).exp();
         assert!((s.force[i] - expect).abs() < 1e-12, "element {i}");
@@ -173,14 +173,14 @@ fn a_correction_against_v_holds_an_element_at_its_bound() {
     for _ in 0..100 {
         f = o.step(&mut s, 0.0, 1.0, 1e-3);
     }
-    assert_eq!(s.mode, [SlipMode::Stick; 4]);
+    assert_eq!(s.mode, [GmsSlipMode::Stick; 4]);
     for (x, b) in s.force.iter().zip(m.force_bounds()) {
         assert_eq!(*x, -b);
     }
     assert!((f + 1.5).abs() < 1e-12, "{f}");
     // moving forwards with the correction pushing back: held, no slip
     let f = o.step(&mut s, 1e-4, 1.0, 1e-3);
-    assert_eq!(s.mode, [SlipMode::Stick; 4]);
+    assert_eq!(s.mode, [GmsSlipMode::Stick; 4]);
     assert!(f.abs() <= m.force_bound(1e-4));
 }
 

@@ -1,5 +1,5 @@
 //! The variable-step generalized Maxwell-slip model: [`Gms`], its state
-//! and the elements' [`SlipMode`].
+//! and the elements' [`GmsSlipMode`].
 
 use crate::model::{checked_inputs, FrictionModel};
 use crate::observer::Observable;
@@ -26,6 +26,45 @@ pub(super) struct Element<S> {
 }
 
 /// The built GMS model: immutable, shared by any number of [`GmsState`]s.
+///
+/// The generalized Maxwell-slip model, GMS (Lampaert, Al-Bender, Swevers
+/// 2003; Al-Bender, Lampaert, Swevers 2005), with `N` elements.
+///
+/// ```text
+/// sticking: dF_i/dt = k_i v                              until |F_i| reaches alpha_i g(v)
+/// slipping: dF_i/dt = C (sign(v) - F_i / (alpha_i g(v)))  until v changes sign
+/// F = sum_i (F_i + sigma1_i dz_i/dt) + sigma2 v,   dz_i/dt = v (sticking), dF_i/dt / k_i (slipping)
+/// ```
+///
+/// Each element remembers whether it slips ([`GmsSlipMode`]): that memory is
+/// the model. A slipping element keeps slipping while `v` keeps its sign,
+/// even when `|F_i|` is below `alpha_i g(v)` because `g` rose as the speed
+/// fell; deciding from `|F_i| <= alpha_i g(v)` alone would make it stick
+/// and stiffen at once. A velocity of exactly 0 ends a slip like a
+/// reversal does: the element sticks and holds its force.
+///
+/// Discretisation, exact for `v` held over the step:
+/// - a sticking element moves linearly, so the instant it reaches its bound
+///   `alpha_i g(v)` is found exactly inside the step, and it spends the rest
+///   of the step slipping;
+/// - a slipping element relaxes exponentially towards `sign(v) alpha_i g(v)`
+///   with rate `C / (alpha_i g(v))` (the exact solution for held `v`); one
+///   that reached its bound in the step stays on it.
+///
+/// So one long step equals many short ones, at any `h`. Every `|F_i|` stays
+/// within `alpha_i Fs` and the steady state is `g(v) sign(v) + sigma2 v`
+/// (the weights are normalised by their sum when the model is built). The
+/// force is evaluated at the end of the step, with `dz_i/dt` from the end
+/// state: it jumps by `sigma1_i v` when an element starts slipping.
+///
+/// `N` must be at least 1:
+///
+/// ```compile_fail
+/// use friction_core::{GmsParams, StribeckParams};
+/// let curve = StribeckParams { fc: 1.0, fs: 1.5, vs: 1e-3, exponent: 2.0 };
+/// let p = GmsParams::<0> { curve, sigma2: 0.0, c: 100.0, elements: [] };
+/// let m = p.build::<f32>(); // error: N = 0 elements
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Gms<S, const N: usize> {
@@ -39,14 +78,14 @@ pub struct Gms<S, const N: usize> {
 
 /// Whether an element sticks or slips, and which way.
 ///
-/// One byte with the discriminants given ([`SlipMode::from_byte`] reads
+/// One byte with the discriminants given ([`GmsSlipMode::from_byte`] reads
 /// any byte as one): [`GmsState`] holds these in a public field, so a
 /// caller that keeps states in memory others may overwrite (the C ABI) can
-/// check the bytes before it reads them as `SlipMode`s.
+/// check the bytes before it reads them as `GmsSlipMode`s.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[repr(u8)]
-pub enum SlipMode {
+pub enum GmsSlipMode {
     /// Sticking: the element deflects with the velocity.
     #[default]
     Stick = 0,
@@ -56,7 +95,7 @@ pub enum SlipMode {
     Backward = 2,
 }
 
-impl SlipMode {
+impl GmsSlipMode {
     /// The mode a byte holds: its discriminant, and `Stick` for a byte no
     /// mode has (so that any byte is read as some mode).
     pub const fn from_byte(byte: u8) -> Self {
@@ -95,14 +134,14 @@ pub struct GmsState<S, const N: usize> {
     /// Element forces `F_i = k_i z_i` (N), within `±alpha_i Fs`.
     pub force: [S; N],
     /// Element modes: sticking, or slipping and which way.
-    pub mode: [SlipMode; N],
+    pub mode: [GmsSlipMode; N],
 }
 
 impl<S: Scalar, const N: usize> Default for GmsState<S, N> {
     fn default() -> Self {
         Self {
             force: [S::ZERO; N],
-            mode: [SlipMode::Stick; N],
+            mode: [GmsSlipMode::Stick; N],
         }
     }
 }
@@ -172,21 +211,21 @@ impl<S: Scalar, const N: usize> Gms<S, N> {
 pub(super) fn element_step<S: Scalar>(
     e: &Element<S>,
     f: S,
-    mode: SlipMode,
+    mode: GmsSlipMode,
     v: S,
     u: S,
     b: S,
     target: S,
     rate: S,
     h: S,
-) -> (S, SlipMode) {
+) -> (S, GmsSlipMode) {
     let mut f = f;
     let mut mode = mode;
     // time left for slipping
     let mut left = h;
     if !mode.slips_with(v) {
         // sticking (a reversal or a stop ends a slip): dF/dt = k u
-        mode = SlipMode::Stick;
+        mode = GmsSlipMode::Stick;
         left = S::ZERO;
         if u != S::ZERO {
             let dir = u.sign();
@@ -206,7 +245,7 @@ pub(super) fn element_step<S: Scalar>(
                 // at or beyond the bound: no further outward motion; moving
                 // with v it slips from here, else a correction holds it
                 if with_v {
-                    mode = SlipMode::of_sign(v);
+                    mode = GmsSlipMode::of_sign(v);
                     if room <= S::ZERO {
                         left = h;
                     }
@@ -214,7 +253,7 @@ pub(super) fn element_step<S: Scalar>(
             }
         }
     }
-    if mode != SlipMode::Stick && left > S::ZERO {
+    if mode != GmsSlipMode::Stick && left > S::ZERO {
         // exact relaxation towards sign(v) alpha_i g(v)
         f = target + (f - target) * (-(rate * left)).exp();
     }

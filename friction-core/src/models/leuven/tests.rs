@@ -116,7 +116,7 @@ fn inner_loops_are_wiped_out() {
     drive(&m, &mut s, &[0.0, a, -0.8 * a], v, h);
     assert_eq!(s.memory().len(), 1);
     // Masing: the branch from A is the virgin curve scaled by 2
-    let Reversal { z: za, f: fa } = s.memory()[0];
+    let LeuvenReversal { z: za, f: fa } = s.memory()[0];
     assert!((fa - fv(za, &p)).abs() < 1e-12);
     let expect = fa - 2.0 * fv((za - s.z()) / 2.0, &p);
     assert!((s.hysteresis_force() - expect).abs() < 1e-12);

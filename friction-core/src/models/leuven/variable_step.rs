@@ -1,5 +1,5 @@
 //! The Leuven model and its hysteresis memory: [`Leuven`], [`LeuvenState`]
-//! and [`Reversal`].
+//! and [`LeuvenReversal`].
 
 use crate::bits::Flag;
 use crate::model::{checked_inputs, FrictionModel};
@@ -36,6 +36,101 @@ impl Power {
 
 /// The built Leuven model with a memory of `M` reversal points: immutable,
 /// shared by any number of [`LeuvenState`]s.
+///
+/// The Leuven model (Swevers, Al-Bender, Ganseman, Prajogo 2000) with the
+/// continuous state equation of Lampaert, Swevers, Al-Bender 2002, and a
+/// reversal-point memory of fixed capacity `M`.
+///
+/// ```text
+/// dz/dt = v - v rho^n,        rho = max(0, sign(v) Fh(z) / s(v))        (Lampaert 2002)
+/// F     = Fh(z) + sigma1 dz/dt + sigma2 v
+/// Fh(z) = Fb + T(z - zb)                                  (zb, Fb): the last reversal point
+/// T(u)  = 2 Fv(u / 2) = 4 Fs sign(u) (1 - exp(-|u| / (4 xs)))          (Masing's rule)
+/// Fv(x) = 2 Fs sign(x) (1 - exp(-|x| / (2 xs)))           (virgin curve)
+/// ```
+///
+/// `s(v) = g(v)` is the unsigned Stribeck curve. The virgin curve is the
+/// exponential one of Dahl's model with exponent 1 (`dF/dx = k0 (1 - F/Fm)`)
+/// with initial stiffness `k0 = Fs / xs` and asymptote `Fm = 2 Fs`; its one
+/// parameter is the characteristic pre-sliding displacement `xs` (`Fv`
+/// reaches `Fs` at `2 ln 2 xs = 1.39 xs`). The asymptote lies above `Fs` so
+/// that every branch reaches the sliding level `s(v) <= Fs` at a finite
+/// displacement: with `Fm = Fs` the approach to the static level at creeping
+/// speed is only algebraic (measured: still 0.25 % of `Fs` short after 200
+/// `xs` at 1 µm/s). Transition curves follow Masing's rule: the branch from
+/// a reversal point is the virgin curve scaled by 2.
+///
+/// **Memory.** The reversal points form a stack. When the elastic input
+/// `v` (an observer's `v - c`) reverses, the current point `(z, Fh)` is
+/// pushed and a new branch starts from it. When `s(v)` falls below `|Fh|`
+/// (speeding up through the Stribeck zone, `rho > 1`) `z` relaxes back
+/// along the current branch: no reversal, no push. When
+/// the branch reaches the point below the top (an inner loop closes; by
+/// Masing's rule it arrives exactly at that point's `z` and `F`), both are
+/// popped and the branch that led to that point continues through it
+/// (wiping-out): the force is continuous. The rest state has an empty
+/// memory on the virgin curve; below the first point pushed from it lies
+/// the virgin curve, so that point's mirror `(-z1, -F1)` is where its
+/// branch closes and the state returns to the virgin curve. Once the virgin
+/// curve is forgotten (a slide or a full memory), the oldest point is never
+/// popped: passing it pops only the top, and the branch from the oldest
+/// point continues (its formula is odd about that point).
+///
+/// **Sliding** clears the memory: when `z` moves with `v` and `rho`
+/// reaches `1 - 1e-4` (the force within 0.01 % of `s(v)`: `rho = 1` is
+/// only approached asymptotically), every point below the top is dropped;
+/// the current branch is kept, so the force does not change.
+///
+/// **Memory full.** The state must be `Copy + Default + Debug` (the
+/// [`FrictionModel::State`] bound), so the
+/// memory is a `Copy` array `[LeuvenReversal; M]` with a length (a `heapless::Vec` is not `Copy`). A push
+/// into a full memory first drops the oldest point (the outermost loop is
+/// forgotten). The current branch is untouched, so the force stays
+/// continuous, and the cost is one `O(M)` shift. The loss of accuracy:
+/// a branch that should close on the forgotten outer loop continues
+/// instead on the mirror of the oldest remembered branch through the oldest
+/// remembered point, and reaches sliding (or a later reversal) along it;
+/// the force differs from the full-memory model's by at most the gap
+/// between those two branches (below `2 Fs`, in practice far less), until
+/// the next slide clears the memory. `M = 1` keeps only the current branch:
+/// no non-local memory.
+///
+/// **Continuity** (the point of Lampaert 2002). The original law
+/// `dz/dt = v (1 - sign(Fd/(s(v) - Fb)) |Fd/(s(v) - Fb)|^n)` with `Fd = Fh - Fb`
+/// divides by `s(v) - Fb`, which jumps when `Fb` changes on a pop, so
+/// `sigma1 dz/dt` jumps. Here `rho` depends on `Fh` alone, which is
+/// continuous through pushes, pops, drops and clearing, so `dz/dt` and `F`
+/// are continuous functions of time for continuous `v`. `rho` is clipped
+/// at 0 so that after a reversal `dz/dt = v` (pure pre-sliding hysteresis)
+/// until the force changes sign; the clip is continuous.
+///
+/// **Discrete step.** `v` is held over the step; `z` obeys an autonomous
+/// scalar ODE whose right-hand side decreases along the motion, so one
+/// implicit Euler step `z1 = z0 + h f(z1)` has a unique root, never
+/// overshoots the equilibrium `Fh = sign(v) s(v)` and is stable at any
+/// `h`. The root is found on the composite branch: each wiping-out point
+/// ahead is tested first (cheap: `Fh` is known there), and passed points
+/// are popped at their exact position (at most `M - 1` pops per step);
+/// inside the last branch a safeguarded Newton iteration (at most 30
+/// evaluations, bisection when Newton leaves the bracket) finds the root.
+/// `|Fh|` never passes `Fs` (an observer's correction is held there), so
+/// `z` stays within `4 ln 2 xs = 2.8 xs` beyond a reversal point on a
+/// branch (`1.4 xs` on the virgin curve): the state is bounded.
+///
+/// Pre-sliding with `rho = 0` (`z1 = z0 + h v`) and steady sliding are
+/// exact; the transition to sliding is first order in `h`: measured 2.1 %
+/// of `Fs` RMS at 1 kHz and 0.22 % at 10 kHz against an independent
+/// reference on a 20 mm/s sine with `xs = 10 µm` (two `xs` a 1 kHz step).
+/// Any `h` is stable.
+///
+/// `M` must be at least 1:
+///
+/// ```compile_fail
+/// use friction_core::{LeuvenParams, StribeckParams};
+/// let curve = StribeckParams { fc: 1.0, fs: 1.5, vs: 1e-3, exponent: 2.0 };
+/// let p = LeuvenParams { curve, sigma1: 0.0, sigma2: 0.4, n: 2.0, xs: 1e-5 };
+/// let m = p.build::<f32, 0>(); // error: a memory of capacity 0
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Leuven<S, const M: usize> {
@@ -64,7 +159,7 @@ pub struct Leuven<S, const M: usize> {
 /// A reversal point `(z, F)` of the hysteresis memory.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Reversal<S> {
+pub struct LeuvenReversal<S> {
     /// The state `z` at the reversal (m).
     pub z: S,
     /// The hysteresis force `Fh` at the reversal (N).
@@ -83,7 +178,7 @@ pub struct LeuvenState<S, const M: usize> {
     len: usize,
     /// The virgin curve lies below the oldest point (no slide, no drop yet).
     virgin: Flag,
-    points: [Reversal<S>; M],
+    points: [LeuvenReversal<S>; M],
 }
 
 impl<S: Scalar, const M: usize> Default for LeuvenState<S, M> {
@@ -95,7 +190,7 @@ impl<S: Scalar, const M: usize> Default for LeuvenState<S, M> {
             dir: S::ZERO,
             len: 0,
             virgin: Flag::new(true),
-            points: [Reversal::default(); M],
+            points: [LeuvenReversal::default(); M],
         }
     }
 }
@@ -103,7 +198,7 @@ impl<S: Scalar, const M: usize> Default for LeuvenState<S, M> {
 /// The current branch: its origin, and whether it is the virgin curve.
 #[derive(Clone, Copy, Debug)]
 struct Branch<S> {
-    origin: Reversal<S>,
+    origin: LeuvenReversal<S>,
     virgin: bool,
 }
 
@@ -120,7 +215,7 @@ impl<S: Scalar, const M: usize> LeuvenState<S, M> {
     }
 
     /// The remembered reversal points, oldest first (0 to `M` of them).
-    pub fn memory(&self) -> &[Reversal<S>] {
+    pub fn memory(&self) -> &[LeuvenReversal<S>] {
         self.points.get(..self.len).unwrap_or(&[])
     }
 
@@ -137,7 +232,7 @@ impl<S: Scalar, const M: usize> LeuvenState<S, M> {
                 virgin: false,
             },
             None => Branch {
-                origin: Reversal::default(),
+                origin: LeuvenReversal::default(),
                 virgin: true,
             },
         }
@@ -145,10 +240,13 @@ impl<S: Scalar, const M: usize> LeuvenState<S, M> {
 
     /// The next wiping-out point ahead: the point below the top, or with
     /// one point above the virgin curve, that point's mirror on it.
-    fn below(&self) -> Option<Reversal<S>> {
+    fn below(&self) -> Option<LeuvenReversal<S>> {
         match self.len {
             0 => None,
-            1 if self.virgin.get() => self.points.first().map(|p| Reversal { z: -p.z, f: -p.f }),
+            1 if self.virgin.get() => self
+                .points
+                .first()
+                .map(|p| LeuvenReversal { z: -p.z, f: -p.f }),
             1 => None,
             n => self.points.get(n - 2).copied(),
         }
@@ -163,7 +261,7 @@ impl<S: Scalar, const M: usize> LeuvenState<S, M> {
             self.rebase();
         }
         if let Some(p) = self.points.get_mut(self.len) {
-            *p = Reversal {
+            *p = LeuvenReversal {
                 z: self.z,
                 f: self.fh,
             };

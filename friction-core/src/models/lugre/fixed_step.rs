@@ -1,5 +1,5 @@
-//! The fixed-step LuGre model, built for one sample period: [`LuGreAt`]
-//! and [`LuGreAtState`].
+//! The fixed-step LuGre model, built for one sample period: [`LuGreFixedStep`]
+//! and [`LuGreFixedStepState`].
 
 use crate::bits::Flag;
 use crate::fixed_step::{
@@ -9,7 +9,7 @@ use crate::stribeck::StribeckCurve;
 use crate::Scalar;
 
 /// LuGre built for one sample period `h`
-/// ([`LuGreParams::build_at`](super::LuGreParams::build_at)), with the
+/// ([`LuGreParams::build_fixed_step`](super::LuGreParams::build_fixed_step)), with the
 /// elastic force `w = sigma0 z` as its state:
 ///
 /// ```text
@@ -23,11 +23,11 @@ use crate::Scalar;
 /// time, one division per step (`1/g`), and `1 - e^-x` from a series below
 /// `x = 0.1` (no cancellation at low speed, see `phi_series`) and from [`Scalar::exp_neg`]
 /// above. `|w| <= Fs` always. Forces are carried times a power of two,
-/// [`LuGreAt::force_scale`] ([`Scalar::force_scale`]: 1 in floating point,
+/// [`LuGreFixedStep::force_scale`] ([`Scalar::force_scale`]: 1 in floating point,
 /// chosen to use the range in fixed point).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct LuGreAt<S> {
+pub struct LuGreFixedStep<S> {
     pub(super) curve: StribeckCurve<S>,
     /// `sigma0 h`, times the force scale.
     pub(super) sigma0_h: S,
@@ -49,11 +49,11 @@ pub struct LuGreAt<S> {
     pub(super) h: f64,
 }
 
-/// The state of [`LuGreAt`]: the elastic force `w = sigma0 z` (N), times
-/// the model's [`force_scale`](LuGreAt::force_scale) (1 in floating point).
+/// The state of [`LuGreFixedStep`]: the elastic force `w = sigma0 z` (N), times
+/// the model's [`force_scale`](LuGreFixedStep::force_scale) (1 in floating point).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct LuGreAtState<S> {
+pub struct LuGreFixedStepState<S> {
     /// Elastic force `w = sigma0 z` times the force scale, within `±Fs` times it.
     pub w: S,
 }
@@ -109,7 +109,7 @@ fn gap_end<S: Scalar>(v: S, g: S, w: S) -> S {
     signed(v, g) - w
 }
 
-impl<S: Scalar> LuGreAt<S> {
+impl<S: Scalar> LuGreFixedStep<S> {
     /// The power of two the forces inside (the state `w` included) are
     /// carried times: 1 in floating point.
     pub fn force_scale(&self) -> f64 {
@@ -174,7 +174,7 @@ impl<S: Scalar> LuGreAt<S> {
     #[inline(always)]
     fn advance<const CORRECTED: bool>(
         &self,
-        state: &mut LuGreAtState<S>,
+        state: &mut LuGreFixedStepState<S>,
         v: S,
         c: S,
         damping: bool,
@@ -187,7 +187,7 @@ impl<S: Scalar> LuGreAt<S> {
         // the elastic increment over the step, sigma0 h |v| (scaled): the
         // products below are ordered so that none is a tiny number, which
         // fixed point would round to a few steps
-        // within k sigma0 h v_max (checked at build_at): no overflow test
+        // within k sigma0 h v_max (checked at build_fixed_step): no overflow test
         let p = self.sigma0_h.mul_bounded(speed);
         let x = self.unscale(p * inv_g); // = sigma0 h |v| / g, finite or +inf
         let w0 = state.w;
@@ -237,7 +237,7 @@ impl<S: Scalar> LuGreAt<S> {
                     (self.sigma1, self.sigma1_unscaled)
                 };
                 // sigma1 / g <= sigma1 / Fc and sigma1 |v| / g, checked
-                // at build_at (about a quarter of the range), and the
+                // at build_fixed_step (about a quarter of the range), and the
                 // damping force within twice k sigma1 v_max (1 + Fs/Fc)
                 // (|sign(v) g - w| <= g + Fs; a 1/g of one Q16.16 step can
                 // be twice the exact one), half the range: no overflow test
@@ -253,15 +253,15 @@ impl<S: Scalar> LuGreAt<S> {
     }
 }
 
-impl<S: Scalar> FixedStepModel<S> for LuGreAt<S> {
-    type State = LuGreAtState<S>;
+impl<S: Scalar> FixedStepModel<S> for LuGreFixedStep<S> {
+    type State = LuGreFixedStepState<S>;
 
     fn period(&self) -> f64 {
         self.h
     }
 
     #[inline]
-    fn step(&self, state: &mut LuGreAtState<S>, v: S) -> S {
+    fn step(&self, state: &mut LuGreFixedStepState<S>, v: S) -> S {
         match checked_velocity(v) {
             Some(v) => self.unscale(self.advance::<false>(state, v, S::ZERO, true)),
             None => self.hold_force(state),
@@ -269,13 +269,19 @@ impl<S: Scalar> FixedStepModel<S> for LuGreAt<S> {
     }
 
     /// `w = sigma0 z`.
-    fn hold_force(&self, state: &LuGreAtState<S>) -> S {
+    fn hold_force(&self, state: &LuGreFixedStepState<S>) -> S {
         self.unscale(state.w)
     }
 }
 
-impl<S: Scalar> FixedStepObservable<S> for LuGreAt<S> {
-    fn step_corrected(&self, state: &mut LuGreAtState<S>, v: S, correction: S, damping: bool) -> S {
+impl<S: Scalar> FixedStepObservable<S> for LuGreFixedStep<S> {
+    fn step_corrected(
+        &self,
+        state: &mut LuGreFixedStepState<S>,
+        v: S,
+        correction: S,
+        damping: bool,
+    ) -> S {
         // the step's bounded products need |v| <= VELOCITY_LIMIT, which the
         // caller promises; fixed point, where a broken promise would wrap
         // them, clamps it again
@@ -294,7 +300,7 @@ impl<S: Scalar> FixedStepObservable<S> for LuGreAt<S> {
 
     /// Keeps the elastic force `w` (the state is a force): rescaled to this
     /// model's force scale, within `±Fs`.
-    fn carry_over(&self, old: &Self, state: &mut LuGreAtState<S>) {
+    fn carry_over(&self, old: &Self, state: &mut LuGreFixedStepState<S>) {
         let ratio = scale_ratio(old.inv_scale_exp, self.inv_scale_exp);
         state.w = carried(state.w, ratio, self.fs);
     }

@@ -1,20 +1,5 @@
-//! The LuGre model (Canudas de Wit, Olsson, Åström, Lischinsky 1995).
-//!
-//! ```text
-//! dz/dt = v - sigma0 |v| z / g(v)
-//! F     = sigma0 z + sigma1(v) dz/dt + sigma2 v
-//! sigma1(v) = sigma1                    (standard)
-//!           = sigma1 exp(-(v/vd)^2)     (with `vd`: dissipative, Åström & Canudas de Wit 2008)
-//! ```
-//!
-//! Discretisation: with `v` held over the step the `z`-equation is linear,
-//! `dz/dt = v - a z` with `a = sigma0 |v| / g(v) >= 0`, and is solved exactly
-//! (exponential relaxation towards `sign(v) g(v) / sigma0`). The step is
-//! unconditionally stable at any `h`, keeps `|z| <= Fs / sigma0`, and its
-//! steady state is exactly `g(v) sign(v) + sigma2 v`. The force is evaluated
-//! at the end of the step, with `dz/dt = v - a z(t + h)`. The rate `a` is
-//! never formed where it could overflow (`sigma0 = 1e305` in `f64` still
-//! lands on the steady state).
+//! The LuGre model (Canudas de Wit, Olsson, Åström, Lischinsky 1995): see
+//! [`LuGre`].
 
 mod fixed_step;
 #[cfg(test)]
@@ -29,7 +14,7 @@ use crate::model::{
 use crate::stribeck::StribeckParams;
 use crate::Scalar;
 pub(crate) use fixed_step::{phi_series, relax};
-pub use fixed_step::{LuGreAt, LuGreAtState};
+pub use fixed_step::{LuGreFixedStep, LuGreFixedStepState};
 pub use variable_step::{LuGre, LuGreState};
 
 /// LuGre parameters (`model = "lugre"`), in `f64`.
@@ -135,13 +120,13 @@ impl LuGreParams {
     }
 
     /// Validates and builds the fixed-step form for sample period `h` (s):
-    /// see [`LuGreAt`]. The checks are [`Self::build`]'s, with `sigma0 h`
+    /// see [`LuGreFixedStep`]. The checks are [`Self::build`]'s, with `sigma0 h`
     /// in place of `Fc / sigma0` (its state is a force, not a deflection).
     ///
     /// ```
-    /// use friction_core::{FixedStepModel, LuGreParams, LuGreAtState};
-    /// let model = LuGreParams::CANUDAS_1995.build_at::<f32>(1e-3)?;
-    /// let mut state = LuGreAtState::default();
+    /// use friction_core::{FixedStepModel, LuGreParams, LuGreFixedStepState};
+    /// let model = LuGreParams::CANUDAS_1995.build_fixed_step::<f32>(1e-3)?;
+    /// let mut state = LuGreFixedStepState::default();
     /// let mut f = 0.0;
     /// for _ in 0..1000 {
     ///     f = model.step(&mut state, 0.1); // 0.1 m/s for 1 s at 1 kHz
@@ -149,7 +134,7 @@ impl LuGreParams {
     /// assert!((f - (1.0 + 0.4 * 0.1)).abs() < 1e-4);
     /// # Ok::<(), friction_core::ParamError>(())
     /// ```
-    pub fn build_at<S: Scalar>(&self, h: f64) -> Result<LuGreAt<S>, ParamError> {
+    pub fn build_fixed_step<S: Scalar>(&self, h: f64) -> Result<LuGreFixedStep<S>, ParamError> {
         self.validate()?;
         let h = period(h)?;
         let (fc, fs) = (self.curve.fc, self.curve.fs);
@@ -180,12 +165,12 @@ impl LuGreParams {
         };
         // the step carries sigma1 unscaled as well (`sigma1_unscaled`): in
         // fixed point it must fit, or the damping term would saturate
-        if let Err(crate::scalar::Conversion::Overflow) = S::try_from_f64(self.sigma1) {
+        if let Err(crate::scalar::ScalarConversion::Overflow) = S::try_from_f64(self.sigma1) {
             return Err(ParamError::NotRepresentable("sigma1"));
         }
         let sigma1 = convert("sigma1", k * self.sigma1)?;
         let inv_scale_exp = crate::scalar::inverse_scale_exp(k);
-        Ok(LuGreAt {
+        Ok(LuGreFixedStep {
             curve,
             sigma0_h: convert("sigma0", k * sigma0_h)?,
             sigma1,

@@ -52,17 +52,23 @@ fn negative_zero_parameters_are_zero() {
     let ep = |p: LuGreParams| {
         let z_ba = 0.5 * p.curve.fc / p.sigma0;
         crate::ElastoPlasticParams { lugre: p, z_ba }
-            .build_at::<f32>(1e-3)
+            .build_fixed_step::<f32>(1e-3)
             .unwrap()
     };
     for start in [0.0f32, -0.0] {
         let (a, b) = (
-            plus.build_at::<f32>(1e-3).unwrap(),
-            minus.build_at::<f32>(1e-3).unwrap(),
+            plus.build_fixed_step::<f32>(1e-3).unwrap(),
+            minus.build_fixed_step::<f32>(1e-3).unwrap(),
         );
         let (c, d) = (ep(plus), ep(minus));
-        let (mut sa, mut sb) = (LuGreAtState { w: start }, LuGreAtState { w: start });
-        let (mut sc, mut sd) = (LuGreAtState { w: start }, LuGreAtState { w: start });
+        let (mut sa, mut sb) = (
+            LuGreFixedStepState { w: start },
+            LuGreFixedStepState { w: start },
+        );
+        let (mut sc, mut sd) = (
+            LuGreFixedStepState { w: start },
+            LuGreFixedStepState { w: start },
+        );
         for v in vs {
             let (fa, fb) = (a.step(&mut sa, v), b.step(&mut sb, v));
             assert_eq!(fa.to_bits(), fb.to_bits(), "LuGre, v = {v}");
@@ -150,7 +156,7 @@ fn velocity_dependent_damping_fades() {
 
 /// The fixed-point step's bounded products ([`Scalar::mul_bounded`],
 /// which asserts its bound in this crate's tests) over the parameter
-/// sets `build_at` accepts among 20,000 drawn log-uniformly across and
+/// sets `build_fixed_step` accepts among 20,000 drawn log-uniformly across and
 /// beyond their ranges, and a review's worst cases, with hostile
 /// inputs: velocities beyond the clamp, states at the ends of the range,
 /// an observer's corrections at their limit and a velocity its caller
@@ -193,13 +199,13 @@ fn fixed_point_bounded_products_stay_in_range() {
             },
         };
         let h = log_uniform(1e-6, 1e-1);
-        let Ok(m) = p.build_at::<Fixed32>(h) else {
+        let Ok(m) = p.build_fixed_step::<Fixed32>(h) else {
             continue;
         };
         accepted += 1;
         for w in [Fixed32::MIN, Fixed32::MAX, Fixed32::ZERO, m.fs(), -m.fs()] {
-            let mut s = LuGreAtState { w };
-            let mut o = LuGreAtState { w };
+            let mut s = LuGreFixedStepState { w };
+            let mut o = LuGreFixedStepState { w };
             for (k, &v) in velocities.iter().enumerate() {
                 let v = Fixed32::from_f64(v);
                 m.step(&mut s, v);
@@ -208,7 +214,7 @@ fn fixed_point_bounded_products_stay_in_range() {
             }
         }
     }
-    // enough sets get through build_at for the test to mean something
+    // enough sets get through build_fixed_step for the test to mean something
     assert!(accepted > 2_000, "{accepted} sets accepted");
     // a review's worst cases: the damping force at half the range (a
     // 1/g of one step, twice the exact one, k = 2^-14, Fs/Fc = 1023, from
@@ -239,10 +245,10 @@ fn fixed_point_bounded_products_stay_in_range() {
         vd: Some(0.020_975),
     };
     for (p, h) in [(damping, 1e-3), (rate, 3.223e-5)] {
-        let m = p.build_at::<Fixed32>(h).unwrap();
+        let m = p.build_fixed_step::<Fixed32>(h).unwrap();
         for w in [Fixed32::MIN, Fixed32::MAX, Fixed32::ZERO, m.fs(), -m.fs()] {
             for bits in (-(4 << 16)..=(4 << 16)).step_by(977) {
-                let mut s = LuGreAtState { w };
+                let mut s = LuGreFixedStepState { w };
                 m.step(&mut s, Fixed32::from_bits(bits));
                 m.step(&mut s, Fixed32::from_bits(bits));
             }
@@ -268,10 +274,10 @@ fn fixed_point_refuses_an_unrepresentable_sigma1() {
         vd: None,
     };
     assert_eq!(
-        p.build_at::<crate::Fixed32>(1e-3).err(),
+        p.build_fixed_step::<crate::Fixed32>(1e-3).err(),
         Some(ParamError::NotRepresentable("sigma1"))
     );
-    assert!(p.build_at::<f32>(1e-3).is_ok());
+    assert!(p.build_fixed_step::<f32>(1e-3).is_ok());
 }
 
 fn arb_params() -> impl Strategy<Value = LuGreParams> {

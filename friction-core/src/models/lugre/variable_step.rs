@@ -7,6 +7,24 @@ use crate::stribeck::StribeckCurve;
 use crate::Scalar;
 
 /// The built LuGre model: immutable, shared by any number of [`LuGreState`]s.
+///
+/// The LuGre model (Canudas de Wit, Olsson, Åström, Lischinsky 1995).
+///
+/// ```text
+/// dz/dt = v - sigma0 |v| z / g(v)
+/// F     = sigma0 z + sigma1(v) dz/dt + sigma2 v
+/// sigma1(v) = sigma1                    (standard)
+///           = sigma1 exp(-(v/vd)^2)     (with `vd`: dissipative, Åström & Canudas de Wit 2008)
+/// ```
+///
+/// Discretisation: with `v` held over the step the `z`-equation is linear,
+/// `dz/dt = v - a z` with `a = sigma0 |v| / g(v) >= 0`, and is solved exactly
+/// (exponential relaxation towards `sign(v) g(v) / sigma0`). The step is
+/// unconditionally stable at any `h`, keeps `|z| <= Fs / sigma0`, and its
+/// steady state is exactly `g(v) sign(v) + sigma2 v`. The force is evaluated
+/// at the end of the step, with `dz/dt = v - a z(t + h)`. The rate `a` is
+/// never formed where it could overflow (`sigma0 = 1e305` in `f64` still
+/// lands on the steady state).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct LuGre<S> {

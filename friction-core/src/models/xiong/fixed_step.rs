@@ -1,14 +1,14 @@
-//! The fixed-step Xiong model, built for one sample period: [`XiongAt`]
-//! and [`XiongAtState`].
+//! The fixed-step Xiong model, built for one sample period: [`XiongFixedStep`]
+//! and [`XiongFixedStepState`].
 
 use crate::fixed_step::{checked_velocity, FixedStepModel, FixedStepObservable};
 use crate::stribeck::StribeckCurve;
 use crate::Scalar;
 
-/// One element of [`XiongAt`]: everything its step needs, formed at build.
+/// One element of [`XiongFixedStep`]: everything its step needs, formed at build.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub(super) struct ElementAt<S> {
+pub(super) struct ElementFixedStep<S> {
     /// `sigma_i + h K_i`, times the force scale.
     pub(super) scale: S,
     /// `1 - r_i`, `r_i = 1 / (1 + h K_i / sigma_i)`.
@@ -18,8 +18,8 @@ pub(super) struct ElementAt<S> {
 }
 
 /// Xiong built for one sample period `h`
-/// ([`XiongParams::build_at`](super::XiongParams::build_at)), with the element
-/// forces `w_i = K_i z_i` as its state ([`XiongAtState`]):
+/// ([`XiongParams::build_fixed_step`](super::XiongParams::build_fixed_step)), with the element
+/// forces `w_i = K_i z_i` as its state ([`XiongFixedStepState`]):
 ///
 /// ```text
 /// lag+ = (Fs - g(v)) + (lag - (Fs - g(v))) e^(-h/tau),   gamma+ = Fs - lag+
@@ -34,7 +34,7 @@ pub(super) struct ElementAt<S> {
 /// build time: no division, no exponential in the step. `c` is an
 /// observer's correction, 0 for the model. Forces (the state included) are
 /// carried times a power of two `k` ([`Scalar::force_scale`]: 1 in floating
-/// point), as in [`LuGreAt`](crate::LuGreAt), and the force is returned in
+/// point), as in [`LuGreFixedStep`](crate::LuGreFixedStep), and the force is returned in
 /// newtons; `w_i+` is formed as the increment `w_i + (1 - r_i)(f_i - w_i)`.
 ///
 /// `N` must be at least 1:
@@ -43,11 +43,11 @@ pub(super) struct ElementAt<S> {
 /// use friction_core::{XiongParams, StribeckParams};
 /// let curve = StribeckParams { fc: 1.0, fs: 1.5, vs: 1e-3, exponent: 2.0 };
 /// let p = XiongParams::<0> { curve, tau: 1e-2, sigma2: 0.0, elements: [] };
-/// let m = p.build_at::<f32>(1e-3); // error: N = 0 elements
+/// let m = p.build_fixed_step::<f32>(1e-3); // error: N = 0 elements
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct XiongAt<S, const N: usize> {
+pub struct XiongFixedStep<S, const N: usize> {
     pub(super) curve: StribeckCurve<S>,
     /// `e^(-h/tau)`.
     pub(super) decay: S,
@@ -56,14 +56,14 @@ pub struct XiongAt<S, const N: usize> {
     pub(super) fs_minus_fc: S,
     /// `1 / k`, the force scale's inverse (a power of two).
     pub(super) inv_scale: S,
-    pub(super) elements: [ElementAt<S>; N],
+    pub(super) elements: [ElementFixedStep<S>; N],
     pub(super) h: f64,
 }
 
-/// The state of [`XiongAt`]: the lag level and each element's force.
+/// The state of [`XiongFixedStep`]: the lag level and each element's force.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct XiongAtState<S, const N: usize> {
+pub struct XiongFixedStepState<S, const N: usize> {
     /// `Fs - gamma` (N) times the force scale (1 in floating point), within
     /// `[0, Fs - Fc]` times it: 0 at rest.
     pub lag: S,
@@ -71,7 +71,7 @@ pub struct XiongAtState<S, const N: usize> {
     pub w: [S; N],
 }
 
-impl<S: Scalar, const N: usize> Default for XiongAtState<S, N> {
+impl<S: Scalar, const N: usize> Default for XiongFixedStepState<S, N> {
     /// At rest: `gamma = Fs`, every `w_i = 0`.
     fn default() -> Self {
         Self {
@@ -81,7 +81,7 @@ impl<S: Scalar, const N: usize> Default for XiongAtState<S, N> {
     }
 }
 
-impl<S: Scalar, const N: usize> XiongAt<S, N> {
+impl<S: Scalar, const N: usize> XiongFixedStep<S, N> {
     /// The Stribeck curve `g`.
     pub fn curve(&self) -> &StribeckCurve<S> {
         &self.curve
@@ -89,12 +89,12 @@ impl<S: Scalar, const N: usize> XiongAt<S, N> {
 
     /// The frictional-lag level `gamma = Fs - lag` of a state, times the
     /// force scale (the units of the state).
-    pub fn gamma(&self, state: &XiongAtState<S, N>) -> S {
+    pub fn gamma(&self, state: &XiongFixedStepState<S, N>) -> S {
         self.fs - state.lag
     }
 
     #[inline]
-    fn advance(&self, state: &mut XiongAtState<S, N>, v: S, c: S, damping: bool) -> S {
+    fn advance(&self, state: &mut XiongFixedStepState<S, N>, v: S, c: S, damping: bool) -> S {
         let u = v - c;
         let lag_eq = self.fs - self.curve.eval_fast(v);
         let lag = (lag_eq + (state.lag - lag_eq) * self.decay)
@@ -119,15 +119,15 @@ impl<S: Scalar, const N: usize> XiongAt<S, N> {
     }
 }
 
-impl<S: Scalar, const N: usize> FixedStepModel<S> for XiongAt<S, N> {
-    type State = XiongAtState<S, N>;
+impl<S: Scalar, const N: usize> FixedStepModel<S> for XiongFixedStep<S, N> {
+    type State = XiongFixedStepState<S, N>;
 
     fn period(&self) -> f64 {
         self.h
     }
 
     #[inline]
-    fn step(&self, state: &mut XiongAtState<S, N>, v: S) -> S {
+    fn step(&self, state: &mut XiongFixedStepState<S, N>, v: S) -> S {
         match checked_velocity(v) {
             Some(v) => self
                 .advance(state, v, S::ZERO, true)
@@ -137,7 +137,7 @@ impl<S: Scalar, const N: usize> FixedStepModel<S> for XiongAt<S, N> {
     }
 
     /// `sum_i w_i`, within `±Fs` (also after rounding).
-    fn hold_force(&self, state: &XiongAtState<S, N>) -> S {
+    fn hold_force(&self, state: &XiongFixedStepState<S, N>) -> S {
         let mut sum = S::ZERO;
         for &w in &state.w {
             sum = sum + w;
@@ -149,10 +149,10 @@ impl<S: Scalar, const N: usize> FixedStepModel<S> for XiongAt<S, N> {
 /// As [`Xiong`](super::Xiong)'s observer form: `v - c` inside the saturation, the lag
 /// level follows the measured `v`; without damping the estimate is the
 /// elastic part `sum_i w_i+ + sigma2 v`.
-impl<S: Scalar, const N: usize> FixedStepObservable<S> for XiongAt<S, N> {
+impl<S: Scalar, const N: usize> FixedStepObservable<S> for XiongFixedStep<S, N> {
     fn step_corrected(
         &self,
-        state: &mut XiongAtState<S, N>,
+        state: &mut XiongFixedStepState<S, N>,
         v: S,
         correction: S,
         damping: bool,

@@ -1,51 +1,5 @@
-//! The multistate friction model of Xiong, Kikuuwe and Yamamoto (~2013),
-//! with `N` elements.
-//!
-//! ```text
-//! dgamma/dt = (g(v) - gamma) / tau
-//! dz_i/dt   = (sat(lambda_i gamma, K_i z_i + sigma_i v) - K_i z_i) / sigma_i
-//! F         = sum_i sat(lambda_i gamma, K_i z_i + sigma_i v) + sigma2 v
-//! ```
-//!
-//! `gamma` is the frictional-lag level: it follows the Stribeck curve with
-//! lag time `tau`. No switching logic: the `sat` makes the equations a
-//! continuous ODE.
-//!
-//! Initial state: at rest the full static level is available, `gamma = Fs`
-//! (a contact that has dwelt at rest has `g(0) = Fs`, the lag equation's
-//! equilibrium at `v = 0`). So that [`Default`] can be that rest state
-//! without knowing the parameters, the state carries `lag = Fs - gamma`
-//! (0 at rest, within `[0, Fs - Fc]`); [`Xiong::gamma`] gives `gamma`.
-//!
-//! Discretisation, in closed form with no iteration: `gamma` is solved
-//! exactly for held `v` (`gamma+ = g + (gamma - g) e^(-h/tau)`), then each
-//! element by implicit Euler:
-//!
-//! ```text
-//! f_i  = sat(lambda_i gamma+, K_i z_i + (sigma_i + h K_i) v)
-//! z_i+ = (sigma_i z_i + h f_i) / (sigma_i + h K_i)
-//! F    = sum_i f_i + sigma2 v
-//! ```
-//!
-//! computed as `z_i+ = r z_i + (1 - r) f_i / K_i` with `r = 1 / (1 + h
-//! K_i/sigma_i)`, so that no `h K_i` overflow can produce a NaN. The step is
-//! unconditionally stable, `|f_i| <= lambda_i gamma+`, and `K_i z_i+` is a
-//! weighted mean of `K_i z_i` and `f_i`. When `gamma` falls faster than an
-//! element relaxes (`sigma_i / K_i` against `tau`) the ODE lets `|K_i z_i|`
-//! exceed `lambda_i gamma` for a while; the step clamps `|K_i z_i|` to
-//! `lambda_i gamma` instead, so the bound holds at every step (the
-//! difference is of order `lambda_i |dgamma/dt| sigma_i / K_i`). The
-//! steady state is `g(v) sign(v) + sigma2 v` (the weights are normalised by
-//! their sum when the model is built).
-//!
-//! `N` must be at least 1:
-//!
-//! ```compile_fail
-//! use friction_core::{StribeckParams, XiongParams};
-//! let curve = StribeckParams { fc: 1.0, fs: 1.5, vs: 1e-3, exponent: 2.0 };
-//! let p = XiongParams::<0> { curve, tau: 1e-2, sigma2: 0.0, elements: [] };
-//! let m = p.build::<f32>(); // error: N = 0 elements
-//! ```
+//! The multistate friction model of Xiong, Kikuuwe and Yamamoto (~2013), with
+//! `N` elements: see [`Xiong`].
 
 mod fixed_step;
 #[cfg(test)]
@@ -59,8 +13,8 @@ use crate::model::{
 use crate::models::gms::WEIGHT_TOLERANCE;
 use crate::stribeck::StribeckParams;
 use crate::Scalar;
-use fixed_step::ElementAt;
-pub use fixed_step::{XiongAt, XiongAtState};
+use fixed_step::ElementFixedStep;
+pub use fixed_step::{XiongFixedStep, XiongFixedStepState};
 use variable_step::Element;
 pub use variable_step::{Xiong, XiongState};
 
@@ -159,18 +113,18 @@ impl<const N: usize> XiongParams<N> {
     }
 
     /// Validates and builds the fixed-step form for sample period `h` (s):
-    /// see [`XiongAt`] (`N >= 1`, checked at compile time). Besides
+    /// see [`XiongFixedStep`] (`N >= 1`, checked at compile time). Besides
     /// [`Self::build`]'s checks, rejects a bad `h` and an element whose
     /// trial force `(sigma_i + h K_i) (v - c)` overflows the scalar at twice
     /// the velocity limit ([`ParamError::ForceOverflow`] naming `k`).
     ///
     /// ```
-    /// use friction_core::{FixedStepModel, StribeckParams, XiongAtState, XiongElement, XiongParams};
+    /// use friction_core::{FixedStepModel, StribeckParams, XiongFixedStepState, XiongElement, XiongParams};
     /// let curve = StribeckParams { fc: 1.0, fs: 1.5, vs: 1e-3, exponent: 2.0 };
     /// let e = |k: f64, lambda| XiongElement { k, sigma: k * 1e-4, lambda };
     /// let p = XiongParams { curve, tau: 1e-2, sigma2: 0.4, elements: [e(1e5, 0.5), e(2e4, 0.5)] };
-    /// let model = p.build_at::<f32>(1e-3)?;
-    /// let mut state = XiongAtState::default();
+    /// let model = p.build_fixed_step::<f32>(1e-3)?;
+    /// let mut state = XiongFixedStepState::default();
     /// let mut f = 0.0;
     /// for _ in 0..1000 {
     ///     f = model.step(&mut state, 0.1); // 0.1 m/s for 1 s at 1 kHz
@@ -178,14 +132,14 @@ impl<const N: usize> XiongParams<N> {
     /// assert!((f - (1.0 + 0.4 * 0.1)).abs() < 1e-4);
     /// # Ok::<(), friction_core::ParamError>(())
     /// ```
-    pub fn build_at<S: Scalar>(&self, h: f64) -> Result<XiongAt<S, N>, ParamError> {
+    pub fn build_fixed_step<S: Scalar>(&self, h: f64) -> Result<XiongFixedStep<S, N>, ParamError> {
         const { assert!(N > 0, "the Xiong model needs at least one element") };
         self.validate()?;
         let h = period(h)?;
         let (fc, fs) = (self.curve.fc, self.curve.fs);
         let v_max = S::VELOCITY_LIMIT.to_f64();
         let sum: f64 = self.elements.iter().map(|e| e.lambda).sum();
-        // forces carried times k (as LuGreAt): the largest is Fs, sigma2 v
+        // forces carried times k (as LuGreFixedStep): the largest is Fs, sigma2 v
         // or an element's (sigma_i + h K_i) (v - c) at the limit
         let elastic_max = self
             .elements
@@ -201,7 +155,7 @@ impl<const N: usize> XiongParams<N> {
             ..self.curve
         }
         .build()?;
-        let mut elements = [ElementAt::<S>::default(); N];
+        let mut elements = [ElementFixedStep::<S>::default(); N];
         for (out, e) in elements.iter_mut().zip(&self.elements) {
             let lambda = e.lambda / sum;
             convert::<S>("lambda", k * lambda * fc)?;
@@ -209,13 +163,13 @@ impl<const N: usize> XiongParams<N> {
             check_force::<S>("k", k * scale * 2.0 * v_max)?;
             // 1 - r_i = (h K_i / sigma_i) / (1 + h K_i / sigma_i)
             let x = h * (e.k / e.sigma);
-            *out = ElementAt {
+            *out = ElementFixedStep {
                 scale: convert("k", k * scale)?,
                 one_minus_r: convert_derived("sigma", x / (1.0 + x))?,
                 lambda: convert("lambda", lambda)?,
             };
         }
-        Ok(XiongAt {
+        Ok(XiongFixedStep {
             curve,
             decay: S::from_f64(libm::exp(-h / self.tau)),
             sigma2: convert("sigma2", k * self.sigma2)?,

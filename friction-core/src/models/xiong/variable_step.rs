@@ -17,6 +17,55 @@ pub(super) struct Element<S> {
 }
 
 /// The built Xiong model: immutable, shared by any number of [`XiongState`]s.
+///
+/// The multistate friction model of Xiong, Kikuuwe and Yamamoto (~2013),
+/// with `N` elements.
+///
+/// ```text
+/// dgamma/dt = (g(v) - gamma) / tau
+/// dz_i/dt   = (sat(lambda_i gamma, K_i z_i + sigma_i v) - K_i z_i) / sigma_i
+/// F         = sum_i sat(lambda_i gamma, K_i z_i + sigma_i v) + sigma2 v
+/// ```
+///
+/// `gamma` is the frictional-lag level: it follows the Stribeck curve with
+/// lag time `tau`. No switching logic: the `sat` makes the equations a
+/// continuous ODE.
+///
+/// Initial state: at rest the full static level is available, `gamma = Fs`
+/// (a contact that has dwelt at rest has `g(0) = Fs`, the lag equation's
+/// equilibrium at `v = 0`). So that [`Default`] can be that rest state
+/// without knowing the parameters, the state carries `lag = Fs - gamma`
+/// (0 at rest, within `[0, Fs - Fc]`); [`Xiong::gamma`] gives `gamma`.
+///
+/// Discretisation, in closed form with no iteration: `gamma` is solved
+/// exactly for held `v` (`gamma+ = g + (gamma - g) e^(-h/tau)`), then each
+/// element by implicit Euler:
+///
+/// ```text
+/// f_i  = sat(lambda_i gamma+, K_i z_i + (sigma_i + h K_i) v)
+/// z_i+ = (sigma_i z_i + h f_i) / (sigma_i + h K_i)
+/// F    = sum_i f_i + sigma2 v
+/// ```
+///
+/// computed as `z_i+ = r z_i + (1 - r) f_i / K_i` with `r = 1 / (1 + h
+/// K_i/sigma_i)`, so that no `h K_i` overflow can produce a NaN. The step is
+/// unconditionally stable, `|f_i| <= lambda_i gamma+`, and `K_i z_i+` is a
+/// weighted mean of `K_i z_i` and `f_i`. When `gamma` falls faster than an
+/// element relaxes (`sigma_i / K_i` against `tau`) the ODE lets `|K_i z_i|`
+/// exceed `lambda_i gamma` for a while; the step clamps `|K_i z_i|` to
+/// `lambda_i gamma` instead, so the bound holds at every step (the
+/// difference is of order `lambda_i |dgamma/dt| sigma_i / K_i`). The
+/// steady state is `g(v) sign(v) + sigma2 v` (the weights are normalised by
+/// their sum when the model is built).
+///
+/// `N` must be at least 1:
+///
+/// ```compile_fail
+/// use friction_core::{StribeckParams, XiongParams};
+/// let curve = StribeckParams { fc: 1.0, fs: 1.5, vs: 1e-3, exponent: 2.0 };
+/// let p = XiongParams::<0> { curve, tau: 1e-2, sigma2: 0.0, elements: [] };
+/// let m = p.build::<f32>(); // error: N = 0 elements
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Xiong<S, const N: usize> {

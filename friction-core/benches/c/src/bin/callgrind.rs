@@ -4,7 +4,7 @@
 use friction_bench_c::{
     c_ie_step, c_step, rust_fixed_step, rust_step, velocities, CLuGre, H, PARAMS,
 };
-use friction_core::{LuGreAtState, LuGreState};
+use friction_core::{LuGreFixedStepState, LuGreState};
 use std::hint::black_box;
 
 /// Rounds over the 1024-step sweep.
@@ -15,8 +15,10 @@ const ROUNDS: usize = 100;
 /// attributes the libm crate's `exp` calls to the fixed-step form alone).
 fn main() {
     if std::env::args().nth(1).as_deref() == Some("fixed") {
-        let fixed = PARAMS.build_at::<f64>(H).expect("canudas1995 builds");
-        let (mut w, mut ff) = (LuGreAtState::default(), 0.0);
+        let fixed = PARAMS
+            .build_fixed_step::<f64>(H)
+            .expect("canudas1995 builds");
+        let (mut w, mut ff) = (LuGreFixedStepState::default(), 0.0);
         let vs = velocities();
         for _ in 0..ROUNDS {
             for &v in &vs {

@@ -1,37 +1,11 @@
 //! The fixed-step form of the per-parameter adaptation, for every scalar:
-//! [`ParameterAdaptiveAt`], built by [`ParameterAdaptiveParams::build_at`].
-//!
-//! The law, the discretisation and the bounds are
-//! [`ParameterAdaptive`]'s; what differs is what
-//! the state carries. The variable form keeps the bristle `z` (rad) and
-//! forms `sigma0 h`, `1/h` and `sigma1` at run time: in Q16.16 a bristle of
-//! `Fc / sigma0` is a few units of the last place, `h = 1e-3` is not held
-//! within 0.1 % (its build fails), and per-tick increments of an estimate
-//! (`γ h e`, about 1e-5 N) round away. This form carries, as the fixed-step
-//! models do ([`crate::fixed_step`]):
-//!
-//! - the elastic force `w = sigma0 z` and the estimates in force units
-//!   times a power of two `k` ([`Scalar::force_scale`]: 1 in floating
-//!   point; in Q16.16 the largest that keeps the largest force the boxes
-//!   allow within range, so an estimate's last place is about `1.5e-5 / k` N);
-//! - every product with `h` formed once in `f64` when built: `k sigma0 h`,
-//!   `sigma1 / (sigma0 h)` (the damping term from the change of `w`), and
-//!   the levels' `k γ h`, `k γd` and each estimate's weight (its gains over
-//!   the levels'), each as a mantissa and a power of two so that gains far
-//!   from 1 keep their precision; the adaptation signal is formed once a
-//!   tick and scaled by each weight.
-//!
-//! ```text
-//! ζ' = (W + k sigma0 h (v - k_o e)) / (G + k sigma0 h |v|),   G = k g^(v)
-//!                      (= W' / G of the variable form's implicit Euler step)
-//! ζ  = clamp(ζ', -1, 1),  W = ζ G
-//! F^ = (W + sigma1 / (sigma0 h) (ζ' G - W_old) + k sigma2^ v) / k
-//! ```
-//!
-//! In `f64` it agrees with the variable form to rounding; in `f32` and
-//! Q16.16 the tests compare a servo run under the supervisor with `f64`.
+//! see [`ParameterAdaptiveFixedStep`], built by
+//! [`ParameterAdaptiveParams::build_fixed_step`].
 
-use super::{Estimate, ParameterAdaptive, ParameterAdaptiveParams, ESTIMATES, SIGNAL_LIMIT};
+use super::{
+    Estimate, ParameterAdaptive, ParameterAdaptiveParams, PARAMETER_ADAPTIVE_ESTIMATES,
+    SIGNAL_LIMIT,
+};
 use crate::bits::Flag;
 use crate::compensator::{Compensation, CompensatorParams};
 use crate::fixed_step::{carried, scale_ratio};
@@ -52,18 +26,18 @@ struct ScaledEstimate<S> {
     high: S,
 }
 
-/// The state of a [`ParameterAdaptiveAt`]: the elastic force, the
+/// The state of a [`ParameterAdaptiveFixedStep`]: the elastic force, the
 /// estimates (both in force units times the force scale), the last error
 /// and the transmitted torque. `Default` is at rest before the first step,
 /// which sets the estimates to their nominal values (as
-/// [`ParameterAdaptiveAt::initial`] does).
+/// [`ParameterAdaptiveFixedStep::initial`] does).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct ParameterAdaptiveAtState<S> {
+pub struct ParameterAdaptiveFixedStepState<S> {
     /// `k sigma0 z`: the elastic force times the force scale.
     w: S,
     /// `k [Fc+, Fc-, Ds, sigma2, mu]`.
-    estimates: [S; ESTIMATES],
+    estimates: [S; PARAMETER_ADAPTIVE_ESTIMATES],
     last_error: S,
     /// The transmitted torque `kc u - τ_ext` (torque units, not scaled).
     torque: S,
@@ -72,18 +46,50 @@ pub struct ParameterAdaptiveAtState<S> {
     primed: Flag,
 }
 
-/// The built fixed-step per-parameter adaptive observer (see the [module
-/// documentation](self)): immutable, shared by any number of
-/// [`ParameterAdaptiveAtState`]s; a [`Compensation`] for a
+/// The built fixed-step per-parameter adaptive observer: immutable, shared by any number of
+/// [`ParameterAdaptiveFixedStepState`]s; a [`Compensation`] for a
 /// [`Compensator`](crate::Compensator) at the period it was built for, in
 /// `f32`, `f64` or `Fixed32` (feature `fixed`).
+///
+/// The fixed-step form of the per-parameter adaptation, for every scalar:
+/// [`ParameterAdaptiveFixedStep`], built by [`ParameterAdaptiveParams::build_fixed_step`].
+///
+/// The law, the discretisation and the bounds are
+/// [`ParameterAdaptive`]'s; what differs is what
+/// the state carries. The variable form keeps the bristle `z` (rad) and
+/// forms `sigma0 h`, `1/h` and `sigma1` at run time: in Q16.16 a bristle of
+/// `Fc / sigma0` is a few units of the last place, `h = 1e-3` is not held
+/// within 0.1 % (its build fails), and per-tick increments of an estimate
+/// (`γ h e`, about 1e-5 N) round away. This form carries, as the fixed-step
+/// models do ([`FixedStepModel`](crate::FixedStepModel)):
+///
+/// - the elastic force `w = sigma0 z` and the estimates in force units
+///   times a power of two `k` ([`Scalar::force_scale`]: 1 in floating
+///   point; in Q16.16 the largest that keeps the largest force the boxes
+///   allow within range, so an estimate's last place is about `1.5e-5 / k` N);
+/// - every product with `h` formed once in `f64` when built: `k sigma0 h`,
+///   `sigma1 / (sigma0 h)` (the damping term from the change of `w`), and
+///   the levels' `k γ h`, `k γd` and each estimate's weight (its gains over
+///   the levels'), each as a mantissa and a power of two so that gains far
+///   from 1 keep their precision; the adaptation signal is formed once a
+///   tick and scaled by each weight.
+///
+/// ```text
+/// ζ' = (W + k sigma0 h (v - k_o e)) / (G + k sigma0 h |v|),   G = k g^(v)
+///                      (= W' / G of the variable form's implicit Euler step)
+/// ζ  = clamp(ζ', -1, 1),  W = ζ G
+/// F^ = (W + sigma1 / (sigma0 h) (ζ' G - W_old) + k sigma2^ v) / k
+/// ```
+///
+/// In `f64` it agrees with the variable form to rounding; in `f32` and
+/// Q16.16 the tests compare a servo run under the supervisor with `f64`.
 ///
 /// ```
 /// use friction_core::{CompensatorParams, CompensatorState, LuGreParams, ParameterAdaptiveParams, Setpoint};
 /// let servo = CompensatorParams { h: 1e-3, kp: 60.0, ki: 200.0, kd: 1.2,
 ///     inertia: 0.0023, torque_constant: 1.02, limit: 10.0 };
 /// let p = ParameterAdaptiveParams { speed: 0.63, ..ParameterAdaptiveParams::new(LuGreParams::OLSSON_1998, 20.0) };
-/// let adaptive = p.build_at::<f32>(&servo)?;
+/// let adaptive = p.build_fixed_step::<f32>(&servo)?;
 /// let ctl = servo.build(adaptive)?;
 /// let mut s = CompensatorState::default();
 /// let tick = ctl.tick(&mut s, 0.0, Setpoint { x: 1e-3, v: 0.1, a: 0.0 });
@@ -95,8 +101,8 @@ pub struct ParameterAdaptiveAtState<S> {
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct ParameterAdaptiveAt<S> {
-    per: [ScaledEstimate<S>; ESTIMATES],
+pub struct ParameterAdaptiveFixedStep<S> {
+    per: [ScaledEstimate<S>; PARAMETER_ADAPTIVE_ESTIMATES],
     /// The Coulomb levels' `k γ h` and `k γd`: every estimate's gains are
     /// these times its weight, so the signal is formed once a tick.
     gamma_h: Gain<S>,
@@ -130,7 +136,7 @@ pub struct ParameterAdaptiveAt<S> {
 }
 
 impl ParameterAdaptiveParams {
-    /// Validates and builds the fixed-step form ([`ParameterAdaptiveAt`])
+    /// Validates and builds the fixed-step form ([`ParameterAdaptiveFixedStep`])
     /// for a compensator with `servo`'s period, gains and torque constant.
     /// Besides [`build`](Self::build)'s checks, rejects what the scalar
     /// cannot carry: the largest force the boxes allow at the velocity
@@ -146,13 +152,13 @@ impl ParameterAdaptiveParams {
     /// let p = ParameterAdaptiveParams::new(LuGreParams::OLSSON_1998, 20.0);
     /// // the variable form needs h within 0.1 %: not in Q16.16 at 1 kHz
     /// assert!(p.build::<Fixed32>(&servo).is_err());
-    /// assert!(p.build_at::<Fixed32>(&servo).is_ok());
+    /// assert!(p.build_fixed_step::<Fixed32>(&servo).is_ok());
     /// # }
     /// ```
-    pub fn build_at<S: Scalar>(
+    pub fn build_fixed_step<S: Scalar>(
         &self,
         servo: &CompensatorParams,
-    ) -> Result<ParameterAdaptiveAt<S>, ParamError> {
+    ) -> Result<ParameterAdaptiveFixedStep<S>, ParamError> {
         // the prediction-error law (for listening beside another
         // controller) is the variable form's only
         if self.prediction_rate != 0.0 {
@@ -180,7 +186,7 @@ impl ParameterAdaptiveParams {
             nominal: S::ZERO,
             low: S::ZERO,
             high: S::ZERO,
-        }; ESTIMATES];
+        }; PARAMETER_ADAPTIVE_ESTIMATES];
         let [levels, ..] = reference.per;
         for (slot, e) in per.iter_mut().zip(reference.per) {
             let Estimate {
@@ -204,7 +210,7 @@ impl ParameterAdaptiveParams {
             };
         }
         let inv_scale_exp = inverse_scale_exp(k);
-        Ok(ParameterAdaptiveAt {
+        Ok(ParameterAdaptiveFixedStep {
             per,
             gamma_h: Gain::new("rate", k * levels.gamma_h)?,
             gamma_d: Gain::new("derivative_weight", k * levels.gamma_d)?,
@@ -249,13 +255,13 @@ fn scaled<S: Scalar>(name: &'static str, x: f64) -> Result<S, ParamError> {
 fn threshold<S: Scalar>(name: &'static str, x: f64) -> Result<S, ParamError> {
     match S::try_from_f64(x) {
         Ok(s) => Ok(s),
-        Err(crate::Conversion::Rounding) => Ok(S::from_f64(x)),
-        Err(crate::Conversion::Overflow) => Err(ParamError::NotRepresentable(name)),
-        Err(crate::Conversion::Underflow) => Err(ParamError::Underflow(name)),
+        Err(crate::ScalarConversion::Rounding) => Ok(S::from_f64(x)),
+        Err(crate::ScalarConversion::Overflow) => Err(ParamError::NotRepresentable(name)),
+        Err(crate::ScalarConversion::Underflow) => Err(ParamError::Underflow(name)),
     }
 }
 
-impl<S: Scalar> ParameterAdaptiveAt<S> {
+impl<S: Scalar> ParameterAdaptiveFixedStep<S> {
     /// The period it was built for (s).
     pub fn period(&self) -> f64 {
         self.period
@@ -274,8 +280,8 @@ impl<S: Scalar> ParameterAdaptiveAt<S> {
     }
 
     /// A state at rest with the nominal estimates.
-    pub fn initial(&self) -> ParameterAdaptiveAtState<S> {
-        ParameterAdaptiveAtState {
+    pub fn initial(&self) -> ParameterAdaptiveFixedStepState<S> {
+        ParameterAdaptiveFixedStepState {
             estimates: self.per.map(|k| k.nominal),
             started: Flag::new(true),
             ..Default::default()
@@ -283,7 +289,7 @@ impl<S: Scalar> ParameterAdaptiveAt<S> {
     }
 
     #[inline]
-    fn start(&self, state: &mut ParameterAdaptiveAtState<S>) {
+    fn start(&self, state: &mut ParameterAdaptiveFixedStepState<S>) {
         if !state.started.get() {
             state.estimates = self.per.map(|k| k.nominal);
             state.started = Flag::new(true);
@@ -292,19 +298,26 @@ impl<S: Scalar> ParameterAdaptiveAt<S> {
 
     /// The estimates `[Fc+, Fc-, Fs - Fc, sigma2, mu]` of `state` (a
     /// `Default` state reads 0 until its first step).
-    pub fn estimates(&self, state: &ParameterAdaptiveAtState<S>) -> [S; ESTIMATES] {
+    pub fn estimates(
+        &self,
+        state: &ParameterAdaptiveFixedStepState<S>,
+    ) -> [S; PARAMETER_ADAPTIVE_ESTIMATES] {
         state.estimates.map(|x| self.unscaled(x))
     }
 
     /// The elastic force `sigma0 z` of `state`.
-    pub fn elastic_force(&self, state: &ParameterAdaptiveAtState<S>) -> S {
+    pub fn elastic_force(&self, state: &ParameterAdaptiveFixedStepState<S>) -> S {
         self.unscaled(state.w)
     }
 
     /// Sets the estimates of `state` (e.g. restored after a power cycle),
     /// each projected onto its box; a non-finite value leaves that estimate
     /// as it is.
-    pub fn set_estimates(&self, state: &mut ParameterAdaptiveAtState<S>, values: [f64; ESTIMATES]) {
+    pub fn set_estimates(
+        &self,
+        state: &mut ParameterAdaptiveFixedStepState<S>,
+        values: [f64; PARAMETER_ADAPTIVE_ESTIMATES],
+    ) {
         self.start(state);
         for ((x, v), k) in state.estimates.iter_mut().zip(values).zip(&self.per) {
             if v.is_finite() {
@@ -315,7 +328,7 @@ impl<S: Scalar> ParameterAdaptiveAt<S> {
 
     /// Sets the external torque `τ_ext` the transmission carries besides
     /// the motor's; a non-finite value is ignored.
-    pub fn set_external_torque(&self, state: &mut ParameterAdaptiveAtState<S>, torque: S) {
+    pub fn set_external_torque(&self, state: &mut ParameterAdaptiveFixedStepState<S>, torque: S) {
         if torque.is_finite() {
             state.external = torque.sat(self.torque_limit);
         }
@@ -340,7 +353,7 @@ impl<S: Scalar> ParameterAdaptiveAt<S> {
     /// returns `F^`. A non-finite input leaves the state untouched and
     /// returns the force the state holds.
     #[inline]
-    pub fn step(&self, state: &mut ParameterAdaptiveAtState<S>, v: S, e: S) -> S {
+    pub fn step(&self, state: &mut ParameterAdaptiveFixedStepState<S>, v: S, e: S) -> S {
         self.start(state);
         if !(v.is_finite() && e.is_finite()) {
             return self.force(state, S::ZERO, S::ZERO);
@@ -404,15 +417,15 @@ impl<S: Scalar> ParameterAdaptiveAt<S> {
 
     /// `F^ = (W + sigma1 / (sigma0 h) dW + k sigma2^ v) / k`.
     #[inline]
-    fn force(&self, state: &ParameterAdaptiveAtState<S>, v: S, dw: S) -> S {
+    fn force(&self, state: &ParameterAdaptiveFixedStepState<S>, v: S, dw: S) -> S {
         let damping = self.damping.times(dw).sat(self.cap);
         let viscous = state.estimates[3] * v;
         self.unscaled(state.w + damping + viscous)
     }
 }
 
-impl<S: Scalar> Compensation<S> for ParameterAdaptiveAt<S> {
-    type State = ParameterAdaptiveAtState<S>;
+impl<S: Scalar> Compensation<S> for ParameterAdaptiveFixedStep<S> {
+    type State = ParameterAdaptiveFixedStepState<S>;
     const USES_H: bool = false;
     #[inline]
     fn estimate(&self, state: &mut Self::State, v: S, e: S, _h: S) -> S {
@@ -436,7 +449,7 @@ impl<S: Scalar> Compensation<S> for ParameterAdaptiveAt<S> {
         let [fc_pos, fc_neg, excess, _, load] = fresh.estimates;
         let level = fc_pos.max(fc_neg) + excess + load * torque.abs();
         let ratio = scale_ratio(old.inv_scale_exp, self.inv_scale_exp);
-        *state = ParameterAdaptiveAtState {
+        *state = ParameterAdaptiveFixedStepState {
             w: carried(state.w, ratio, level),
             torque,
             external: state.external.sat(self.torque_limit),
@@ -453,7 +466,7 @@ mod tests {
     use crate::test_servo::olsson_servo as servo;
     use crate::{
         Compensator, CompensatorState, CoulombViscousParams, FrictionModel, LuGreParams,
-        LuGreState, Mode, Setpoint, SupervisorParams,
+        LuGreState, Setpoint, SupervisorMode, SupervisorParams,
     };
     use std::vec::Vec;
 
@@ -476,11 +489,12 @@ mod tests {
     /// and the supervisor's mode each second.
     struct Trace {
         x: Vec<f64>,
-        estimates: [f64; ESTIMATES],
-        modes: Vec<Mode>,
+        estimates: [f64; PARAMETER_ADAPTIVE_ESTIMATES],
+        modes: Vec<SupervisorMode>,
     }
 
-    type Supervised<S> = crate::Supervised<ParameterAdaptiveAt<S>, crate::CoulombViscous<S>, S>;
+    type Supervised<S> =
+        crate::Supervised<ParameterAdaptiveFixedStep<S>, crate::CoulombViscous<S>, S>;
 
     fn supervised<S: Scalar>(factor: f64) -> Compensator<S, Supervised<S>> {
         let fallback = CoulombViscousParams {
@@ -493,7 +507,7 @@ mod tests {
             tolerance: 0.01 * 0.28,
             ..SupervisorParams::DEFAULT
         };
-        let adaptive = law(factor).build_at::<S>(&servo()).unwrap();
+        let adaptive = law(factor).build_fixed_step::<S>(&servo()).unwrap();
         servo()
             .build(p.build(adaptive, fallback, 1e-3).unwrap())
             .unwrap()
@@ -579,7 +593,9 @@ mod tests {
     fn in_f64_the_fixed_step_form_is_the_variable_form() {
         for factor in [1.5, 0.5] {
             let p = law(factor);
-            let at = servo().build(p.build_at::<f64>(&servo()).unwrap()).unwrap();
+            let at = servo()
+                .build(p.build_fixed_step::<f64>(&servo()).unwrap())
+                .unwrap();
             let var = servo().build(p.build::<f64>(&servo()).unwrap()).unwrap();
             let (mut sa, mut sv) = (CompensatorState::default(), CompensatorState::default());
             let mut worst = 0.0f64;
@@ -662,7 +678,7 @@ mod tests {
 
     /// 1e6 random ticks of finite inputs of every size (velocity, error,
     /// command, external torque): every estimate in its box, the output
-    /// finite and within [`ParameterAdaptiveAt::bound`]; NaN and infinite
+    /// finite and within [`ParameterAdaptiveFixedStep::bound`]; NaN and infinite
     /// inputs (floats) leave the state untouched.
     fn bounds_hold<S: Scalar>(max: f64, ticks: usize) {
         let p = ParameterAdaptiveParams {
@@ -670,11 +686,11 @@ mod tests {
             dead_zone: 1e-3,
             ..law(1.5)
         };
-        let a = p.build_at::<S>(&servo()).unwrap();
+        let a = p.build_fixed_step::<S>(&servo()).unwrap();
         // the last place of an unscaled estimate (0 in floating point)
         let ulp = if S::SCALES_FORCES { 2.0 / 65536.0 } else { 0.0 };
         let boxes = p.boxes();
-        let mut s = ParameterAdaptiveAtState::default();
+        let mut s = ParameterAdaptiveFixedStepState::default();
         let mut pick = hostile(11, max);
         for k in 0..ticks {
             let (v, e, u) = (pick(), pick(), pick());
@@ -775,7 +791,7 @@ mod tests {
                 prediction_rate: 1.0,
                 ..law(1.0)
             }
-            .build_at::<f32>(&servo())
+            .build_fixed_step::<f32>(&servo())
             .err(),
             Some(ParamError::NotBelow {
                 name: "prediction_rate",
@@ -788,7 +804,7 @@ mod tests {
                 rate: -1.0,
                 ..law(1.0)
             }
-            .build_at::<f32>(&servo())
+            .build_fixed_step::<f32>(&servo())
             .err(),
             Some(ParamError::Negative("rate"))
         );
@@ -798,8 +814,8 @@ mod tests {
             // limit does not fit Q16.16
             let mut p = law(1.0);
             p.model.sigma0 = 1e8;
-            assert!(p.build_at::<crate::Fixed32>(&servo()).is_err());
-            assert!(p.build_at::<f32>(&servo()).is_ok());
+            assert!(p.build_fixed_step::<crate::Fixed32>(&servo()).is_err());
+            assert!(p.build_fixed_step::<f32>(&servo()).is_ok());
         }
     }
 }
