@@ -221,7 +221,7 @@ pub struct AdaptiveState<T, S> {
 /// untouched.
 ///
 /// In fixed point `θ^` is carried scaled by a power of two
-/// ([`Scalar::force_scale`] of its range): per-tick increments of `1e-6`
+/// (the force scale of its range, chosen at build time): per-tick increments of `1e-6`
 /// would otherwise round to 0 in Q16.16.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

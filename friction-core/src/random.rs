@@ -85,6 +85,7 @@ impl CounterRng {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scalar::sealed::Kernels;
 
     /// `from_unit24` gives the value of the exact `f64` formula rounded
     /// once, in `f32` as in `f64`.

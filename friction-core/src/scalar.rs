@@ -3,6 +3,8 @@
 use crate::fixed_step::signed;
 use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};
+#[cfg(doc)]
+use sealed::Kernels;
 
 /// Why [`Scalar::try_from_f64`] refused a value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -21,16 +23,26 @@ pub enum ScalarConversion {
 ///
 /// The number trait the models are generic over.
 ///
-/// It is the project's own and deliberately small: it names only what the
-/// models need, so that a fixed-point type (from the `fixed` crate) can
+/// It is the project's own and deliberately small: arithmetic and
+/// comparison, the constants, conversion from and to `f64`, and the few
+/// functions the models' equations are written with (`abs`, `exp`,
+/// `exp_m1`, `ln_1p`, `powf`, the bounded-range `exp_neg`, `sign`, `min`,
+/// `max`, `sat`), so that a fixed-point type (from the `fixed` crate) can
 /// implement it with table or polynomial approximations where `f32`/`f64`
 /// call [`libm`]. `num_traits::Float` cannot be implemented for fixed point.
 ///
 /// Implemented for `f32` and `f64` through `libm`, and (feature `fixed`) for
 /// the Q16.16 `Fixed32`. Parameters are designed
 /// in `f64` and converted once, when a model is built, with [`Scalar::from_f64`].
+///
+/// The trait is sealed: it cannot be implemented outside this crate. The
+/// numeric kernels and tuning flags the fixed-step forms are tuned with
+/// (force scaling, bounded and fraction products, the Stribeck and
+/// elasto-plastic curves) sit in a crate-private supertrait, so that they
+/// can change without a breaking release.
 pub trait Scalar:
-    Copy
+    sealed::Kernels
+    + Copy
     + PartialOrd
     + Debug
     + Default
@@ -55,15 +67,6 @@ pub trait Scalar:
     /// Converts a design-time `f64`, rounding to the nearest representable
     /// value (saturating where the type cannot overflow to infinity).
     fn from_f64(x: f64) -> Self;
-
-    /// `(m + 0.5) / 2^24` for a 24-bit `m`, rounded once to the type: a
-    /// random unit in `(0, 1)` ([`crate::random::CounterRng::unit`]). The
-    /// floats form it in their own precision (`m` is exact, the sum is
-    /// rounded once, the power of two is exact: the same value as through
-    /// `f64`, without soft-float `f64` arithmetic on an FPU-less or f32-only core).
-    fn from_unit24(m: u32) -> Self {
-        Self::from_f64((f64::from(m) + 0.5) * (1.0 / 16_777_216.0))
-    }
 
     /// Converts a design-time `f64`, checked: [`ScalarConversion::Overflow`] if it
     /// does not fit (or is not finite), [`ScalarConversion::Underflow`] if a
@@ -100,94 +103,6 @@ pub trait Scalar:
     /// `true` unless the value is NaN or infinite.
     fn is_finite(self) -> bool;
 
-    /// The power of two by which a fixed-step form scales the forces it
-    /// carries inside, given the largest force term it must hold
-    /// (`max_force`, from the parameters at the velocity limit). `1` for
-    /// floats, where scaling by a power of two changes nothing; for fixed
-    /// point, the largest power of two that keeps `4 max_force scale` in
-    /// range, so that small forces and small per-step increments keep their
-    /// precision.
-    fn force_scale(max_force: f64) -> f64 {
-        let _ = max_force;
-        1.0
-    }
-
-    /// Whether [`Scalar::force_scale`] can differ from 1 (fixed point).
-    const SCALES_FORCES: bool = false;
-
-    /// Whether every value is finite (fixed point: no NaN or infinity), so
-    /// that an input check is a clamp alone.
-    const ALWAYS_FINITE: bool = false;
-
-    /// Whether a quotient is one instruction (floating point on a core with
-    /// a floating-point unit), so that a step forms one it may not need
-    /// rather than test whether it needs it; not in fixed point (a long
-    /// division) or soft float (a library call).
-    const CHEAP_DIVISION: bool = false;
-
-    /// `self * factor` for a factor derived from [`Scalar::force_scale`]:
-    /// skipped where forces are never scaled (floats), so that the
-    /// fixed-step forms pay nothing for scaling in floating point.
-    #[inline]
-    fn rescale(self, factor: Self) -> Self {
-        if Self::SCALES_FORCES {
-            self * factor
-        } else {
-            self
-        }
-    }
-
-    /// `self 2^exp` for a power of two derived from
-    /// [`Scalar::force_scale`] (`exp` in -31..=31), skipped like
-    /// [`Scalar::rescale`] where forces are never scaled. Fixed point
-    /// overrides it with a shift (rounding to nearest, saturating), which
-    /// costs a core without a 64-bit multiply far less than a product.
-    #[inline]
-    fn rescale_pow2(self, exp: i8) -> Self {
-        if Self::SCALES_FORCES {
-            self * Self::from_f64(libm::exp2(f64::from(exp)))
-        } else {
-            self
-        }
-    }
-
-    /// `self * b` where the caller has shown the product within the scalar's
-    /// range, with a margin, for every input a model accepts (by the checks
-    /// of its `build_fixed_step` and the clamp of its velocity): fixed point then skips
-    /// its overflow test (on ARMv6-M three 32-bit products without the test
-    /// of the operands' high halves). The product whenever it is within the
-    /// range; beyond it, fixed point wraps instead of saturating (never a
-    /// panic). This crate's own tests assert the bound at every call.
-    #[inline]
-    fn mul_bounded(self, b: Self) -> Self {
-        self * b
-    }
-
-    /// `1 / (self 2^exp)` for `self > 0` and an `exp` derived from
-    /// [`Scalar::force_scale`] (`-14..=14`; 0 in floating point): the
-    /// unscaled reciprocal of a scaled force, such as LuGre's `k / g`, formed
-    /// without rounding `self 2^exp` first. The same value as the quotient
-    /// `2^-exp / self` ([`Scalar::rescale_pow2`] of 1) for any `self`; fixed
-    /// point overrides it with a reciprocal in digits of a 16-bit estimate,
-    /// which has no whole part to divide first (cheaper than the quotient on
-    /// a Cortex-M0, which has no divide instruction; see the cost guide).
-    #[inline]
-    fn reciprocal_rescaled(self, exp: i8) -> Self {
-        Self::ONE.rescale_pow2(exp.saturating_neg()) / self
-    }
-
-    /// `self * f` where the caller knows the factor is a fraction,
-    /// `0 <= f < 1` (such as `e^-x`, `1 - e^-x`, a ratio below its bound):
-    /// the same value as the product for any `f`. Fixed point on ARMv6-M
-    /// overrides it with two 16 by 16-bit partial products instead of four
-    /// and no saturation, which cannot occur (a Cortex-M0 has only a 32-bit
-    /// multiply, so each partial product saved counts); any other `f` takes
-    /// the full product.
-    #[inline]
-    fn mul_fraction(self, f: Self) -> Self {
-        self * f
-    }
-
     /// `e^-x` for `x >= 0` (a negative `x` counts as 0; NaN stays NaN): the
     /// bounded-range exponential of the fixed-step forms. `f32` uses a
     /// range-reduced polynomial in `f32` alone (libm's `expf` works partly in
@@ -195,43 +110,6 @@ pub trait Scalar:
     /// `f64` a table of `2^-(j/64)` and a polynomial, within 1 unit in the
     /// last place of `libm::exp` (0 beyond 746, where it rounds to 0).
     fn exp_neg(self) -> Self;
-
-    /// `2^-x` for `x >= 0` (a negative `x` counts as 0; NaN stays NaN), for
-    /// a caller that folded `log2 e` into a constant built in `f64`
-    /// (`e^-y = 2^-(y log2 e)`; the Stribeck curve of the fixed-step forms):
-    /// the integer part of `x` is a power of two, only the fraction needs a
-    /// polynomial, so the range reduction is one subtraction. Default:
-    /// [`Scalar::exp_neg`] of `x ln 2`.
-    #[inline]
-    fn exp2_neg(self) -> Self {
-        (self * Self::from_f64(core::f64::consts::LN_2)).exp_neg()
-    }
-
-    /// `e^-(x^2)`: the Stribeck curve of the fixed-step forms with
-    /// `delta = 2` in a scalar without [`Scalar::EXP2_FOLDS`]. Default:
-    /// [`Scalar::exp_neg`] of `x x`; fixed point evaluates a table of cubic
-    /// segments instead (no product, no range reduction).
-    #[inline]
-    fn exp_neg_square(self) -> Self {
-        (self * self).exp_neg()
-    }
-
-    /// `(pi/2)^2 (sin(phi) / phi)^2` for `phi = pi u / 2` and `u = self` in
-    /// `[0, 1]`: the elasto-plastic transition zone's rate factor, from 2.47
-    /// at 0 to 1 at 1. Default: the series of `sin(phi) / phi` in
-    /// `(phi/2)^2`, squared; fixed point evaluates a table of cubic segments
-    /// built at compile time instead (one segment's cubic in place of the
-    /// series and its square, cheaper on a Cortex-M0; see the cost guide).
-    #[inline]
-    fn zone_curve(self) -> Self {
-        crate::models::elasto_plastic::zone_curve_series(self)
-    }
-
-    /// Whether [`Scalar::exp2_neg`] is the cheaper exponential (the floats):
-    /// then the fixed-step Stribeck curve folds `log2 e` into `1/vs` when it
-    /// is built. Fixed point keeps [`Scalar::exp_neg`] and `1/vs` as given
-    /// (a folded `1/vs` would overflow Q16.16 sooner).
-    const EXP2_FOLDS: bool = false;
 
     /// `sign(x)`: -1, 0 or 1 (0 at zero, unlike `f64::signum`).
     #[inline]
@@ -242,19 +120,6 @@ pub trait Scalar:
             -Self::ONE
         } else {
             Self::ZERO
-        }
-    }
-
-    /// `-self` when `v < 0`, else `self`: the fixed steps' `sign(v) x` where
-    /// the value at `v = 0` is never used. Off ARM the floats flip the sign
-    /// bit by `v`'s, bit operations instead of a comparison and a select (a
-    /// `v` of `-0.0` then flips it too).
-    #[inline]
-    fn negated_if_negative(self, v: Self) -> Self {
-        if v < Self::ZERO {
-            -self
-        } else {
-            self
         }
     }
 
@@ -285,13 +150,229 @@ pub trait Scalar:
     }
 }
 
+/// The crate-private half of [`Scalar`] (the sealed-trait pattern): `pub`
+/// so that it can be a supertrait of the public [`Scalar`], in a module
+/// that is not exported, so that code outside the crate can neither name
+/// nor implement it (nor, therefore, [`Scalar`]). Generic code outside the
+/// crate still reaches its items through an `S: Scalar` bound (the pattern
+/// cannot hide a supertrait's methods from a bound), but they are not
+/// documented there and not part of the API.
+pub(crate) mod sealed {
+    use super::Scalar;
+
+    /// The numeric kernels and tuning flags of the fixed-step forms, which
+    /// a scalar may specialise: force scaling ([`Kernels::force_scale`] and
+    /// the rescaling products), the products a model has bounded
+    /// ([`Kernels::mul_bounded`], [`Kernels::mul_fraction`]), the
+    /// exponentials of the Stribeck curve ([`Kernels::exp2_neg`],
+    /// [`Kernels::exp_neg_square`]), the elasto-plastic zone's
+    /// [`Kernels::zone_curve`], and the flags the models read. Every
+    /// `S: Scalar` bound in the crate reaches them; the defaults are the
+    /// floating-point forms, written with [`Scalar`]'s items.
+    pub trait Kernels {
+        /// `(m + 0.5) / 2^24` for a 24-bit `m`, rounded once to the type: a
+        /// random unit in `(0, 1)` ([`crate::random::CounterRng::unit`]). The
+        /// floats form it in their own precision (`m` is exact, the sum is
+        /// rounded once, the power of two is exact: the same value as through
+        /// `f64`, without soft-float `f64` arithmetic on an FPU-less or f32-only core).
+        fn from_unit24(m: u32) -> Self
+        where
+            Self: Scalar,
+        {
+            Self::from_f64((f64::from(m) + 0.5) * (1.0 / 16_777_216.0))
+        }
+
+        /// The power of two by which a fixed-step form scales the forces it
+        /// carries inside, given the largest force term it must hold
+        /// (`max_force`, from the parameters at the velocity limit). `1` for
+        /// floats, where scaling by a power of two changes nothing; for fixed
+        /// point, the largest power of two that keeps `4 max_force scale` in
+        /// range, so that small forces and small per-step increments keep their
+        /// precision.
+        fn force_scale(max_force: f64) -> f64 {
+            let _ = max_force;
+            1.0
+        }
+
+        /// Whether [`Kernels::force_scale`] can differ from 1 (fixed point).
+        const SCALES_FORCES: bool = false;
+
+        /// Whether every value is finite (fixed point: no NaN or infinity), so
+        /// that an input check is a clamp alone.
+        const ALWAYS_FINITE: bool = false;
+
+        /// Whether a quotient is one instruction (floating point on a core with
+        /// a floating-point unit), so that a step forms one it may not need
+        /// rather than test whether it needs it; not in fixed point (a long
+        /// division) or soft float (a library call).
+        const CHEAP_DIVISION: bool = false;
+
+        /// `self * factor` for a factor derived from [`Kernels::force_scale`]:
+        /// skipped where forces are never scaled (floats), so that the
+        /// fixed-step forms pay nothing for scaling in floating point.
+        #[inline]
+        fn rescale(self, factor: Self) -> Self
+        where
+            Self: Scalar,
+        {
+            if Self::SCALES_FORCES {
+                self * factor
+            } else {
+                self
+            }
+        }
+
+        /// `self 2^exp` for a power of two derived from
+        /// [`Kernels::force_scale`] (`exp` in -31..=31), skipped like
+        /// [`Kernels::rescale`] where forces are never scaled. Fixed point
+        /// overrides it with a shift (rounding to nearest, saturating), which
+        /// costs a core without a 64-bit multiply far less than a product.
+        #[inline]
+        fn rescale_pow2(self, exp: i8) -> Self
+        where
+            Self: Scalar,
+        {
+            if Self::SCALES_FORCES {
+                self * Self::from_f64(libm::exp2(f64::from(exp)))
+            } else {
+                self
+            }
+        }
+
+        /// `self * b` where the caller has shown the product within the scalar's
+        /// range, with a margin, for every input a model accepts (by the checks
+        /// of its `build_fixed_step` and the clamp of its velocity): fixed point then skips
+        /// its overflow test (on ARMv6-M three 32-bit products without the test
+        /// of the operands' high halves). The product whenever it is within the
+        /// range; beyond it, fixed point wraps instead of saturating (never a
+        /// panic). This crate's own tests assert the bound at every call.
+        #[inline]
+        fn mul_bounded(self, b: Self) -> Self
+        where
+            Self: Scalar,
+        {
+            self * b
+        }
+
+        /// `1 / (self 2^exp)` for `self > 0` and an `exp` derived from
+        /// [`Kernels::force_scale`] (`-14..=14`; 0 in floating point): the
+        /// unscaled reciprocal of a scaled force, such as LuGre's `k / g`, formed
+        /// without rounding `self 2^exp` first. The same value as the quotient
+        /// `2^-exp / self` ([`Kernels::rescale_pow2`] of 1) for any `self`; fixed
+        /// point overrides it with a reciprocal in digits of a 16-bit estimate,
+        /// which has no whole part to divide first (cheaper than the quotient on
+        /// a Cortex-M0, which has no divide instruction; see the cost guide).
+        #[inline]
+        fn reciprocal_rescaled(self, exp: i8) -> Self
+        where
+            Self: Scalar,
+        {
+            Self::ONE.rescale_pow2(exp.saturating_neg()) / self
+        }
+
+        /// `self * f` where the caller knows the factor is a fraction,
+        /// `0 <= f < 1` (such as `e^-x`, `1 - e^-x`, a ratio below its bound):
+        /// the same value as the product for any `f`. Fixed point on ARMv6-M
+        /// overrides it with two 16 by 16-bit partial products instead of four
+        /// and no saturation, which cannot occur (a Cortex-M0 has only a 32-bit
+        /// multiply, so each partial product saved counts); any other `f` takes
+        /// the full product.
+        #[inline]
+        fn mul_fraction(self, f: Self) -> Self
+        where
+            Self: Scalar,
+        {
+            self * f
+        }
+
+        /// `2^-x` for `x >= 0` (a negative `x` counts as 0; NaN stays NaN), for
+        /// a caller that folded `log2 e` into a constant built in `f64`
+        /// (`e^-y = 2^-(y log2 e)`; the Stribeck curve of the fixed-step forms):
+        /// the integer part of `x` is a power of two, only the fraction needs a
+        /// polynomial, so the range reduction is one subtraction. Default:
+        /// [`Scalar::exp_neg`] of `x ln 2`.
+        #[inline]
+        fn exp2_neg(self) -> Self
+        where
+            Self: Scalar,
+        {
+            (self * Self::from_f64(core::f64::consts::LN_2)).exp_neg()
+        }
+
+        /// `e^-(x^2)`: the Stribeck curve of the fixed-step forms with
+        /// `delta = 2` in a scalar without [`Kernels::EXP2_FOLDS`]. Default:
+        /// [`Scalar::exp_neg`] of `x x`; fixed point evaluates a table of cubic
+        /// segments instead (no product, no range reduction).
+        #[inline]
+        fn exp_neg_square(self) -> Self
+        where
+            Self: Scalar,
+        {
+            (self * self).exp_neg()
+        }
+
+        /// `(pi/2)^2 (sin(phi) / phi)^2` for `phi = pi u / 2` and `u = self` in
+        /// `[0, 1]`: the elasto-plastic transition zone's rate factor, from 2.47
+        /// at 0 to 1 at 1. Default: the series of `sin(phi) / phi` in
+        /// `(phi/2)^2`, squared; fixed point evaluates a table of cubic segments
+        /// built at compile time instead (one segment's cubic in place of the
+        /// series and its square, cheaper on a Cortex-M0; see the cost guide).
+        #[inline]
+        fn zone_curve(self) -> Self
+        where
+            Self: Scalar,
+        {
+            crate::models::elasto_plastic::zone_curve_series(self)
+        }
+
+        /// Whether [`Kernels::exp2_neg`] is the cheaper exponential (the floats):
+        /// then the fixed-step Stribeck curve folds `log2 e` into `1/vs` when it
+        /// is built. Fixed point keeps [`Scalar::exp_neg`] and `1/vs` as given
+        /// (a folded `1/vs` would overflow Q16.16 sooner).
+        const EXP2_FOLDS: bool = false;
+
+        /// `-self` when `v < 0`, else `self`: the fixed steps' `sign(v) x` where
+        /// the value at `v = 0` is never used. Off ARM the floats flip the sign
+        /// bit by `v`'s, bit operations instead of a comparison and a select (a
+        /// `v` of `-0.0` then flips it too).
+        #[inline]
+        fn negated_if_negative(self, v: Self) -> Self
+        where
+            Self: Scalar,
+        {
+            if v < Self::ZERO {
+                -self
+            } else {
+                self
+            }
+        }
+    }
+}
+
 macro_rules! impl_float_scalar {
     ($t:ty, $cheap_division:expr, $abs:path, $exp:path, $exp_neg:path, $exp2_neg:path, $expm1:path, $log1p:path, $pow:path) => {
+        impl sealed::Kernels for $t {
+            const EXP2_FOLDS: bool = true;
+            const CHEAP_DIVISION: bool = $cheap_division;
+            #[inline]
+            fn from_unit24(m: u32) -> Self {
+                ((m & 0xFF_FFFF) as $t + 0.5) * (1.0 / 16_777_216.0)
+            }
+            #[cfg(not(target_arch = "arm"))]
+            #[inline]
+            fn negated_if_negative(self, v: Self) -> Self {
+                let sign = (-0.0 as $t).to_bits();
+                <$t>::from_bits(self.to_bits() ^ (v.to_bits() & sign))
+            }
+            #[inline]
+            fn exp2_neg(self) -> Self {
+                $exp2_neg(self)
+            }
+        }
+
         impl Scalar for $t {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
-            const EXP2_FOLDS: bool = true;
-            const CHEAP_DIVISION: bool = $cheap_division;
             const MIN_POSITIVE: Self = <$t>::MIN_POSITIVE;
             const VELOCITY_LIMIT: Self = crate::model::VELOCITY_LIMIT as $t;
             #[inline]
@@ -301,10 +382,6 @@ macro_rules! impl_float_scalar {
             #[inline]
             fn to_f64(self) -> f64 {
                 self as f64
-            }
-            #[inline]
-            fn from_unit24(m: u32) -> Self {
-                ((m & 0xFF_FFFF) as $t + 0.5) * (1.0 / 16_777_216.0)
             }
             #[inline]
             fn abs(self) -> Self {
@@ -330,19 +407,9 @@ macro_rules! impl_float_scalar {
             fn is_finite(self) -> bool {
                 <$t>::is_finite(self)
             }
-            #[cfg(not(target_arch = "arm"))]
-            #[inline]
-            fn negated_if_negative(self, v: Self) -> Self {
-                let sign = (-0.0 as $t).to_bits();
-                <$t>::from_bits(self.to_bits() ^ (v.to_bits() & sign))
-            }
             #[inline]
             fn exp_neg(self) -> Self {
                 $exp_neg(self)
-            }
-            #[inline]
-            fn exp2_neg(self) -> Self {
-                $exp2_neg(self)
             }
             /// On ARM (no floating-point min or max before ARMv8)
             /// `sat_by_magnitude`: the default's value, with one
@@ -386,9 +453,9 @@ impl_float_scalar!(
     libm::pow
 );
 
-/// `log2(1 / k)` for a force scale `k` ([`Scalar::force_scale`], a power
+/// `log2(1 / k)` for a force scale `k` ([`Kernels::force_scale`], a power
 /// of two within `2^-14 ..= 2^14`, 1 in floating point): the exponent that
-/// [`Scalar::rescale_pow2`] divides by `k` with.
+/// [`Kernels::rescale_pow2`] divides by `k` with.
 pub(crate) fn inverse_scale_exp(k: f64) -> i8 {
     // a whole number within -14 ..= 14
     -(libm::round(libm::log2(k)).clamp(-14.0, 14.0) as i8)

@@ -130,7 +130,7 @@ pub struct StribeckCurve<S> {
     inv_vs: S,
     /// `1/vs` for [`Self::eval_fast`]: times `sqrt(log2 e)` (`delta = 2`) or
     /// `log2 e` (`delta = 1`) where the scalar's cheaper exponential is
-    /// `2^-x` ([`Scalar::EXP2_FOLDS`]).
+    /// `2^-x` ([`Kernels::EXP2_FOLDS`](crate::scalar::sealed::Kernels::EXP2_FOLDS)).
     inv_vs_fast: S,
     shape: StoredShape<S>,
 }
@@ -149,8 +149,8 @@ impl<S: Scalar> StribeckCurve<S> {
     }
 
     /// `g(v)` as [`Self::eval`], with the exponential of the fixed-step forms
-    /// ([`Scalar::exp2_neg`] in floating point; in fixed point
-    /// [`Scalar::exp_neg_square`] for `delta = 2`, else [`Scalar::exp_neg`]).
+    /// (`2^-x` in floating point; in fixed point
+    /// a table of `e^-(x^2)` for `delta = 2`, else [`Scalar::exp_neg`]).
     /// Always inlined: on the Cortex-M0 the call and its register saves
     /// cost more than the body saves by being shared.
     #[inline(always)]

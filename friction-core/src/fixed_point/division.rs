@@ -3,6 +3,7 @@
 //! without a divide instruction.
 
 use super::{Fixed32, ARMV6M};
+use crate::scalar::sealed::Kernels;
 use crate::Scalar;
 use core::ops::Div;
 
@@ -199,7 +200,7 @@ pub(super) fn pow2_quotient(e: u32, g: u32) -> Option<u32> {
 }
 
 /// `2^-exp / x` by the quotient, out of line: the rare inputs of
-/// [`Scalar::reciprocal_rescaled`].
+/// [`Kernels::reciprocal_rescaled`].
 #[cold]
 #[inline(never)]
 pub(super) fn pow2_over(exp: i8, x: Fixed32) -> Fixed32 {

@@ -138,7 +138,7 @@ const ZONE_SEGMENTS: [[i32; 4]; ZONE_SEGMENT_COUNT] = {
     table
 };
 
-/// [`Scalar::zone_curve`](crate::Scalar::zone_curve) in Q16.16 for `u` in
+/// [`Kernels::zone_curve`](crate::scalar::sealed::Kernels::zone_curve) in Q16.16 for `u` in
 /// Q16.16: the segment of `u` (bits 12 and up) by Horner in its 12-bit
 /// fraction `t`, all in `i32` (the partial sums before `a` are within 2^19
 /// in Q0.20, so `sum t < 2^31`); `u <= 0` is the value at 0, `u >= 1` the

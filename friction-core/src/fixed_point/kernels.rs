@@ -52,7 +52,7 @@ fn wrapping_split_product(a: i32, b: i32) -> i32 {
 }
 
 /// `(a b + 2^15) >> 16` modulo 2^32, for
-/// [`Scalar::mul_bounded`](crate::Scalar::mul_bounded): the product when it is
+/// [`Kernels::mul_bounded`](crate::scalar::sealed::Kernels::mul_bounded): the product when it is
 /// within `i32`, which the caller has shown (and this crate's tests assert);
 /// three 32-bit products on ARMv6-M, the 64-bit product truncated elsewhere
 /// (the same bits).

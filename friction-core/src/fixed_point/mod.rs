@@ -7,6 +7,7 @@ mod kernels;
 #[cfg(test)]
 mod tests;
 
+use crate::scalar::sealed::Kernels;
 use crate::scalar::ScalarConversion;
 use crate::Scalar;
 use core::ops::{Add, Mul, Neg, Sub};
@@ -45,7 +46,7 @@ use kernels::{fraction_product, saturated_product, wrapping_product};
 /// - any `h` for which those products fit.
 ///
 /// Inside, a fixed-step form carries its forces multiplied by a power of
-/// two ([`Scalar::force_scale`]) chosen at build time to use the range: a
+/// two (the force scale) chosen at build time to use the range: a
 /// servo's 0.3 N m friction is carried as about 300 with 1.5e-5 steps, so
 /// that the small per-step increments of a 10 kHz loop are not rounded
 /// away (unscaled, they stall a slow relaxation short of its equilibrium by
@@ -140,11 +141,7 @@ impl Neg for Fixed32 {
     }
 }
 
-impl Scalar for Fixed32 {
-    const ZERO: Self = Self(I16F16::ZERO);
-    const ONE: Self = Self(I16F16::ONE);
-    const MIN_POSITIVE: Self = Self(I16F16::DELTA);
-    const VELOCITY_LIMIT: Self = Self::from_bits(4 << 16);
+impl Kernels for Fixed32 {
     const SCALES_FORCES: bool = true;
     const ALWAYS_FINITE: bool = true;
 
@@ -213,6 +210,21 @@ impl Scalar for Fixed32 {
         self * f
     }
 
+    /// `2^s` with `4 max_force 2^s <= 32768`, `s` in -14..=14.
+    fn force_scale(max_force: f64) -> f64 {
+        if !(max_force.is_finite() && max_force > 0.0) {
+            return 1.0;
+        }
+        libm::exp2(libm::floor(libm::log2(8192.0 / max_force)).clamp(-14.0, 14.0))
+    }
+}
+
+impl Scalar for Fixed32 {
+    const ZERO: Self = Self(I16F16::ZERO);
+    const ONE: Self = Self(I16F16::ONE);
+    const MIN_POSITIVE: Self = Self(I16F16::DELTA);
+    const VELOCITY_LIMIT: Self = Self::from_bits(4 << 16);
+
     /// Rounds to nearest, saturating; NaN gives 0.
     fn from_f64(x: f64) -> Self {
         if x.is_nan() {
@@ -239,14 +251,6 @@ impl Scalar for Fixed32 {
 
     fn to_f64(self) -> f64 {
         self.0.to_num::<f64>()
-    }
-
-    /// `2^s` with `4 max_force 2^s <= 32768`, `s` in -14..=14.
-    fn force_scale(max_force: f64) -> f64 {
-        if !(max_force.is_finite() && max_force > 0.0) {
-            return 1.0;
-        }
-        libm::exp2(libm::floor(libm::log2(8192.0 / max_force)).clamp(-14.0, 14.0))
     }
 
     #[inline]

@@ -64,7 +64,7 @@ pub struct ParameterAdaptiveFixedStepState<S> {
 /// models do ([`FixedStepModel`](crate::FixedStepModel)):
 ///
 /// - the elastic force `w = sigma0 z` and the estimates in force units
-///   times a power of two `k` ([`Scalar::force_scale`]: 1 in floating
+///   times a power of two `k` (the force scale: 1 in floating
 ///   point; in Q16.16 the largest that keeps the largest force the boxes
 ///   allow within range, so an estimate's last place is about `1.5e-5 / k` N);
 /// - every product with `h` formed once in `f64` when built: `k sigma0 h`,

@@ -32,7 +32,7 @@ pub type DahlFixedStepState<S> = DahlState<S>;
 /// these go through `f32`, software floating point on a core without an FPU).
 ///
 /// Forces (the state `F` included) are carried times a power of two `k`
-/// ([`Scalar::force_scale`]: 1 in floating point), as in
+/// (the force scale: 1 in floating point), as in
 /// [`LuGreFixedStep`](crate::LuGreFixedStep), and the force is returned in newtons. Below
 /// `L = 0.1` the increment is formed as `Fc y (1 - e^-L) = sigma h |v| y
 /// y^d (ln(1 + q) / q) (1 - e^-L) / L` with `q = d k y^d`: the scaled
@@ -48,7 +48,7 @@ pub struct DahlFixedStep<S> {
     pub(super) delta_minus_one: S,
     pub(super) sigma2: S,
     /// `log2(1 / k)`: dividing by the force scale `k` is a shift by it in
-    /// fixed point ([`Scalar::rescale_pow2`]).
+    /// fixed point ([`Kernels::rescale_pow2`](crate::scalar::sealed::Kernels::rescale_pow2)).
     pub(super) inv_scale_exp: i8,
     pub(super) h: f64,
 }

@@ -157,13 +157,15 @@ pub(super) fn zone_step<S: Scalar>(mut u: S, mut left: S, eps: S) -> (S, usize) 
 #[inline]
 pub(super) fn zone_rate<S: Scalar>(u: S, eps: S) -> (S, S) {
     // u, eps and 1 - eps u are fractions; (pi/2)^2 P^2 from
-    // `Scalar::zone_curve`
+    // `Kernels::zone_curve`
     let b = u.zone_curve().mul_fraction(S::ONE - eps.mul_fraction(u));
     (eps + b.mul_fraction(u), b)
 }
 
 /// `(pi/2)^2 P^2` (`P = sin(phi) / phi`, `phi = pi u / 2`) from the series
-/// of `P` in the fraction `(phi/2)^2`: [`Scalar::zone_curve`]'s default.
+/// of `P` in the fraction `(phi/2)^2`:
+/// [`Kernels::zone_curve`](crate::scalar::sealed::Kernels::zone_curve)'s
+/// default.
 #[inline]
 pub(crate) fn zone_curve_series<S: Scalar>(u: S) -> S {
     // u, p = sin(phi)/phi and (phi/2)^2 are fractions
@@ -175,7 +177,8 @@ pub(crate) fn zone_curve_series<S: Scalar>(u: S) -> S {
 /// `sin(phi) / phi` from `y = (phi/2)^2 <= (pi/4)^2`: the Taylor series
 /// `sum_n (-4y)^n / (2n + 1)!` with `4^n` folded into the coefficients, so
 /// that in fixed point every product is with the fraction `y`
-/// ([`Scalar::mul_fraction`], cheaper on a Cortex-M0). Its terms run to `phi^12`
+/// ([`Kernels::mul_fraction`](crate::scalar::sealed::Kernels::mul_fraction),
+/// cheaper on a Cortex-M0). Its terms run to `phi^12`
 /// in `f64` (error below `(pi/2)^14 / 15! = 4.3e-10`), to `phi^10` in a
 /// scalar that cannot tell `1 + 1e-9` from 1 (`f32`: below `3.6e-8`, under
 /// half its unit at 1) and to `phi^8` in one that cannot tell `1 + 4e-6`

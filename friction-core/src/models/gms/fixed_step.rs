@@ -50,7 +50,7 @@ pub type GmsFixedStepState<S, const N: usize> = GmsState<S, N>;
 /// reciprocal `1/g` per step (none while every element sticks, in fixed
 /// point and soft float) and, for the relaxation, a series below `x = 0.1` then
 /// [`Scalar::exp_neg`]. Forces (the element forces of the state included)
-/// are carried times a power of two `k` ([`Scalar::force_scale`]: 1 in
+/// are carried times a power of two `k` (the force scale: 1 in
 /// floating point), as in [`LuGreFixedStep`](crate::LuGreFixedStep), and the force is
 /// returned in newtons.
 ///
@@ -138,7 +138,8 @@ impl<S: Scalar, const N: usize> GmsFixedStep<S, N> {
 }
 
 /// `n / d`, divided on first use and kept (at once where a division is one
-/// instruction, [`Scalar::CHEAP_DIVISION`]): GMS's `1/g`, which only a
+/// instruction, [`Kernels::CHEAP_DIVISION`](crate::scalar::sealed::Kernels::CHEAP_DIVISION)):
+/// GMS's `1/g`, which only a
 /// slipping element needs: a step where every element sticks (the common
 /// case) then divides not at all, which matters on a core without a divide
 /// instruction (Q16.16 on a Cortex-M0; see the cost guide).

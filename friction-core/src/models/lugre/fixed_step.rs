@@ -23,7 +23,7 @@ use crate::Scalar;
 /// time, one division per step (`1/g`), and `1 - e^-x` from a series below
 /// `x = 0.1` (no cancellation at low speed, see `phi_series`) and from [`Scalar::exp_neg`]
 /// above. `|w| <= Fs` always. Forces are carried times a power of two,
-/// [`LuGreFixedStep::force_scale`] ([`Scalar::force_scale`]: 1 in floating point,
+/// [`LuGreFixedStep::force_scale`] (1 in floating point,
 /// chosen to use the range in fixed point).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -38,7 +38,8 @@ pub struct LuGreFixedStep<S> {
     pub(super) inv_vd_sq: S,
     pub(super) fs: S,
     pub(super) rate_factor: S,
-    /// `log2(1 / k)`: [`Scalar::rescale_pow2`] by it divides by the force
+    /// `log2(1 / k)`: [`Kernels::rescale_pow2`](crate::scalar::sealed::Kernels::rescale_pow2)
+    /// by it divides by the force
     /// scale, a shift in fixed point instead of a product with `1 / k`.
     pub(super) inv_scale_exp: i8,
     /// `inv_vd_sq > 0`: `sigma1` fades with speed (a flag, one load and
@@ -127,14 +128,16 @@ impl<S: Scalar> LuGreFixedStep<S> {
     }
 
     /// `k / g` for a scaled force `g > 0`: its reciprocal in newtons^-1
-    /// ([`Scalar::reciprocal_rescaled`]; the quotient's value).
+    /// ([`Kernels::reciprocal_rescaled`](crate::scalar::sealed::Kernels::reciprocal_rescaled);
+    /// the quotient's value).
     #[inline(always)]
     pub(crate) fn inverse_unscaled(&self, g: S) -> S {
         g.reciprocal_rescaled(self.inv_scale_exp)
     }
 
     /// `x / k`, turning a scaled force back into newtons: a shift in fixed
-    /// point ([`Scalar::rescale_pow2`], rounding to nearest, saturating),
+    /// point ([`Kernels::rescale_pow2`](crate::scalar::sealed::Kernels::rescale_pow2),
+    /// rounding to nearest, saturating),
     /// nothing in floating point.
     #[inline(always)]
     pub(crate) fn unscale(&self, x: S) -> S {

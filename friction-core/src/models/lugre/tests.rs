@@ -154,7 +154,8 @@ fn velocity_dependent_damping_fades() {
     assert!((m.damping(1e-3) - P.sigma1 / core::f64::consts::E).abs() < 1e-9);
 }
 
-/// The fixed-point step's bounded products ([`Scalar::mul_bounded`],
+/// The fixed-point step's bounded products
+/// ([`Kernels::mul_bounded`](crate::scalar::sealed::Kernels::mul_bounded),
 /// which asserts its bound in this crate's tests) over the parameter
 /// sets `build_fixed_step` accepts among 20,000 drawn log-uniformly across and
 /// beyond their ranges, and a review's worst cases, with hostile

@@ -33,7 +33,7 @@ pub(super) struct ElementFixedStep<S> {
 /// `e^(-h/tau)`, `sigma_i + h K_i`, `r_i` and `1 - r_i` formed in `f64` at
 /// build time: no division, no exponential in the step. `c` is an
 /// observer's correction, 0 for the model. Forces (the state included) are
-/// carried times a power of two `k` ([`Scalar::force_scale`]: 1 in floating
+/// carried times a power of two `k` (the force scale: 1 in floating
 /// point), as in [`LuGreFixedStep`](crate::LuGreFixedStep), and the force is returned in
 /// newtons; `w_i+` is formed as the increment `w_i + (1 - r_i)(f_i - w_i)`.
 ///
