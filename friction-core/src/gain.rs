@@ -80,7 +80,7 @@ impl<S: Scalar> Gain<S> {
     }
 
     /// `k` (rounded to `f64`, for reporting).
-    #[cfg(test)]
+    #[cfg(all(test, feature = "fixed"))]
     pub(crate) fn to_f64(self) -> f64 {
         self.mantissa.to_f64() * libm::exp2(f64::from(self.exp))
     }

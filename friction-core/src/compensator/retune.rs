@@ -329,6 +329,7 @@ mod tests {
             out.push(run(ctl.retuned(next).unwrap(), next, NEVER, 5, 1.3).0);
             out
         }
+        #[cfg_attr(not(feature = "fixed"), allow(unused_mut))]
         let mut all = vec![
             (each::<f64>(), tolerance::<f64>()),
             (each::<f32>(), tolerance::<f32>()),
@@ -415,6 +416,7 @@ mod tests {
                 .fold(0.0, f64::max);
             (out, worst)
         }
+        #[cfg_attr(not(feature = "fixed"), allow(unused_mut))]
         let mut all = vec![
             (each::<f64>(), tolerance::<f64>()),
             (each::<f32>(), tolerance::<f32>()),

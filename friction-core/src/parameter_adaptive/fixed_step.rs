@@ -635,6 +635,7 @@ mod tests {
             let reference = supervised_run::<f64>(factor, 20);
             let half = reference.x.len() / 2;
             let want = rms(&reference.x[half..]);
+            #[cfg_attr(not(feature = "fixed"), allow(unused_mut))]
             let mut runs = std::vec![("f32", supervised_run::<f32>(factor, 20))];
             #[cfg(feature = "fixed")]
             runs.push(("Q16.16", supervised_run::<crate::Fixed32>(factor, 20)));

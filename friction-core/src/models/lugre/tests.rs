@@ -6,6 +6,7 @@ use super::*;
 use crate::fixed_step::FixedStepModel;
 use crate::model::{FrictionModel, ParamError};
 use crate::stribeck::StribeckParams;
+#[cfg(feature = "fixed")]
 use crate::Scalar;
 use proptest::prelude::*;
 use std::vec::Vec;
