@@ -19,9 +19,8 @@ pub enum ScalarConversion {
     Rounding,
 }
 
-/// A real number as the models compute with it.
-///
-/// The number trait the models are generic over.
+/// A real number as the models compute with it: the number trait the
+/// models are generic over.
 ///
 /// It is the project's own and deliberately small: arithmetic and
 /// comparison, the constants, conversion from and to `f64`, and the few

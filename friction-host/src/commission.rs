@@ -392,12 +392,23 @@ impl CommissionRun {
         s
     }
 
-    /// `commissioned.toml`: the identified model as a parameter file.
+    /// `commissioned.toml`: the identified model as a parameter file, with
+    /// the load coefficient (where identified) in a comment: a LuGre file
+    /// has no key for it (`[servo] adaptation_load` takes it).
     pub fn toml(&self, origin: &str) -> String {
         let m = &self.result.model;
+        let load = if self.result.identified.load {
+            format!(
+                "# load coefficient {} per unit of |kc u| (`[servo] adaptation_load`); \
+                 the levels below are at the mean transmitted torque {}.\n",
+                self.result.load, self.result.load_torque
+            )
+        } else {
+            String::new()
+        };
         format!(
             "# Commissioned by `friction commission` from {origin}\n\
-             # ({}).\n\
+             # ({}).\n{load}\
              model = \"lugre\"\nfc = {}\nfs = {}\nvs = {}\nstribeck_exponent = {}\n\
              sigma0 = {}\nsigma1 = {}\nsigma2 = {}\n",
             self.identified(),
