@@ -90,7 +90,7 @@ pub struct CommissioningIdentified {
 /// observer, `g = Fc + Ds s(v) + mu |kc u|`, makes `D = a(v) + mu L`
 /// exactly; `mu` is the least-squares slope of `D` on `L` within each
 /// speed (the speed's means removed), over at least 4 stretches whose `L`
-/// spreads by at least 10 % of `fc` RMS, and identified where it is in
+/// spreads by at least 10 % of the mean `D` RMS, and identified where it is in
 /// `[0, 1)`. `L` spreads only where `G` exceeds the friction over part of
 /// the window (the axis would fall without the motor); a stretch where it
 /// changes sign within the stretch mixes both regimes and biases `mu`
@@ -216,23 +216,24 @@ pub(super) fn fit<S: Scalar>(
     params: &CommissioningParams,
     state: &CommissioningState<S>,
 ) -> Result<Commissioned, CommissionError> {
-    let loads = loads(params, state);
-    let (points, n) = points(params, state);
+    let plateaus = measured(params, state);
+    let loads = loads(params, state, &plateaus);
+    let (points, n) = points(&plateaus);
     let per_direction = points.get(..n).unwrap_or(&[]);
     // a load that changes along the window (gravity) shifts each
     // direction's levels by the torque over its stretch: the curve from
     // the directions' half-differences first, symmetric; where that curve
     // finds no friction or fits poorly, the directions' own
-    let friction = loads
-        .pairs
-        .iter()
-        .take(loads.count)
-        .map(|p| libm::fabs(p.f))
-        .sum::<f64>()
-        / loads.count as f64;
-    if let Some(mu) = loads.coefficient(friction) {
+    let load = loads.coefficient();
+    if let Some(mu) = load {
         let (points, n) = loads.symmetric(mu);
-        let symmetric = fit_curve(params, state, &loads, points.get(..n).unwrap_or(&[]));
+        let symmetric = fit_curve(
+            params,
+            state,
+            load,
+            loads.torque,
+            points.get(..n).unwrap_or(&[]),
+        );
         if !matches!(
             symmetric,
             Err(CommissionError::NoFriction | CommissionError::PoorFit(_))
@@ -240,14 +241,16 @@ pub(super) fn fit<S: Scalar>(
             return symmetric;
         }
     }
-    fit_curve(params, state, &loads, per_direction)
+    fit_curve(params, state, load, loads.torque, per_direction)
 }
 
-/// The fit on the curve points `points`.
+/// The fit on the curve points `points`, with the load coefficient `load`
+/// and the mean transmitted torque `load_torque` as measured.
 fn fit_curve<S: Scalar>(
     params: &CommissioningParams,
     state: &CommissioningState<S>,
-    loads: &Loads,
+    load: Option<f64>,
+    load_torque: f64,
     points: &[Point],
 ) -> Result<Commissioned, CommissionError> {
     let n = points.len();
@@ -326,7 +329,6 @@ fn fit_curve<S: Scalar>(
         vd: None,
     };
     let (sigma1, damping) = damping(params, state, undamped, stiffness);
-    let load = loads.coefficient(fc);
     let model = LuGreParams { sigma1, ..undamped };
     model.validate().map_err(CommissionError::Invalid)?;
     Ok(Commissioned {
@@ -336,7 +338,7 @@ fn fit_curve<S: Scalar>(
         sigma2: [sigma2_pos.max(0.0), sigma2_neg.max(0.0)],
         breakaway,
         load: load.unwrap_or(0.0),
-        load_torque: loads.torque,
+        load_torque,
         identified: CommissioningIdentified {
             coulomb: true,
             stribeck: stribeck && reached,
@@ -351,14 +353,13 @@ fn fit_curve<S: Scalar>(
     })
 }
 
-/// The usable plateaus as `(v, F)`.
-fn points<S: Scalar>(
-    params: &CommissioningParams,
-    state: &CommissioningState<S>,
+/// The steady plateaus of `measured` as `(v, F)`.
+fn points(
+    measured: &[Option<PlateauPoint>; 2 * COMMISSIONING_MAX_SPEEDS],
 ) -> ([Point; 2 * COMMISSIONING_MAX_SPEEDS], usize) {
     let mut out = [Point::default(); 2 * COMMISSIONING_MAX_SPEEDS];
     let mut n = 0;
-    for p in measured(params, state).into_iter().flatten() {
+    for p in measured.iter().flatten() {
         if let (true, Some(slot)) = (p.steady, out.get_mut(n)) {
             *slot = Point {
                 v: p.speed,
@@ -601,11 +602,19 @@ impl Loads {
         libm::sqrt(self.sxx / self.stretches as f64)
     }
 
-    /// The load coefficient, where the spread is at least `LOAD_SPREAD fc`
-    /// and the slope within `[0, 1)`.
-    fn coefficient(&self, fc: f64) -> Option<f64> {
+    /// The mean friction `|D|` of the pairs.
+    fn friction(&self) -> f64 {
+        let pairs = self.pairs.iter().take(self.count);
+        pairs.map(|p| libm::fabs(p.f)).sum::<f64>() / self.count as f64
+    }
+
+    /// The load coefficient, where the spread is at least `LOAD_SPREAD`
+    /// times the pairs' mean friction and the slope within `[0, 1)`: one
+    /// decision for the curve and the result.
+    fn coefficient(&self) -> Option<f64> {
         let mu = self.sxy / self.sxx;
-        let spread = self.stretches >= MIN_STRETCHES && self.spread() >= LOAD_SPREAD * fc;
+        let spread =
+            self.stretches >= MIN_STRETCHES && self.spread() >= LOAD_SPREAD * self.friction();
         (spread && mu.is_finite() && (0.0..1.0).contains(&mu)).then_some(mu)
     }
 
@@ -631,9 +640,12 @@ impl Loads {
     }
 }
 
-fn loads<S: Scalar>(params: &CommissioningParams, state: &CommissioningState<S>) -> Loads {
+fn loads<S: Scalar>(
+    params: &CommissioningParams,
+    state: &CommissioningState<S>,
+    points: &[Option<PlateauPoint>; 2 * COMMISSIONING_MAX_SPEEDS],
+) -> Loads {
     let kc = params.servo.torque_constant;
-    let points = measured(params, state);
     let steady = |i: usize| match points.get(i) {
         Some(Some(p)) if p.steady => Some(p.speed),
         _ => None,
