@@ -366,7 +366,7 @@ impl<S: Scalar, M: FixedStepObservable<S>> AdaptiveObserver<M, S> {
     /// [`AdaptiveObserver::step`] for a fixed-step model: one period (the
     /// model's, which the compensator checks against the built period).
     #[inline]
-    pub fn step_at(&self, state: &mut AdaptiveState<M::State, S>, v: S, e: S) -> S {
+    pub fn step_fixed(&self, state: &mut AdaptiveState<M::State, S>, v: S, e: S) -> S {
         if !(v.is_finite() && e.is_finite()) {
             return scaled(
                 self.theta(state),
@@ -374,7 +374,7 @@ impl<S: Scalar, M: FixedStepObservable<S>> AdaptiveObserver<M, S> {
             );
         }
         let v = v.sat(S::VELOCITY_LIMIT);
-        let f = self.observer.step_at(&mut state.model, v, e);
+        let f = self.observer.step_fixed(&mut state.model, v, e);
         self.adapt(state, e.sat(S::VELOCITY_LIMIT), f)
     }
 }
@@ -410,7 +410,7 @@ impl<S: Scalar, M: FixedStepObservable<S>> Compensation<S>
     const USES_H: bool = false;
     #[inline]
     fn estimate(&self, state: &mut Self::State, v: S, e: S, _h: S) -> S {
-        self.0.step_at(state, v, e)
+        self.0.step_fixed(state, v, e)
     }
     fn period(&self) -> Option<f64> {
         let model = self.0.observer.model().period();

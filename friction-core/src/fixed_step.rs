@@ -23,7 +23,7 @@ use core::fmt::Debug;
 /// the force is always finite.
 ///
 /// The [`Observer`](crate::Observer) runs on a fixed-step model with
-/// [`Observer::step_at`](crate::Observer::step_at), and the
+/// [`Observer::step_fixed`](crate::Observer::step_fixed), and the
 /// [`Compensator`](crate::Compensator) accepts such an observer when it is
 /// built for the same period.
 ///

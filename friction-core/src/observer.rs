@@ -182,13 +182,13 @@ impl<S: Scalar, M: FixedStepObservable<S>> Observer<M, S> {
     /// let model = LuGreParams::CANUDAS_1995.build_fixed_step::<f32>(1e-3)?;
     /// let observer = Observer::new(model, 100.0)?;
     /// let mut w_hat = LuGreFixedStepState::default();
-    /// let f_hat = observer.step_at(&mut w_hat, 1e-3, 1e-6);
+    /// let f_hat = observer.step_fixed(&mut w_hat, 1e-3, 1e-6);
     /// assert!(f_hat > 0.0 && f_hat.is_finite());
-    /// assert!(observer.step_at(&mut w_hat, 0.0, 1e30).abs() <= 1.5);
+    /// assert!(observer.step_fixed(&mut w_hat, 0.0, 1e30).abs() <= 1.5);
     /// # Ok::<(), friction_core::ParamError>(())
     /// ```
     #[inline]
-    pub fn step_at(&self, state: &mut M::State, v: S, e: S) -> S {
+    pub fn step_fixed(&self, state: &mut M::State, v: S, e: S) -> S {
         if all_finite([v, e]) {
             let limit = S::VELOCITY_LIMIT;
             let v = v.sat(limit);

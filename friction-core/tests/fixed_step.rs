@@ -38,7 +38,7 @@ where
         let fa = at.step(&mut sa, v);
         model_gap = model_gap.max((fv - fa).abs() / fs);
         let gv = obs_v.step(&mut ov, v, e, h);
-        let ga = obs_a.step_at(&mut oa, v, e);
+        let ga = obs_a.step_fixed(&mut oa, v, e);
         observer_gap = observer_gap.max((gv - ga).abs() / fs);
     }
     (model_gap, observer_gap)
@@ -203,7 +203,7 @@ proptest! {
         let o = Observer::new(m, gain).unwrap();
         let mut s = LuGreFixedStepState::default();
         for (v, e) in inputs {
-            let f = o.step_at(&mut s, v, e);
+            let f = o.step_fixed(&mut s, v, e);
             prop_assert!(f.is_finite());
             prop_assert!(f.abs() <= m.force_bound(v.clamp(-1e6, 1e6)));
             prop_assert!(s.w.abs() <= 1.5);
@@ -606,7 +606,7 @@ where
     let o = Observer::new(m, gain).unwrap();
     let mut s = M::State::default();
     for &(v, e) in inputs {
-        let f = o.step_at(&mut s, v, e);
+        let f = o.step_fixed(&mut s, v, e);
         prop_assert!(f.is_finite());
         prop_assert!(f.abs() <= m.force_bound(v.clamp(-1e6, 1e6)));
         prop_assert!(bounded(&s), "{:?}", s);

@@ -147,7 +147,7 @@ where
                 *force = o.model().hold_force(s);
                 return friction_status::FRICTION_PERIOD_MISMATCH;
             }
-            *force = o.step_at(s, v, e);
+            *force = o.step_fixed(s, v, e);
         }
         _ => return friction_status::FRICTION_NOT_INITIALISED,
     }

@@ -146,7 +146,7 @@ pub(crate) union Stored<S: Scalar> {
     none: Axis<S, NoCompensation>,
     feed_forward: Axis<S, FeedForward<StaticMap<S>>>,
     observer: Axis<S, Observer<Variable<S>, S>>,
-    observer_at: Axis<S, FixedPeriod<Observer<Fixed<S>, S>>>,
+    observer_fixed: Axis<S, FixedPeriod<Observer<Fixed<S>, S>>>,
     adaptive: Axis<S, AdaptiveObserver<Variable<S>, S>>,
     adaptive_at: Axis<S, AdaptiveFixedStep<S>>,
     parameter_adaptive: Axis<S, ParameterLaw<S>>,
@@ -178,7 +178,7 @@ impl<S: Scalar> slot::Built for Servo<S> {
             Self::ObserverFixedStep(c, s) => (
                 kind::OBSERVER_AT,
                 Stored {
-                    observer_at: (c, s),
+                    observer_fixed: (c, s),
                 },
             ),
             Self::Adaptive(c, s) => (kind::ADAPTIVE, Stored { adaptive: (c, s) }),
@@ -222,7 +222,7 @@ macro_rules! each_servo {
                 $body
             }
             kind::OBSERVER_AT => {
-                let ($c, $s) = unsafe { &mut servo.observer_at };
+                let ($c, $s) = unsafe { &mut servo.observer_fixed };
                 $body
             }
             kind::ADAPTIVE => {

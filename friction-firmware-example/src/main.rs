@@ -365,7 +365,7 @@ fn count_instructions(
     model: &LuGre<f32>,
     observer: &Observer<LuGre<f32>, f32>,
     model_at: &LuGreFixedStep<f32>,
-    observer_at: &Observer<LuGreFixedStep<f32>, f32>,
+    observer_fixed: &Observer<LuGreFixedStep<f32>, f32>,
     servo: &LuGreServo<f32>,
 ) {
     const N: u32 = 1024;
@@ -415,7 +415,7 @@ fn count_instructions(
     let mut w = LuGreFixedStepState::default();
     let obs_at = ticks(N, || {
         i = (i + 1) & 63;
-        black_box(observer_at.step_at(&mut w, black_box(vs[i]), black_box(1e-5)));
+        black_box(observer_fixed.step_fixed(&mut w, black_box(vs[i]), black_box(1e-5)));
     });
     // one full servo tick (observer + PID): positions 1 mrad around a sine
     // whose differences sweep the velocity through zero, reference 10 µrad off
@@ -654,7 +654,7 @@ fn main() -> ! {
     ) else {
         fail("controller parameters")
     };
-    let (Ok(observer), Ok(observer_at)) = (
+    let (Ok(observer), Ok(observer_fixed)) = (
         Observer::new(model, OBSERVER_GAIN),
         Observer::new(model_at, OBSERVER_GAIN),
     ) else {
@@ -664,13 +664,13 @@ fn main() -> ! {
     let (Ok(c_none), Ok(c_coul), Ok(c_obs), Ok(c_plain)) = (
         p.build::<f32, _>(NoCompensation),
         p.build(FeedForward(coulomb)),
-        p.build(FixedPeriod(observer_at)),
-        p.build(FixedPeriod(observer_at.with_damping(false))),
+        p.build(FixedPeriod(observer_fixed)),
+        p.build(FixedPeriod(observer_fixed.with_damping(false))),
     ) else {
         fail("controller gains")
     };
 
-    count_instructions(&model, &observer, &model_at, &observer_at, &c_obs);
+    count_instructions(&model, &observer, &model_at, &observer_fixed, &c_obs);
 
     let Ok(leuven) = leuven_nominal().build::<f32, 8>() else {
         fail("Leuven parameters")
@@ -744,12 +744,12 @@ fn main() -> ! {
     };
     let (Ok(drifted_plant), Ok(adaptive)) = (
         drifted.build::<f32>(),
-        adaptation().build(observer_at, H as f64),
+        adaptation().build(observer_fixed, H as f64),
     ) else {
         fail("drifted plant or adaptation parameters")
     };
     let (Ok(c_obs2), Ok(c_adaptive)) = (
-        p.build(FixedPeriod(observer_at)),
+        p.build(FixedPeriod(observer_fixed)),
         p.build(FixedPeriod(adaptive)),
     ) else {
         fail("controller gains")
@@ -771,7 +771,7 @@ fn main() -> ! {
     };
     let (Ok(c_none3), Ok(c_obs3), Ok(c_param)) = (
         p.build::<f32, _>(NoCompensation),
-        p.build(FixedPeriod(observer_at)),
+        p.build(FixedPeriod(observer_fixed)),
         p.build(supervised),
     ) else {
         fail("controller gains")

@@ -160,7 +160,7 @@ impl<S: Scalar, M: FixedStepObservable<S>> Compensation<S> for FixedPeriod<Obser
     const USES_H: bool = false;
     #[inline]
     fn estimate(&self, state: &mut M::State, v: S, e: S, _h: S) -> S {
-        self.0.step_at(state, v, e)
+        self.0.step_fixed(state, v, e)
     }
     fn period(&self) -> Option<f64> {
         Some(self.0.model().period())

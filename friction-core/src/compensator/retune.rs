@@ -255,7 +255,7 @@ mod tests {
         }
     }
 
-    fn observer_at<S: Scalar>(
+    fn observer_fixed<S: Scalar>(
         p: LuGreParams,
     ) -> FixedPeriod<Observer<crate::LuGreFixedStep<S>, S>> {
         FixedPeriod(Observer::new(p.build_fixed_step::<S>(1e-3).unwrap(), 20.0).unwrap())
@@ -322,9 +322,9 @@ mod tests {
     fn the_fixed_step_observer_swaps_with_a_step_within_the_estimate_change() {
         fn each<S: Scalar>() -> Vec<Swap> {
             let ctl = servo()
-                .build(observer_at::<S>(LuGreParams::OLSSON_1998))
+                .build(observer_fixed::<S>(LuGreParams::OLSSON_1998))
                 .unwrap();
-            let next = observer_at::<S>(MEASURED);
+            let next = observer_fixed::<S>(MEASURED);
             let mut out: Vec<Swap> = SWAPS.map(|at| run(ctl, next, at, 5, 1.3).0).into();
             out.push(run(ctl.retuned(next).unwrap(), next, NEVER, 5, 1.3).0);
             out
@@ -508,9 +508,9 @@ mod tests {
     fn a_swap_to_another_period_is_refused_and_touches_nothing() {
         let (_, mut c, mut s) = run(
             servo()
-                .build(observer_at::<f32>(LuGreParams::OLSSON_1998))
+                .build(observer_fixed::<f32>(LuGreParams::OLSSON_1998))
                 .unwrap(),
-            observer_at::<f32>(MEASURED),
+            observer_fixed::<f32>(MEASURED),
             NEVER,
             1,
             1.0,

@@ -456,7 +456,7 @@ macro_rules! fixed_step_fns {
         // in a register (a constant behind `black_box` would be stored and
         // reloaded inside the measured function)
         step_fn!($observer, LuGreFixedStepObserver<$S>, LuGreFixedStepState<$S>, ($S, $S) => $S,
-            |m, s, input| m.step_at(s, input.0, input.1));
+            |m, s, input| m.step_fixed(s, input.0, input.1));
         step_fn!($dahl, DahlFixedStep<$S>, DahlFixedStepState<$S>, $S => $S, |m, s, v| m.step(s, v));
         step_fn!($ep, ElastoPlasticFixedStep<$S>, ElastoPlasticFixedStepState<$S>, $S => $S, |m, s, v| m.step(s, v));
         step_fn!($gms1, GmsFixedStep<$S, 1>, GmsFixedStepState<$S, 1>, $S => $S, |m, s, v| m.step(s, v));

@@ -2,7 +2,7 @@
 //! [`ElastoPlasticFixedStep`].
 
 use super::corrected_shift;
-use super::zone::{relaxed_fraction, zone_rate, zone_step_at, Slip, MAX_SUBSTEPS, XI_CAP};
+use super::zone::{relaxed_fraction, zone_rate, zone_step_fixed, Slip, MAX_SUBSTEPS, XI_CAP};
 use crate::fixed_step::{checked_velocity, signed, FixedStepModel, FixedStepObservable};
 use crate::models::lugre::{LuGreFixedStep, LuGreFixedStepState};
 use crate::Scalar;
@@ -204,7 +204,7 @@ impl<S: Scalar> ElastoPlasticFixedStep<S> {
         // at most MAX_SUBSTEPS whatever the stored byte (C may have
         // overwritten it): the same count for a built model
         let substeps = usize::from(self.max_substeps).min(MAX_SUBSTEPS);
-        (w + zone_step_at(u, xi, width, eps, w_max - w, substeps)).min(w_max)
+        (w + zone_step_fixed(u, xi, width, eps, w_max - w, substeps)).min(w_max)
     }
 
     // CORRECTED: the observer's step, with its correction `c`; the model's

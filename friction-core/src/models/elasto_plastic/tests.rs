@@ -269,7 +269,7 @@ fn observer_correction_settles_at_the_corrected_steady_state() {
             let (mut f, mut f_at) = (0.0, 0.0);
             for _ in 0..200 {
                 f = ep.step(&mut z, v, e, 1e-3);
-                f_at = ep_at.step_at(&mut w, v, e);
+                f_at = ep_at.step_fixed(&mut w, v, e);
             }
             let expected = corrected_steady_force(&p, v, 1000.0 * e);
             for (name, f) in [("ep", f), ("ep_at", f_at)] {

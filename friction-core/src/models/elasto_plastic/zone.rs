@@ -222,7 +222,7 @@ pub(super) struct Slip<S> {
 /// Fs for `sigma1 = 95`, `Fs = 0.063` at 1 m/s). The caller clamps
 /// `w + rise` to `w_max`. The tail's `phi` comes from its series below
 /// `x = 0.1`, `e^-x` from [`Scalar::exp_neg`] above.
-pub(super) fn zone_step_at<S: Scalar>(
+pub(super) fn zone_step_fixed<S: Scalar>(
     mut u: S,
     mut xi: S,
     width: S,

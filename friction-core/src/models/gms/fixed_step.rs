@@ -114,7 +114,7 @@ impl<S: Scalar, const N: usize> GmsFixedStep<S, N> {
             let b = g.mul_fraction(e.alpha);
             // used only while slipping, so with v != 0
             let target = signed(v, b);
-            let (nf, nm) = element_step_at(e, *f, *mode, v, u, b, target, &mut inv_g);
+            let (nf, nm) = element_step_fixed(e, *f, *mode, v, u, b, target, &mut inv_g);
             *f = nf;
             *mode = nm;
             total = total + nf;
@@ -181,7 +181,7 @@ impl<S: Scalar> Reciprocal<S> {
 // guide records)
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn element_step_at<S: Scalar>(
+fn element_step_fixed<S: Scalar>(
     e: &ElementFixedStep<S>,
     f: S,
     mode: GmsSlipMode,
