@@ -81,7 +81,8 @@ pub struct ServoTable {
     /// Dead zone (rad) of the per-parameter adaptation (default: one
     /// encoder count; 0 with an ideal encoder).
     pub dead_zone: Option<f64>,
-    /// Upper bound of the per-parameter load coefficient (0: none).
+    /// Upper bound of the per-parameter load coefficient (0: none; default
+    /// [`LOADED_AXIS_LOAD_MAX`] on an axis with `gravity`, 0 otherwise).
     pub load_max: Option<f64>,
     /// Nominal per-parameter load coefficient (at most `load_max`).
     pub adaptation_load: Option<f64>,
@@ -234,6 +235,12 @@ const MAX_VALUE: f64 = 1e12;
 
 /// Default `adaptation_rate` (1/s).
 pub const DEFAULT_ADAPTATION_RATE: f64 = 4.0;
+/// Default `load_max` on an axis that carries a load (`gravity`): a gear
+/// train of 70 % efficiency or better loses at most 0.3 of the torque it
+/// transmits. On an unloaded axis the default is 0: the transmitted torque
+/// is then the friction itself, a load coefficient is collinear with the
+/// Coulomb levels, and learning it only lets the levels wander.
+pub const LOADED_AXIS_LOAD_MAX: f64 = 0.3;
 /// Default `parameter_rate` (1/s): the per-parameter law's estimates
 /// each carry one level, so they take a faster rate than θ (whose product
 /// with the whole model reaches every term at once).
@@ -369,7 +376,10 @@ impl ServoTable {
             adaptation_box: self.adaptation_box.unwrap_or(d.adaptation_box),
             parameter_rate: self.parameter_rate.unwrap_or(d.parameter_rate),
             dead_zone: 0.0,
-            load_max: self.load_max.unwrap_or(d.load_max),
+            load_max: self.load_max.unwrap_or(match self.gravity {
+                Some([torque, _]) if torque != 0.0 => LOADED_AXIS_LOAD_MAX,
+                _ => d.load_max,
+            }),
             adaptation_load: self.adaptation_load.unwrap_or(d.adaptation_load),
             asymmetry: self.asymmetry.unwrap_or(d.asymmetry),
             gravity: self.gravity.unwrap_or(d.gravity),
