@@ -289,60 +289,55 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
     }
 
     /// Ends a window: updates the errors and, past the warm-up, the mode.
+    // In place on the stored status: this runs inside the control tick
+    // once a window, and its cost is the tick's worst case.
     fn close_window<T>(&self, state: &mut SupervisedState<T, S>) {
         let [force, primary, fallback] = state.sums;
-        let mut status = state.status.get();
-        let st = &mut status;
-        for (i, predicted) in [primary, fallback, S::ZERO].into_iter().enumerate() {
+        state.sums = [S::ZERO; 3];
+        state.count = 0;
+        let st = &mut state.status;
+        let first = st.windows == 0;
+        for (p, predicted) in st.errors.iter_mut().zip([primary, fallback, S::ZERO]) {
             let error = ((force - predicted) * self.inv_window).sat(S::from_f64(1e15));
             let squared = error * error;
-            if let Some(p) = st.errors.get_mut(i) {
-                *p = if st.windows == 0 {
-                    squared
-                } else {
-                    *p + self.blend * (squared - *p)
-                };
-            }
+            *p = if first {
+                squared
+            } else {
+                *p + self.blend * (squared - *p)
+            };
         }
         st.windows = st.windows.saturating_add(1);
         st.since_switch = st.since_switch.saturating_add(1);
-        state.sums = [S::ZERO; 3];
-        state.count = 0;
         // a switch holds for `dwell` windows (the errors then reflect it)
         if st.windows <= self.warm_up || st.since_switch < self.dwell {
-            state.status = StoredStatus::new(*st);
             return;
         }
         let floor = self.floor;
-        let error = |m: SupervisorMode| {
-            st.errors
-                .get(m.index())
-                .copied()
-                .unwrap_or(S::ZERO)
-                .max(floor)
-        };
-        let mut next = st.mode;
+        let errors = st.errors;
+        let error =
+            |m: SupervisorMode| errors.get(m.index()).copied().unwrap_or(S::ZERO).max(floor);
+        let current = st.mode();
+        let mut next = current;
         for m in SupervisorMode::ALL {
             if error(m) < error(next) {
                 next = m;
             }
         }
-        if error(next) >= self.ratio * error(st.mode) {
-            next = st.mode;
+        if error(next) >= self.ratio * error(current) {
+            next = current;
         }
-        if next == st.mode
-            && st.mode != SupervisorMode::Primary
+        if next == current
+            && current != SupervisorMode::Primary
             && self.retry > 0
             && st.since_switch >= self.retry
         {
             next = SupervisorMode::Primary;
         }
-        if next != st.mode {
-            st.mode = next;
+        if next != current {
+            st.mode = next.code();
             st.switches = st.switches.saturating_add(1);
             st.since_switch = 0;
         }
-        state.status = StoredStatus::new(*st);
     }
 }
 
@@ -371,7 +366,9 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
         } else {
             S::ZERO
         };
-        let fallback = self.fallback.step(&mut (), v, h);
+        // a map without state ignores the period: a constant one lets the
+        // compiler drop the period's checks from the tick
+        let fallback = self.fallback.step(&mut (), v, S::ZERO);
         let [newest, _] = state.last;
         state.last = [[primary, fallback], newest];
         match state.status.mode() {
