@@ -24,7 +24,7 @@ use crate::servo::{build_controller, run_loop, Drive, Law, Row, ServoRun};
 use anyhow::{anyhow, bail, Context, Result};
 use friction_core::{
     Commissioned, Commissioning, CommissioningParams, CommissioningPhase, CommissioningState,
-    LuGreParams, ParamError, PlateauPoint,
+    LuGreParams, ParamError, PlateauPoint, StribeckMapParams,
 };
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -491,7 +491,7 @@ impl CommissionRun {
             "steady friction curve",
             ("v [rad/s]", Axis::Log),
             "friction",
-            &self.curves(),
+            &self.curves()?,
         )?;
         written.push(path);
         let path = dir.join("errors.svg");
@@ -526,14 +526,20 @@ impl CommissionRun {
 
     /// The forward steady curves of the true and the commissioned model
     /// over the routine's speeds.
-    fn curves(&self) -> Vec<Series<'static>> {
+    fn curves(&self) -> Result<Vec<Series<'static>>> {
         let [lo, hi] = [self.settings.min_speed / 4.0, self.settings.max_speed * 2.0];
         let speeds: Vec<f64> = (0..200)
             .map(|k| lo * (hi / lo).powf(k as f64 / 199.0))
             .collect();
-        let steady = |m: &LuGreParams, v: f64| {
-            let c = m.curve;
-            c.fc + (c.fs - c.fc) * (-(v / c.vs).abs().powf(c.exponent)).exp() + m.sigma2 * v
+        // the models' steady state `g(v) sign(v) + sigma2 v`, the core's map
+        let curve = |m: &LuGreParams, what: &str| {
+            let map = StribeckMapParams {
+                curve: m.curve,
+                sigma2: m.sigma2,
+            }
+            .build::<f64>()
+            .with_context(|| format!("the {what} model's steady curve"))?;
+            Ok::<_, anyhow::Error>(speeds.iter().map(|&v| (v, map.force(v))).collect())
         };
         let forward = |steady: bool| -> Vec<(f64, f64)> {
             self.points
@@ -542,7 +548,7 @@ impl CommissionRun {
                 .map(|p| (p.speed, p.force))
                 .collect()
         };
-        vec![
+        Ok(vec![
             Series {
                 label: "plateaus (steady)",
                 points: forward(true),
@@ -553,19 +559,13 @@ impl CommissionRun {
             },
             Series {
                 label: "file's model",
-                points: speeds
-                    .iter()
-                    .map(|&v| (v, steady(&self.reference, v)))
-                    .collect(),
+                points: curve(&self.reference, "file's")?,
             },
             Series {
                 label: "commissioned",
-                points: speeds
-                    .iter()
-                    .map(|&v| (v, steady(&self.result.model, v)))
-                    .collect(),
+                points: curve(&self.result.model, "commissioned")?,
             },
-        ]
+        ])
     }
 }
 

@@ -6,7 +6,7 @@
 //! the core to agree with it.
 
 use crate::io::{short, write_columns};
-use crate::models::{ScalarKind, Stepper};
+use crate::models::{Expect, Expectations, ScalarKind, Stepper};
 use crate::params::{ModelSpec, ParamFile};
 use crate::plot::{comparison_plot, line_plot, zip, Axis, Series};
 use crate::signals::Signal;
@@ -26,17 +26,142 @@ mod stribeck;
 pub(crate) use breakaway::breakaway_rates;
 pub use stick_slip::{compare_stick_slip, slip_onsets, StickSlipFigures};
 
-/// The experiment names, in the order `validate` runs them.
-pub const NAMES: &[&str] = &[
-    "stribeck",
-    "presliding",
-    "frictional-lag",
-    "breakaway",
-    "stick-slip",
-    "drift",
-    "rate-independence",
-    "nonlocal-memory",
+/// One experiment: its name, its column of the report's phenomenon matrix,
+/// what it takes from the command line, what a model is expected to show
+/// in it, and its runner. [`LIST`] holds every one.
+#[derive(Clone, Copy)]
+pub struct Experiment {
+    /// Its name on the command line and in the report (`stick-slip`).
+    pub name: &'static str,
+    /// The title of its column in the report's phenomenon matrix.
+    pub title: &'static str,
+    /// Where that column stands (0 first): the matrix orders the phenomena
+    /// its own way (non-local memory beside pre-sliding hysteresis), while
+    /// `validate` runs the experiments in [`LIST`]'s order.
+    pub column: usize,
+    /// Whether its length is fixed by its definition (no `--duration`).
+    pub fixed_length: bool,
+    /// How it is sampled.
+    pub sampling: Sampling,
+    /// What a model is known to show in it (its field of [`Expectations`]).
+    pub expected: fn(&Expectations) -> Expect,
+    /// Runs it once its checks passed and its folder exists.
+    run: fn(&ParamFile, Options, &Path) -> Result<Outcome>,
+}
+
+/// How an experiment is sampled.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Sampling {
+    /// A velocity signal drives the model, at `--dt` or the experiment's
+    /// own default.
+    Signal,
+    /// A rig drives a mass through the model ([`rig_core`]), at `--dt` or
+    /// this default period (s); the rig must resolve the mass on the contact
+    /// ([`MAX_RIG_OMEGA_H`]).
+    Rig(f64),
+    /// Fixed by its definition (no `--dt`).
+    Fixed,
+}
+
+/// Every experiment, in the order `validate` runs them.
+pub const LIST: &[Experiment] = &[
+    Experiment {
+        name: "stribeck",
+        title: "Stribeck curve",
+        column: 0,
+        fixed_length: true,
+        sampling: Sampling::Signal,
+        expected: |e| e.stribeck,
+        run: stribeck::stribeck,
+    },
+    Experiment {
+        name: "presliding",
+        title: "pre-sliding hysteresis",
+        column: 1,
+        fixed_length: false,
+        sampling: Sampling::Rig(RIG_DT),
+        expected: |e| e.presliding,
+        run: presliding::presliding,
+    },
+    Experiment {
+        name: "frictional-lag",
+        title: "frictional lag",
+        column: 3,
+        fixed_length: true,
+        sampling: Sampling::Signal,
+        expected: |e| e.frictional_lag,
+        run: frictional_lag::frictional_lag,
+    },
+    Experiment {
+        name: "breakaway",
+        title: "varying break-away",
+        column: 4,
+        fixed_length: true,
+        sampling: Sampling::Rig(BREAKAWAY_DT),
+        expected: |e| e.breakaway,
+        run: breakaway::breakaway,
+    },
+    Experiment {
+        name: "stick-slip",
+        title: "stick-slip",
+        column: 5,
+        fixed_length: false,
+        sampling: Sampling::Rig(RIG_DT),
+        expected: |e| e.stick_slip,
+        run: stick_slip::stick_slip,
+    },
+    Experiment {
+        name: "drift",
+        title: "drift",
+        column: 6,
+        fixed_length: false,
+        sampling: Sampling::Rig(RIG_DT),
+        expected: |e| e.drift,
+        run: drift::drift,
+    },
+    Experiment {
+        name: "rate-independence",
+        title: "rate independence",
+        column: 7,
+        fixed_length: true,
+        sampling: Sampling::Fixed,
+        expected: |e| e.rate_independence,
+        run: rate_independence::rate_independence,
+    },
+    Experiment {
+        name: "nonlocal-memory",
+        title: "non-local memory",
+        column: 2,
+        fixed_length: true,
+        sampling: Sampling::Fixed,
+        expected: |e| e.nonlocal_memory,
+        run: nonlocal_memory::nonlocal_memory,
+    },
 ];
+
+/// The experiment names, in the order `validate` runs them (the names of
+/// [`LIST`]).
+pub const NAMES: &[&str] = &{
+    let mut names = [""; LIST.len()];
+    let mut i = 0;
+    while i < LIST.len() {
+        names[i] = LIST[i].name;
+        i += 1;
+    }
+    names
+};
+
+/// The experiment called `name`.
+pub fn find(name: &str) -> Option<&'static Experiment> {
+    LIST.iter().find(|e| e.name == name)
+}
+
+/// The experiments in the order of the report's columns ([`Experiment::column`]).
+pub fn columns() -> Vec<&'static Experiment> {
+    let mut columns: Vec<_> = LIST.iter().collect();
+    columns.sort_by_key(|e| e.column);
+    columns
+}
 
 /// The most samples one experiment run may take (checked before anything
 /// is allocated): 5 million, at most about 0.5 GB of trace columns in memory
@@ -50,7 +175,9 @@ pub const MIN_SAMPLES: f64 = 100.0;
 /// and [`MIN_SAMPLES`], with advice that experiment `name` can follow.
 pub(crate) fn check_samples(name: &str, duration: f64, h: f64) -> Result<()> {
     let n = duration / h;
-    let fixed = FIXED_LENGTH.contains(&name);
+    let experiment = find(name);
+    debug_assert!(experiment.is_some(), "no experiment `{name}`");
+    let fixed = experiment.is_some_and(|e| e.fixed_length);
     if !(n.is_finite() && n <= MAX_SAMPLES) {
         let advice = match name {
             _ if fixed => "lengthen --dt (its length follows from the parameter set)",
@@ -81,13 +208,12 @@ pub(crate) const RIG_DT: f64 = 1e-3;
 /// slowest ramps creep at a fraction of the Stribeck velocity.
 pub(crate) const BREAKAWAY_DT: f64 = 1e-4;
 
-/// The sample period experiment `name` runs its rig at, `None` for the
-/// experiments without a rig (driven by a velocity signal).
-fn rig_dt(name: &str, opts: Options) -> Option<f64> {
-    match name {
-        "breakaway" => Some(opts.dt.unwrap_or(BREAKAWAY_DT)),
-        "presliding" | "stick-slip" | "drift" => Some(opts.dt.unwrap_or(RIG_DT)),
-        _ => None,
+/// The sample period `experiment` runs its rig at, `None` for the
+/// experiments without a rig.
+fn rig_dt(experiment: &Experiment, opts: Options) -> Option<f64> {
+    match experiment.sampling {
+        Sampling::Rig(dt) => Some(opts.dt.unwrap_or(dt)),
+        Sampling::Signal | Sampling::Fixed => None,
     }
 }
 
@@ -157,15 +283,6 @@ fn unresolved_rig(name: &str, file: &ParamFile, h: f64) -> Option<Refusal> {
         short(MAX_RIG_OMEGA_H / rate)
     )))
 }
-
-/// The experiments whose length is fixed by their definition (no `--duration`).
-const FIXED_LENGTH: &[&str] = &[
-    "nonlocal-memory",
-    "stribeck",
-    "frictional-lag",
-    "breakaway",
-    "rate-independence",
-];
 
 /// Notes on the `[rig]` keys an experiment uses that the file does not give.
 fn rig_defaults(name: &str, file: &ParamFile) -> Vec<String> {
@@ -296,15 +413,21 @@ pub fn run(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Ou
     if let Some(refusal) = refusal(name, file) {
         return Err(refusal.into());
     }
-    if opts.duration.is_some() && FIXED_LENGTH.contains(&name) {
+    let Some(experiment) = find(name) else {
+        bail!(
+            "unknown experiment `{name}` (expected one of {})",
+            NAMES.join(", ")
+        )
+    };
+    if opts.duration.is_some() && experiment.fixed_length {
         bail!("--duration does not apply to experiment `{name}`: its length is fixed by its definition");
     }
-    if opts.dt.is_some() && (name == "rate-independence" || name == "nonlocal-memory") {
+    if opts.dt.is_some() && experiment.sampling == Sampling::Fixed {
         bail!(
             "--dt does not apply to experiment `{name}`: its sampling is fixed by its definition"
         );
     }
-    if let Some(refusal) = rig_dt(name, opts).and_then(|h| unresolved_rig(name, file, h)) {
+    if let Some(refusal) = rig_dt(experiment, opts).and_then(|h| unresolved_rig(name, file, h)) {
         return Err(refusal.into());
     }
     // the folders this run creates, deepest first
@@ -315,7 +438,7 @@ pub fn run(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Ou
         .collect();
     std::fs::create_dir_all(dir)
         .with_context(|| format!("--output {}: cannot create the folder", dir.display()))?;
-    let out = run_in(name, file, opts, dir);
+    let out = run_in(experiment, file, opts, dir);
     if out.is_err() {
         // a run that failed leaves no folder it created (only empty ones)
         for d in &created {
@@ -326,26 +449,13 @@ pub fn run(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Ou
 }
 
 /// [`run`] once its checks passed and `dir` exists.
-fn run_in(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
-    let defaults = rig_defaults(name, file);
-    let mut out = match name {
-        "stribeck" => stribeck::stribeck(file, opts, dir),
-        "presliding" => presliding::presliding(file, opts, dir),
-        "frictional-lag" => frictional_lag::frictional_lag(file, opts, dir),
-        "breakaway" => breakaway::breakaway(file, opts, dir),
-        "stick-slip" => stick_slip::stick_slip(file, opts, dir),
-        "drift" => drift::drift(file, opts, dir),
-        "rate-independence" => rate_independence::rate_independence(file, opts, dir),
-        "nonlocal-memory" => nonlocal_memory::nonlocal_memory(file, opts, dir),
-        other => bail!(
-            "unknown experiment `{other}` (expected one of {})",
-            NAMES.join(", ")
-        ),
-    }?;
+fn run_in(experiment: &Experiment, file: &ParamFile, opts: Options, dir: &Path) -> Result<Outcome> {
+    let defaults = rig_defaults(experiment.name, file);
+    let mut out = (experiment.run)(file, opts, dir)?;
     for (i, note) in defaults.into_iter().enumerate() {
         out.summary.insert(i, note);
     }
-    let expected = expectation(&file.model, name);
+    let expected = (experiment.expected)(&file.model.host().expectations());
     if let Some(expected) = expected {
         out.summary.push(format!(
             "{} is {} for `{}`; here it {}",
@@ -370,7 +480,8 @@ fn run_in(name: &str, file: &ParamFile, opts: Options, dir: &Path) -> Result<Out
 /// means "the steady state is the model's map" (for the bristle model: its
 /// sliding mean).
 pub fn expectation(model: &ModelSpec, experiment: &str) -> Option<bool> {
-    model.host().expectations().of(experiment).flatten()
+    let expectations = model.host().expectations();
+    find(experiment).and_then(|e| (e.expected)(&expectations))
 }
 
 pub(crate) fn core(spec: &ModelSpec) -> Result<Box<dyn Stepper>> {
@@ -435,14 +546,100 @@ pub(crate) fn plot_pair(
 
 #[cfg(test)]
 mod tests {
-    /// Every experiment has its named field in
-    /// [`crate::models::Expectations`].
+    use super::{columns, rig_defaults, Sampling, LIST, NAMES};
+    use crate::models::{Expectations, U, Y};
+
+    /// Each experiment reads its own field of [`Expectations`].
     #[test]
-    fn every_experiment_has_an_expectation() {
-        let row = crate::models::Expectations::STEADY_CURVE_ONLY;
-        for name in super::NAMES {
-            assert!(row.of(name).is_some(), "{name}");
+    fn every_experiment_reads_its_own_expectation() {
+        let none = Expectations {
+            stribeck: U,
+            ..Expectations::STEADY_CURVE_ONLY
+        };
+        let only = [
+            (
+                "stribeck",
+                Expectations {
+                    stribeck: Y,
+                    ..none
+                },
+            ),
+            (
+                "presliding",
+                Expectations {
+                    presliding: Y,
+                    ..none
+                },
+            ),
+            (
+                "frictional-lag",
+                Expectations {
+                    frictional_lag: Y,
+                    ..none
+                },
+            ),
+            (
+                "breakaway",
+                Expectations {
+                    breakaway: Y,
+                    ..none
+                },
+            ),
+            (
+                "stick-slip",
+                Expectations {
+                    stick_slip: Y,
+                    ..none
+                },
+            ),
+            ("drift", Expectations { drift: Y, ..none }),
+            (
+                "rate-independence",
+                Expectations {
+                    rate_independence: Y,
+                    ..none
+                },
+            ),
+            (
+                "nonlocal-memory",
+                Expectations {
+                    nonlocal_memory: Y,
+                    ..none
+                },
+            ),
+        ];
+        assert_eq!(only.len(), LIST.len());
+        for (name, row) in only {
+            for e in LIST {
+                let want = if e.name == name { Y } else { U };
+                assert_eq!((e.expected)(&row), want, "{name}: {}", e.name);
+            }
         }
-        assert_eq!(row.of("none"), None);
+    }
+
+    /// The names, and the report's column places and titles, are each
+    /// given once.
+    #[test]
+    fn names_and_columns_are_distinct() {
+        let places: Vec<usize> = columns().iter().map(|e| e.column).collect();
+        assert_eq!(places, (0..LIST.len()).collect::<Vec<_>>());
+        for (i, e) in LIST.iter().enumerate() {
+            assert_eq!(NAMES[i], e.name);
+            for other in &LIST[..i] {
+                assert!(other.name != e.name && other.title != e.title, "{}", e.name);
+            }
+        }
+    }
+
+    /// The rig experiments note the `[rig]` keys a file leaves out; the
+    /// others use no rig.
+    #[test]
+    fn rig_experiments_note_their_defaults() {
+        let mut file = crate::params::param_set("canudas1995").unwrap();
+        file.rig = Default::default();
+        for e in LIST {
+            let rig = matches!(e.sampling, Sampling::Rig(_));
+            assert_eq!(!rig_defaults(e.name, &file).is_empty(), rig, "{}", e.name);
+        }
     }
 }

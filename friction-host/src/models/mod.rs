@@ -193,8 +193,8 @@ pub const N: Expect = Some(false);
 /// Not judged (figures reported only).
 pub const U: Expect = None;
 
-/// What a model is known to show, one named field per experiment
-/// ([`Expectations::of`] reads one by the experiment's name).
+/// What a model is known to show, one named field per experiment (each
+/// experiment of `crate::experiments::LIST` reads its own).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Expectations {
     /// `stribeck`: the steady state is the model's map (for the bristle
@@ -228,22 +228,6 @@ impl Expectations {
         rate_independence: U,
         nonlocal_memory: U,
     };
-
-    /// The expectation for the experiment called `experiment`; `None` for
-    /// a name that is no experiment.
-    pub fn of(&self, experiment: &str) -> Option<Expect> {
-        Some(match experiment {
-            "stribeck" => self.stribeck,
-            "presliding" => self.presliding,
-            "frictional-lag" => self.frictional_lag,
-            "breakaway" => self.breakaway,
-            "stick-slip" => self.stick_slip,
-            "drift" => self.drift,
-            "rate-independence" => self.rate_independence,
-            "nonlocal-memory" => self.nonlocal_memory,
-            _ => return None,
-        })
-    }
 }
 
 /// Everything the host knows of one model.

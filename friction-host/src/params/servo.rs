@@ -820,6 +820,76 @@ impl ServoConfig {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::params::ParamFile;
+
+    #[test]
+    fn servo_keys_are_checked_and_named() {
+        let ok = ServoTable::default().resolve("p.toml").unwrap();
+        // the defaults, with the least-squares speed threshold at 1/50 of the peak speed
+        let expected = ServoConfig {
+            rls_min_speed: ServoConfig::default().peak_speed() / 50.0,
+            ..ServoConfig::default()
+        };
+        assert_eq!(ok, expected);
+        let e = ServoTable {
+            kp: Some(-1.0),
+            ..Default::default()
+        }
+        .resolve("p.toml")
+        .unwrap_err();
+        assert!(matches!(e, ServoError::Invalid { key: "kp", .. }), "{e:?}");
+        assert!(e.to_string().starts_with("p.toml: [servo] `kp`"), "{e}");
+        let e = ServoTable {
+            inertia: Some(0.0),
+            ..Default::default()
+        }
+        .resolve("p.toml")
+        .unwrap_err();
+        assert!(matches!(e, ServoError::Invalid { key: "inertia", .. }));
+        let e = ServoTable {
+            frequency: Some(f64::NAN),
+            ..Default::default()
+        }
+        .resolve("p.toml")
+        .unwrap_err();
+        assert!(matches!(
+            e,
+            ServoError::Invalid {
+                key: "frequency",
+                ..
+            }
+        ));
+        let e = ServoTable {
+            plant_rate: Some(1500.0),
+            ..Default::default()
+        }
+        .resolve("p.toml")
+        .unwrap_err();
+        assert!(matches!(e, ServoError::NotMultiple { .. }), "{e:?}");
+        let e = ServoTable {
+            duration: Some(1e4),
+            ..Default::default()
+        }
+        .resolve("p.toml")
+        .unwrap_err();
+        assert!(matches!(e, ServoError::TooManySteps { .. }), "{e:?}");
+        assert!(e.to_string().contains("`duration` x `plant_rate`"), "{e}");
+    }
+
+    #[test]
+    fn servo_table_parses_and_rejects_unknown_keys() {
+        let text = include_str!("../../../params/olsson1998-servo.toml");
+        let f = ParamFile::parse(
+            &format!("{text}\n[servo]\nduration = 2\nkp = 50\n"),
+            "p.toml",
+        )
+        .unwrap();
+        assert_eq!(f.servo.duration, Some(2.0));
+        assert_eq!(f.servo.kp, Some(50.0));
+        let e = ParamFile::parse(&format!("{text}\n[servo]\nkpp = 50\n"), "p.toml").unwrap_err();
+        let e = format!("{e:#}");
+        assert!(e.contains("kpp") && e.contains("p.toml"), "{e}");
+    }
 
     #[test]
     fn bam_files_are_read_with_their_kt_and_armature_and_bad_ones_named() {

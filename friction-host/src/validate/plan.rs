@@ -44,7 +44,8 @@ impl Plan {
     }
 }
 
-/// The experiments run on each set, in report order: LuGre's phenomena on
+/// The experiments run on each set, in report order (each name one of
+/// [`experiments::NAMES`], tested): LuGre's phenomena on
 /// the sets made to show them (with the elasto-plastic drift beside
 /// LuGre's), then every experiment on the other models' primary sets.
 const EXPERIMENTS: &[(&str, &[&str])] = &[
@@ -127,4 +128,22 @@ pub fn elasto_plastic_with_z_ba(frac: f64) -> Result<ModelSpec> {
             ..p
         },
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    /// Every experiment the plan names is one of [`experiments::LIST`].
+    ///
+    /// [`experiments::LIST`]: crate::experiments::LIST
+    #[test]
+    fn the_plan_names_experiments() {
+        for (set, names) in super::EXPERIMENTS {
+            for name in *names {
+                assert!(
+                    crate::experiments::find(name).is_some(),
+                    "{set}: no experiment `{name}`"
+                );
+            }
+        }
+    }
 }

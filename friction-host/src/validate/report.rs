@@ -6,7 +6,7 @@ use super::plan::Plan;
 use super::{
     accuracy_bound, fixed_bound, pct, AccuracyRow, BristleConvergence, F32_BOUND, PERIODS,
 };
-use crate::experiments::Outcome;
+use crate::experiments::{self, Outcome};
 use crate::params::ModelSpec;
 use anyhow::Result;
 use std::fmt::Write as _;
@@ -117,20 +117,9 @@ fn bold_fail(verdict: &str) -> &str {
     }
 }
 
-/// The phenomena of the matrix: (column title, experiment name).
-const PHENOMENA: &[(&str, &str)] = &[
-    ("Stribeck curve", "stribeck"),
-    ("pre-sliding hysteresis", "presliding"),
-    ("non-local memory", "nonlocal-memory"),
-    ("frictional lag", "frictional-lag"),
-    ("varying break-away", "breakaway"),
-    ("stick-slip", "stick-slip"),
-    ("drift", "drift"),
-    ("rate independence", "rate-independence"),
-];
-
-/// One row per model, one column per phenomenon: what was measured against
-/// what the model is expected to do.
+/// One row per model, one column per phenomenon (in the columns' order,
+/// [`experiments::columns`]): what was measured against what the model is
+/// expected to do.
 fn write_matrix(md: &mut String, outcomes: &[(String, Outcome)]) -> Result<()> {
     writeln!(md, "## Phenomena: measured against expected\n")?;
     writeln!(
@@ -139,12 +128,13 @@ fn write_matrix(md: &mut String, outcomes: &[(String, Outcome)]) -> Result<()> {
          what the model is known to do (`expected`, `not expected`, or `not judged`), and ✓ or \
          **✗**. Details, figures and plots are in the sections below.\n"
     )?;
+    let columns = experiments::columns();
     write!(md, "| model |")?;
-    for (title, _) in PHENOMENA {
-        write!(md, " {title} |")?;
+    for e in &columns {
+        write!(md, " {} |", e.title)?;
     }
     writeln!(md)?;
-    writeln!(md, "|---|{}", "---|".repeat(PHENOMENA.len()))?;
+    writeln!(md, "|---|{}", "---|".repeat(columns.len()))?;
     let mut models: Vec<&str> = Vec::new();
     for (_, o) in outcomes {
         if !models.contains(&o.model) {
@@ -153,11 +143,11 @@ fn write_matrix(md: &mut String, outcomes: &[(String, Outcome)]) -> Result<()> {
     }
     for model in models {
         write!(md, "| {model} |")?;
-        for (_, experiment) in PHENOMENA {
+        for e in &columns {
             let runs: Vec<&Outcome> = outcomes
                 .iter()
                 .map(|(_, o)| o)
-                .filter(|o| o.model == model && o.name == *experiment)
+                .filter(|o| o.model == model && o.name == e.name)
                 .collect();
             if runs.is_empty() {
                 write!(md, " not run |")?;
