@@ -555,7 +555,7 @@ impl ServoTable {
         if c.adaptation_load > c.load_max {
             return Err(invalid(
                 "adaptation_load",
-                "a number >= 0 and at most `load_max`",
+                "a number >= 0 and at most `load_max` (by default 0.3 on an axis with `gravity`, 0 otherwise)",
                 c.adaptation_load,
             ));
         }
@@ -821,6 +821,41 @@ impl ServoConfig {
 mod tests {
     use super::*;
     use crate::params::ParamFile;
+
+    /// `load_max` defaults to `LOADED_AXIS_LOAD_MAX` on an axis with
+    /// gravity and to 0 elsewhere; a set value wins, and a nominal above the
+    /// default is refused with the default named.
+    #[test]
+    fn the_load_bound_defaults_by_whether_the_axis_is_loaded() {
+        let loaded = ServoTable {
+            gravity: Some([0.5, 0.0]),
+            ..ServoTable::default()
+        };
+        assert_eq!(
+            loaded.resolve("p.toml").unwrap().load_max,
+            LOADED_AXIS_LOAD_MAX
+        );
+        let unloaded = ServoTable {
+            gravity: Some([0.0, 0.0]),
+            ..ServoTable::default()
+        };
+        assert_eq!(unloaded.resolve("p.toml").unwrap().load_max, 0.0);
+        assert_eq!(
+            ServoTable::default().resolve("p.toml").unwrap().load_max,
+            0.0
+        );
+        let set = ServoTable {
+            load_max: Some(0.1),
+            ..loaded.clone()
+        };
+        assert_eq!(set.resolve("p.toml").unwrap().load_max, 0.1);
+        let above = ServoTable {
+            adaptation_load: Some(0.5),
+            ..loaded
+        };
+        let e = above.resolve("p.toml").unwrap_err().to_string();
+        assert!(e.contains("adaptation_load") && e.contains("0.3"), "{e}");
+    }
 
     #[test]
     fn servo_keys_are_checked_and_named() {
