@@ -65,6 +65,10 @@ pub use models::gms::{
 pub use models::leuven::{Leuven, LeuvenParams, LeuvenReversal, LeuvenState};
 pub use models::lugre::{LuGre, LuGreFixedStep, LuGreFixedStepState, LuGreParams, LuGreState};
 pub use models::reset_integrator::{ResetIntegrator, ResetIntegratorParams, ResetIntegratorState};
+pub use models::static_maps::{
+    AsymmetricCoulombViscous, AsymmetricCoulombViscousParams, CoulombParams, CoulombViscous,
+    CoulombViscousParams, Karnopp, StribeckMap, StribeckMapParams,
+};
 pub use models::xiong::{
     Xiong, XiongElement, XiongFixedStep, XiongFixedStepState, XiongParams, XiongState,
 };
@@ -76,10 +80,7 @@ pub use parameter_adaptive::{
 pub use random::CounterRng;
 pub use rls::{RlsFeedForward, RlsParams, RlsState};
 pub use scalar::{Scalar, ScalarConversion};
-pub use stribeck::{
-    AsymmetricCoulombViscous, AsymmetricCoulombViscousParams, CoulombParams, CoulombViscous,
-    CoulombViscousParams, Karnopp, StribeckCurve, StribeckMap, StribeckMapParams, StribeckParams,
-};
+pub use stribeck::{StribeckCurve, StribeckParams};
 pub use supervisor::{
     Supervised, SupervisedState, SupervisorMode, SupervisorParams, SupervisorStatus,
 };

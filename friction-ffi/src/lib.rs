@@ -39,13 +39,13 @@
 extern crate std;
 
 mod any;
-pub mod commissioning;
-pub mod model;
-pub mod observer;
-pub mod params;
-pub mod servo;
+mod commissioning;
+mod model;
+mod observer;
+mod params;
+mod servo;
 mod slot;
-pub mod status;
+mod status;
 
 pub use commissioning::*;
 pub use model::*;

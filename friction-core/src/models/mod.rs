@@ -8,4 +8,5 @@ pub(crate) mod leuven;
 mod list;
 pub(crate) mod lugre;
 pub(crate) mod reset_integrator;
+pub(crate) mod static_maps;
 pub(crate) mod xiong;

@@ -33,7 +33,7 @@ use crate::Scalar;
 /// handles each snap inside the step, in order along the displacement:
 /// exact for held `v` while the step needs at most `2 N` snaps in all (the
 /// default budget; [`Bristle::with_snap_budget`] sets another). The
-/// work per step is bounded there (issue 19: a real-time step is sized by
+/// work per step is bounded there (a real-time step is sized by
 /// its worst case): once the budget is drawn, a bristle whose travel
 /// would snap it again ends the step held at its snapping deflection
 /// `±delta_s` and snaps with the next step's travel (a reversal unloads it
