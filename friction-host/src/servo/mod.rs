@@ -62,6 +62,7 @@ mod controllers;
 mod plant;
 mod render;
 pub mod robustness;
+mod robustness_render;
 mod rows;
 mod run;
 
