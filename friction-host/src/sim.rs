@@ -154,7 +154,7 @@ pub fn drive_core(model: &mut dyn Stepper, t: &[f64], v: &[f64]) -> Vec<f64> {
     out
 }
 
-pub use crate::models::ReferenceRun;
+use crate::models::ReferenceRun;
 
 /// The reference force for the continuous velocity signal at times `t`:
 /// the model's own reference where it has one (the bristle model's exact

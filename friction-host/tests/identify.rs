@@ -1,7 +1,7 @@
 //! `friction identify`: synthetic recovery for every model, the EMPS
 //! benchmark's published IDIM-LS figures, the tribometer, and the errors.
 
-use friction_core::{FrictionModel, LuGreParams, LuGreState, StribeckParams};
+use friction_core::{FrictionModel, LuGreParams, LuGreState, Scalar, StribeckParams};
 use friction_host::identify::{self, Columns, Conditioning, Options};
 use friction_host::params::{ModelSpec, ParamFile};
 use std::path::{Path, PathBuf};
@@ -114,16 +114,6 @@ fn close(name: &str, got: f64, want: f64, rel: f64) {
     );
 }
 
-fn sign(v: f64) -> f64 {
-    if v > 0.0 {
-        1.0
-    } else if v < 0.0 {
-        -1.0
-    } else {
-        0.0
-    }
-}
-
 /// The written file loads and runs through `friction simulate`.
 fn loads_and_simulates(dir: &Path) -> ParamFile {
     let params = dir.join("params.toml");
@@ -151,7 +141,7 @@ fn loads_and_simulates(dir: &Path) -> ParamFile {
 fn synthetic_coulomb_viscous_is_recovered_within_1_percent() {
     let dir = tempfile::tempdir().unwrap();
     let (fc, sigma2) = (1.0, 5.0);
-    let input = synthetic(dir.path(), |v, _| fc * sign(v) + sigma2 * v);
+    let input = synthetic(dir.path(), |v, _| fc * Scalar::sign(v) + sigma2 * v);
     let out = identify::identify(&options(&input, "coulomb-viscous", dir.path())).unwrap();
     assert!(out.rejected.is_none(), "{:?}", out.rejected);
     let fit = out.fit.unwrap();
@@ -188,7 +178,7 @@ fn synthetic_stribeck_is_recovered() {
     };
     let sigma2 = 5.0;
     let g = |v: f64| curve.fc + (curve.fs - curve.fc) * (-(v / curve.vs).powi(2)).exp();
-    let input = synthetic(dir.path(), |v, _| g(v) * sign(v) + sigma2 * v);
+    let input = synthetic(dir.path(), |v, _| g(v) * Scalar::sign(v) + sigma2 * v);
     let out = identify::identify(&options(&input, "stribeck", dir.path())).unwrap();
     assert!(out.rejected.is_none(), "{:?}", out.rejected);
     let fit = out.fit.unwrap();
@@ -489,7 +479,7 @@ fn a_parameter_beyond_its_bound_exits_1() {
     for k in 0..4000 {
         let t = k as f64 * 1e-3;
         let (x, v, _) = motion(t);
-        rows.push_str(&format!("{t},{x},{}\n", -0.5 * sign(v) + 2.0 * v));
+        rows.push_str(&format!("{t},{x},{}\n", -0.5 * Scalar::sign(v) + 2.0 * v));
     }
     let input = write(dir.path(), "neg.csv", &rows);
     let out = dir.path().join("out");

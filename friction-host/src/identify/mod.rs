@@ -427,18 +427,19 @@ pub struct Outcome {
     pub signals: Signals,
 }
 
-/// Checks the model name: the planned dynamic models get their own message.
+/// Checks the model name: the library's other models (the model list)
+/// get their own message.
 pub fn check_model(name: &str) -> Result<()> {
     if MODELS.contains(&name) {
         return Ok(());
     }
     let supported = MODELS.join(", ");
-    match name {
-        "gms" | "xiong" | "elasto-plastic" | "dahl" | "leuven" | "reset-integrator" | "bristle" => bail!(
+    if crate::models::MODEL_NAMES.contains(&name) {
+        bail!(
             "model `{name}` exists in the library but `identify` cannot fit it yet; identify supports: {supported}"
-        ),
-        _ => bail!("unknown model `{name}`; identify supports: {supported}"),
+        );
     }
+    bail!("unknown model `{name}`; identify supports: {supported}")
 }
 
 fn progress_bar(show: bool, model: &str) -> indicatif::ProgressBar {
@@ -751,5 +752,33 @@ pub fn run(o: &Options) -> Result<bool> {
             crate::outln!("  params: {}", o.output.join("params.toml").display());
             Ok(true)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_library_model_is_known_the_fitted_ones_accepted() {
+        for name in crate::models::MODEL_NAMES {
+            match check_model(name) {
+                Ok(()) => assert!(MODELS.contains(name), "{name}"),
+                Err(e) => {
+                    let e = e.to_string();
+                    assert!(e.contains("exists in the library"), "{name}: {e}");
+                    assert!(e.contains(&MODELS.join(", ")), "{e}");
+                }
+            }
+        }
+        let e = check_model("asymmetric-coulomb-viscous")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("exists in the library"), "{e}");
+        let e = check_model("nope").unwrap_err().to_string();
+        assert!(
+            e.starts_with("unknown model `nope`; identify supports: coulomb"),
+            "{e}"
+        );
     }
 }

@@ -7,12 +7,12 @@
 pub mod rows;
 pub mod servo;
 
+use crate::models::PARAM_SETS;
 use anyhow::{bail, Context, Result};
 use serde::Deserialize;
 use servo::ServoTable;
 use std::path::Path;
 
-pub use crate::models::MAX_BRISTLES;
 pub use crate::models::{ModelSpec, MODEL_NAMES};
 
 /// The `[rig]` table: the mechanical set-up of the experiments. Every key is
@@ -163,10 +163,6 @@ impl ParamFile {
         Self::parse(&text, &path.display().to_string())
     }
 }
-
-/// The parameter sets shipped with the project (`params/`), embedded so that
-/// `validate` needs no files; from the model list (`models::PARAM_SETS`).
-pub use crate::models::PARAM_SETS;
 
 /// A shipped parameter set by name.
 pub fn param_set(name: &str) -> Result<ParamFile> {

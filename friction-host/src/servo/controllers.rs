@@ -2,9 +2,9 @@
 //! it is built from: the static feed-forward, the observer's nominal
 //! model, the adaptive laws, the supervisor and the least squares.
 
-use super::config::ServoConfig;
 use super::rows::{Law, Row};
 use crate::control::{controller, controller_reading, Controller, Fallback, Loop, ObserverRequest};
+use crate::params::servo::ServoConfig;
 use crate::params::ModelSpec;
 use anyhow::Result;
 use friction_core::{

@@ -9,7 +9,7 @@
 //! backward difference of the sampled position, optionally low-passed), its
 //! command held over the period.
 //!
-//! A drive scenario ([`config`]) makes the plant realistic: the measured
+//! A drive scenario ([`servo`](crate::params::servo)) makes the plant realistic: the measured
 //! position is rounded to encoder counts, the plant's whole friction force
 //! is multiplied by a drift `s(t)` and by `1 + mu |kc u|` (load-dependent
 //! friction), and the command reaches the plant `delay_ticks` late.
@@ -52,22 +52,21 @@
 //! and the RMS also over the last half (`rms_half`, after adaptation). A
 //! loop that diverges is reported as `unstable`.
 //!
-//! Plan, run, render: the set-up is the file's `[servo]` table ([`config`],
+//! Plan, run, render: the set-up is the file's `[servo]` table ([`params::servo`](crate::params::servo),
 //! with the file format), the rows are listed once in `rows` ([`ROWS`]) and
 //! built into controllers in `controllers`; `plant` simulates the drive,
 //! `run` runs each row's loop and the benchmark, and `render` prints and
 //! plots it ([`robustness`] maps it over parameter errors).
 
-/// The `[servo]` table of a parameter file (it lives with the file format).
-pub use crate::params::servo as config;
 mod controllers;
 mod plant;
 mod render;
 pub mod robustness;
+mod robustness_render;
 mod rows;
 mod run;
 
-pub use config::{ServoError, ServoTable, MAX_PLANT_STEPS, MAX_TICKS};
+pub use crate::params::servo::{ServoError, ServoTable, MAX_PLANT_STEPS, MAX_TICKS};
 pub use controllers::{
     adaptation, build_controller, coulomb_level, least_squares, lugre_nominal,
     parameter_adaptation, static_map, PARAMETER_NAMES,

@@ -1,7 +1,7 @@
 //! The simulated drive ([`Drive`]): the plant's inertia and friction, the
 //! external torque, the command's delay and the encoder.
 
-use super::config::ServoConfig;
+use crate::params::servo::ServoConfig;
 use crate::params::ModelSpec;
 use anyhow::Result;
 use friction_core::ParamError;

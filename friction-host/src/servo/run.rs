@@ -1,11 +1,11 @@
 //! Running the benchmark: each row's loop ([`run_loop`]) on the drive,
 //! every row in parallel ([`benchmark`]).
 
-use super::config::ServoConfig;
 use super::controllers::{build_controller, coulomb_level};
 use super::plant::Drive;
 use super::rows::{Row, ROWS};
 use crate::control::Controller;
+use crate::params::servo::ServoConfig;
 use crate::params::{ModelSpec, ParamFile};
 use anyhow::Result;
 use friction_core::Setpoint;

@@ -13,8 +13,8 @@ mod plan;
 mod report;
 mod run;
 
-pub use crate::io::pct;
-pub use crate::params::{param_set, PARAM_SETS};
+use crate::io::pct;
+pub use crate::params::param_set;
 pub use measure::{accuracy, accuracy_on, bristle_convergence, BristleConvergence};
 pub use plan::elasto_plastic_with_z_ba;
 pub use report::accuracy_plot_name;

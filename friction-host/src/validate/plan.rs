@@ -30,10 +30,7 @@ impl Plan {
                 "canudas1995-ep z_ba=0.9Fc/sigma0",
                 elasto_plastic_with_z_ba(0.9)?,
             ),
-            experiments: EXPERIMENTS
-                .iter()
-                .flat_map(|(set, names)| names.iter().map(move |name| (*set, *name)))
-                .collect(),
+            experiments: experiment_plan()?,
         })
     }
 
@@ -44,11 +41,13 @@ impl Plan {
     }
 }
 
-/// The experiments run on each set, in report order (each name one of
-/// [`experiments::NAMES`], tested): LuGre's phenomena on
-/// the sets made to show them (with the elasto-plastic drift beside
-/// LuGre's), then every experiment on the other models' primary sets.
-const EXPERIMENTS: &[(&str, &[&str])] = &[
+/// The experiments planned by hand, in report order (each name one of
+/// [`experiments::NAMES`], tested): LuGre's phenomena on the sets made to
+/// show them, with the elasto-plastic model beside LuGre (its drift on
+/// LuGre's drift set, then every experiment on its primary set). Every
+/// other model with state gets every experiment on its primary set,
+/// from the model list ([`experiment_plan`]).
+const BY_HAND: &[(&str, &[&str])] = &[
     (
         "canudas1995",
         &[
@@ -64,13 +63,32 @@ const EXPERIMENTS: &[(&str, &[&str])] = &[
     ("astrom2008-drift-ep", &["drift"]),
     ("canudas1995", &["rate-independence", "nonlocal-memory"]),
     ("canudas1995-ep", experiments::NAMES),
-    ("dahl1968", experiments::NAMES),
-    ("haessig1991-reset", experiments::NAMES),
-    ("haessig1991-bristle", experiments::NAMES),
-    ("gms-typical", experiments::NAMES),
-    ("xiong-typical", experiments::NAMES),
-    ("leuven-typical", experiments::NAMES),
 ];
+
+/// The experiments, each `(set, experiment)`, in report order: the rows
+/// planned by hand ([`BY_HAND`]), then every experiment on the primary set
+/// of each model with state ([`HostModel::has_state`]) in the model list's
+/// order, except the models whose sets the hand rows already run.
+///
+/// [`HostModel::has_state`]: crate::models::HostModel::has_state
+fn experiment_plan() -> Result<Vec<(&'static str, &'static str)>> {
+    let mut rows: Vec<(&'static str, &'static str)> = BY_HAND
+        .iter()
+        .flat_map(|(set, names)| names.iter().map(move |name| (*set, *name)))
+        .collect();
+    for (_, sets) in MODEL_SETS {
+        let Some(&primary) = sets.first() else {
+            continue;
+        };
+        if BY_HAND.iter().any(|(set, _)| sets.contains(set)) {
+            continue;
+        }
+        if param_set(primary)?.model.host().has_state() {
+            rows.extend(experiments::NAMES.iter().map(|name| (primary, *name)));
+        }
+    }
+    Ok(rows)
+}
 
 /// The parameter sets the accuracy table measures, each `(label, model,
 /// bounded, plots)`, all read from the model list and the models' host
@@ -137,12 +155,31 @@ mod tests {
     /// [`experiments::LIST`]: crate::experiments::LIST
     #[test]
     fn the_plan_names_experiments() {
-        for (set, names) in super::EXPERIMENTS {
-            for name in *names {
-                assert!(
-                    crate::experiments::find(name).is_some(),
-                    "{set}: no experiment `{name}`"
-                );
+        for (set, name) in super::experiment_plan().unwrap() {
+            assert!(
+                crate::experiments::find(name).is_some(),
+                "{set}: no experiment `{name}`"
+            );
+        }
+    }
+
+    /// Every model with state has every experiment run on one of its sets,
+    /// the static maps none.
+    #[test]
+    fn every_model_with_state_is_run_on_its_sets() {
+        let plan = super::experiment_plan().unwrap();
+        for (model, sets) in crate::models::MODEL_SETS {
+            let Some(&primary) = sets.first() else {
+                continue;
+            };
+            let stateful = crate::params::param_set(primary)
+                .unwrap()
+                .model
+                .host()
+                .has_state();
+            for name in crate::experiments::NAMES {
+                let run = sets.iter().any(|set| plan.contains(&(*set, *name)));
+                assert_eq!(run, stateful, "{model}: {primary} {name}");
             }
         }
     }

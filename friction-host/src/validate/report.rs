@@ -294,8 +294,7 @@ pub(super) fn write_report(
          `sigma1 v` across the zone lands in the wrong sample; the `mean-v` column (the exact displacement) \
          shows what an encoder difference gives. \
          Rows marked `info` are measured and reported without a bound: other LuGre parameter sets (`+vd` is the \
-         velocity-dependent damping `sigma1(v)` with `vd = vs`), and the switching models (reset integrator, \
-         bristle), whose force jumps make an RMS over all samples mostly a count of misplaced jumps. For them \
+         velocity-dependent damping `sigma1(v)` with `vd = vs`), and the switching models ({}), whose force jumps make an RMS over all samples mostly a count of misplaced jumps. For them \
          `smooth` is the RMS over the samples more than one sample away from a switching instant of the \
          reference (a bond breaking or re-forming, a velocity reversal, a bristle snapping), with the share of \
          samples it keeps. The reset integrator's reference is diffsol on its discontinuous right-hand side; \
@@ -307,6 +306,7 @@ pub(super) fn write_report(
         bounds(plan).join("; "),
         pct(F32_BOUND),
         at_rates(&plan.hard.1).unwrap_or_else(|| "no bound".into()),
+        switching_models(plan).join(", "),
     )?;
     writeln!(md, "| model | signal | rate | rms / Fs | max / Fs | mean-v rms / Fs | smooth rms / Fs (kept) | f32 - f64 | fixed rms / Fs | bound | ok |")?;
     writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|")?;
@@ -345,10 +345,11 @@ pub(super) fn write_report(
         writeln!(md, "![{name}]({name})")?;
     }
     writeln!(md, "\n## Drift: LuGre creeps, elasto-plastic does not\n")?;
+    let (force, limit) = drift_force_and_elastic_limit()?;
     writeln!(
         md,
-        "astrom2008 drift parameters, mass at rest, force `2.5 (1 - cos 2 pi t) / 2` N, below the \
-         elasto-plastic elastic limit `sigma0 z_ba = 2.73 N`; the core at a 1 ms step.\n\n\
+        "astrom2008 drift parameters, mass at rest, force `{force} (1 - cos 2 pi t) / 2` N, below the \
+         elasto-plastic elastic limit `sigma0 z_ba = {limit:.2} N`; the core at a 1 ms step.\n\n\
          ![drift](drift-lugre-vs-elasto-plastic.svg)"
     )?;
     writeln!(md, "\n## Bristle model: what the randomness does\n")?;
@@ -416,6 +417,33 @@ fn at_rates(spec: &ModelSpec) -> Option<String> {
 
 /// The judged sets' bounds, `label (model), ... <= a at 1 kHz, <= b at
 /// 10 kHz`, the sets with the same bounds together, in the plan's order.
+/// The switching models the accuracy table measures
+/// ([`HostModel::switching`]), in its order, named as prose
+/// (`reset integrator`).
+///
+/// [`HostModel::switching`]: crate::models::HostModel::switching
+fn switching_models(plan: &Plan) -> Vec<String> {
+    let mut names: Vec<String> = Vec::new();
+    for (_, spec, _, _) in &plan.models {
+        let name = spec.name().replace('-', " ");
+        if spec.host().switching() && !names.contains(&name) {
+            names.push(name);
+        }
+    }
+    names
+}
+
+/// The drift comparison's peak force and the elasto-plastic elastic limit
+/// `sigma0 z_ba`, read from the set the comparison runs
+/// (`astrom2008-drift-ep`, see `measure::drift_comparison`).
+fn drift_force_and_elastic_limit() -> Result<(f64, f64)> {
+    let file = crate::params::param_set("astrom2008-drift-ep")?;
+    let ModelSpec::ElastoPlastic(p) = file.model else {
+        anyhow::bail!("astrom2008-drift-ep is not an elasto-plastic set")
+    };
+    Ok((file.rig.force.unwrap_or(2.5), p.lugre.sigma0 * p.z_ba))
+}
+
 fn bounds(plan: &Plan) -> Vec<String> {
     let mut groups: Vec<(String, Vec<String>)> = Vec::new();
     for (label, spec, ..) in plan.models.iter().filter(|(_, _, bounded, _)| *bounded) {
