@@ -17,8 +17,9 @@
 //! columns), `excitation.svg`, `curve.svg`, `errors.svg` and `report.md`.
 
 use crate::io::write_columns;
+use crate::models::ModelSpec;
 use crate::params::servo::ServoConfig;
-use crate::params::{ModelSpec, ParamFile};
+use crate::params::ParamFile;
 use crate::plot::{line_plot, Axis, Series};
 use crate::servo::{build_controller, run_loop, Drive, Law, Row, ServoRun};
 use anyhow::{anyhow, bail, Context, Result};

@@ -322,7 +322,6 @@ pub fn parse_tv(text: &str, origin: &str) -> Result<(Vec<f64>, Vec<f64>)> {
 
 // the formatting of a value in a message lives with the checks that echo
 // it (the lowest layer); the rest of the crate reaches it here
-pub use crate::checks::{num, short};
 
 /// A fraction as a readable percentage: `2.5 %`, `0.031 %`, `1.0e-7 %`.
 pub fn pct(x: f64) -> String {
@@ -343,6 +342,7 @@ pub fn pct(x: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::checks::{num, short};
 
     #[test]
     fn numbers_stay_short() {

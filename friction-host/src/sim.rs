@@ -2,8 +2,8 @@
 //! pushed by an applied force (the rig), each both ways: the core's
 //! discrete step, and the reference solver on the continuous equations.
 
+use crate::models::ModelSpec;
 use crate::models::{Continuous, Stepper};
-use crate::params::ModelSpec;
 use crate::reference::{integrate, integrate_stopping, Tolerances};
 use crate::signals::Signal;
 use anyhow::Result;
@@ -22,7 +22,7 @@ pub enum SimScalar {
 /// The fixed-step model refused its period, the time step of the input's
 /// first two samples (not a parameter of the file).
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
-#[error("the time step {} s from the previous sample cannot be the fixed-step model's period: {error}", crate::io::num(*.h))]
+#[error("the time step {} s from the previous sample cannot be the fixed-step model's period: {error}", crate::checks::num(*.h))]
 pub struct PeriodRefused {
     /// The time step (s).
     pub h: f64,

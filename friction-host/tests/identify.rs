@@ -3,7 +3,8 @@
 
 use friction_core::{FrictionModel, LuGreParams, LuGreState, Scalar, StribeckParams};
 use friction_host::identify::{self, Columns, Conditioning, Options};
-use friction_host::params::{ModelSpec, ParamFile};
+use friction_host::models::ModelSpec;
+use friction_host::params::ParamFile;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

@@ -275,8 +275,8 @@ impl Model {
             if let Some(rule) = checks::velocity_filter_rule(cutoff, 1.0 / h) {
                 return Err(PyValueError::new_err(format!(
                     "velocity_filter={}: must be {rule} (1/h = {} Hz; None for no filter)",
-                    friction_host::io::num(cutoff),
-                    friction_host::io::num(1.0 / h)
+                    friction_host::checks::num(cutoff),
+                    friction_host::checks::num(1.0 / h)
                 )));
             }
         }
@@ -489,7 +489,7 @@ fn adaptive_params(d: &Bound<'_, PyDict>) -> PyResult<AdaptiveParams> {
         PyValueError::new_err(format!(
             "adaptive[{:?}] = {}: must be {}",
             e.key,
-            friction_host::io::num(e.value),
+            friction_host::checks::num(e.value),
             e.rule
         ))
     })?;

@@ -3,11 +3,12 @@
 //! reference solver and against the exact solution for the held velocity.
 //! LuGre's figures on the same signals are printed alongside (`--nocapture`).
 
+use friction_host::models::ModelSpec;
 use friction_host::models::ScalarKind;
-use friction_host::params::ModelSpec;
+use friction_host::params::param_set;
 use friction_host::signals::reversal_signals;
 use friction_host::sim::{drive_core, rms_diff};
-use friction_host::validate::{accuracy_on, elasto_plastic_with_z_ba, param_set, F32_BOUND};
+use friction_host::validate::{accuracy_on, elasto_plastic_with_z_ba, F32_BOUND};
 
 const Z_BA: [f64; 4] = [0.1, 0.5, 0.9, 0.99];
 

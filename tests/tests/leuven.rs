@@ -3,8 +3,9 @@
 //! against f64, and every experiment.
 
 use friction_host::experiments::{self, Options, NAMES};
+use friction_host::models::ModelSpec;
 use friction_host::models::{leuven_reference, LeuvenSpec, LEUVEN_REFERENCE_STEP};
-use friction_host::params::{ModelSpec, ParamFile};
+use friction_host::params::ParamFile;
 use friction_host::signals::{reversal_signals, validation_signals};
 use friction_host::sim::rms_diff;
 use friction_host::validate::{accuracy, accuracy_on, F32_BOUND};

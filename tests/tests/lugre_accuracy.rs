@@ -3,8 +3,9 @@
 
 use friction_core::{FrictionModel, LuGreParams, LuGreState};
 use friction_host::experiments::{self, Options};
-use friction_host::params::ModelSpec;
-use friction_host::validate::{accuracy, param_set, F32_BOUND};
+use friction_host::models::ModelSpec;
+use friction_host::params::param_set;
+use friction_host::validate::{accuracy, F32_BOUND};
 
 #[test]
 fn rms_force_error_within_bounds_at_1_and_10_khz() {

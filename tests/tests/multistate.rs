@@ -2,8 +2,9 @@
 //! against their references, f32 against f64, and every experiment.
 
 use friction_host::experiments::{self, Options, NAMES};
+use friction_host::models::ModelSpec;
 use friction_host::models::{gms_reference, GmsSpec, GMS_REFERENCE_STEP};
-use friction_host::params::{ModelSpec, ParamFile};
+use friction_host::params::ParamFile;
 use friction_host::signals::validation_signals;
 use friction_host::sim::rms_diff;
 use friction_host::validate::{accuracy, F32_BOUND};

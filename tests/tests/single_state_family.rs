@@ -2,10 +2,11 @@
 //! solver, with the bounds of the single-state issue.
 
 use friction_host::experiments::{self, Options};
-use friction_host::params::ModelSpec;
+use friction_host::models::ModelSpec;
+use friction_host::params::param_set;
 use friction_host::signals::validation_signals;
 use friction_host::sim::{drive_core, drive_reference, rms_diff};
-use friction_host::validate::{accuracy, param_set};
+use friction_host::validate::accuracy;
 
 fn bounded_rows(set: &str) {
     let spec = param_set(set).unwrap().model;

@@ -139,7 +139,7 @@ pub(super) fn breakaway(file: &ParamFile, opts: Options, dir: &Path) -> Result<O
         figure: format!(
             "break-away force {} N at {} N/s (peak of F - sigma2 v; shows when it falls by > 1 % of the static force as the rate rises)",
             list(&peaks),
-            rates.map(crate::io::short).join(", ")
+            rates.map(crate::checks::short).join(", ")
         ),
         summary,
         plot,

@@ -17,7 +17,7 @@ const PERIODS: f64 = 2.0;
 /// astrom2008's stiff set the sheet's figures put `w T` past the peak of
 /// the lag, where the loop narrows again). Models without a Stribeck curve
 /// keep the sheet's figures.
-pub(crate) fn lag_scales(model: &crate::params::ModelSpec) -> (f64, [f64; 3]) {
+pub(crate) fn lag_scales(model: &crate::models::ModelSpec) -> (f64, [f64; 3]) {
     match model.host().stribeck_velocity() {
         Some(vs) => {
             let t = model.host().lag_time(1.5 * vs);
@@ -69,13 +69,13 @@ pub(super) fn frictional_lag(file: &ParamFile, opts: Options, dir: &Path) -> Res
         &["w", "t", "v", "f", "f_ref"],
         &[&cw, &ct, &cv, &cf, &cr],
     )?;
-    let labels = ws.map(|w| format!("w = {} rad/s", crate::io::short(w)));
+    let labels = ws.map(|w| format!("w = {} rad/s", crate::checks::short(w)));
     let plot = dir.join("frictional-lag.svg");
     line_plot(
         &plot,
         &format!(
             "Frictional lag: friction versus velocity, v = {} (cos wt + 1.5)",
-            crate::io::short(v0)
+            crate::checks::short(v0)
         ),
         ("v (m/s)", Axis::Linear),
         "F (N)",
@@ -105,10 +105,10 @@ pub(super) fn frictional_lag(file: &ParamFile, opts: Options, dir: &Path) -> Res
             areas[0],
             areas[1],
             areas[2],
-            crate::io::short(ws[0]),
-            crate::io::short(ws[1]),
-            crate::io::short(ws[2]),
-            crate::io::short(v0)
+            crate::checks::short(ws[0]),
+            crate::checks::short(ws[1]),
+            crate::checks::short(ws[2]),
+            crate::checks::short(v0)
         ),
         summary: vec![format!("worst rms force error against the reference: {:.4} % of the static force", 100.0 * worst)],
         plot,

@@ -5,9 +5,11 @@
 //! experiments also run the reference solver and, for stick-slip, require
 //! the core to agree with it.
 
-use crate::io::{short, write_columns};
+use crate::checks::short;
+use crate::io::write_columns;
+use crate::models::ModelSpec;
 use crate::models::{Expect, Expectations, ScalarKind, Stepper};
-use crate::params::{ModelSpec, ParamFile};
+use crate::params::ParamFile;
 use crate::plot::{comparison_plot, line_plot, zip, Axis, Series};
 use crate::signals::Signal;
 use crate::sim::{drive_core, drive_reference, rig_core, rig_reference, rms_diff, Rig, Trace};
@@ -343,12 +345,12 @@ fn refusal(name: &str, file: &ParamFile) -> Option<Refusal> {
         let m = mass(file);
         let unstable = breakaway_rates(file).iter().find_map(|&rate| {
             let why = file.model.host().unstable_creep(m, rate)?;
-            Some(format!("at {} N/s, {why}", crate::io::short(rate)))
+            Some(format!("at {} N/s, {why}", crate::checks::short(rate)))
         });
         if let Some(why) = unstable {
             return Some(Refusal(format!(
                 "experiment `breakaway` does not apply to this set on its rig (mass {}): it measures how the break-away force falls as a slow, steady creep speeds up with the force rate, and here the creep is unstable: {why}. The break-away force is then set by when the instability takes off, not by the curve (params/gms-typical.toml is a GMS set whose creep is stable)",
-                crate::io::short(m)
+                crate::checks::short(m)
             )));
         }
     }

@@ -49,9 +49,9 @@ pub(super) fn presliding(file: &ParamFile, opts: Options, dir: &Path) -> Result<
     let bounded = x_max < 10.0 * d;
     let mut summary = vec![format!(
         "ramp peak {} N: 0.95 x min(Fs = {}, break-away force at this rate {})",
-        crate::io::short(peak),
-        crate::io::short(fs),
-        crate::io::short(fb)
+        crate::checks::short(peak),
+        crate::checks::short(fs),
+        crate::checks::short(fb)
     )];
     if let Some(r) = &rf {
         let err = rms_diff(&tr.x, &r.x);

@@ -13,7 +13,7 @@ use serde::Deserialize;
 use servo::ServoTable;
 use std::path::Path;
 
-pub use crate::models::{ModelSpec, MODEL_NAMES};
+use crate::models::{ModelSpec, MODEL_NAMES};
 
 /// The `[rig]` table: the mechanical set-up of the experiments. Every key is
 /// optional; each experiment documents its defaults.

@@ -267,7 +267,7 @@ pub const MAX_DELAY_TICKS: f64 = 1000.0;
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ServoError {
     /// A key's value is out of its range.
-    #[error("{file}: [servo] `{key}` must be {rule}, got {}", crate::io::num(*.value))]
+    #[error("{file}: [servo] `{key}` must be {rule}, got {}", crate::checks::num(*.value))]
     Invalid {
         /// The parameter file.
         file: String,
@@ -279,7 +279,7 @@ pub enum ServoError {
         value: f64,
     },
     /// `plant_rate` is not a whole multiple of `rate`.
-    #[error("{file}: [servo] `plant_rate` ({} Hz) must be a whole multiple of `rate` ({} Hz)", crate::io::num(*.plant_rate), crate::io::num(*.rate))]
+    #[error("{file}: [servo] `plant_rate` ({} Hz) must be a whole multiple of `rate` ({} Hz)", crate::checks::num(*.plant_rate), crate::checks::num(*.rate))]
     NotMultiple {
         /// The parameter file.
         file: String,

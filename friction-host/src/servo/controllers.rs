@@ -4,8 +4,8 @@
 
 use super::rows::{Law, Row};
 use crate::control::{controller, controller_reading, Controller, Fallback, Loop, ObserverRequest};
+use crate::models::ModelSpec;
 use crate::params::servo::ServoConfig;
-use crate::params::ModelSpec;
 use anyhow::Result;
 use friction_core::{
     AdaptiveParams, CoulombViscousParams, FeedForward, LuGreParams, NoCompensation, ParamError,

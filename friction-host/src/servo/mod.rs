@@ -66,7 +66,6 @@ mod robustness_render;
 mod rows;
 mod run;
 
-pub use crate::params::servo::{ServoError, ServoTable, MAX_PLANT_STEPS, MAX_TICKS};
 pub use controllers::{
     adaptation, build_controller, coulomb_level, least_squares, lugre_nominal,
     parameter_adaptation, static_map, PARAMETER_NAMES,

@@ -1,8 +1,8 @@
 //! The simulated drive ([`Drive`]): the plant's inertia and friction, the
 //! external torque, the command's delay and the encoder.
 
+use crate::models::ModelSpec;
 use crate::params::servo::ServoConfig;
-use crate::params::ModelSpec;
 use anyhow::Result;
 use friction_core::ParamError;
 use std::collections::VecDeque;

@@ -155,13 +155,13 @@ impl RobustnessMap {
             );
             md.push_str("| level \\ stiffness |");
             for s in &self.grid.stiffness {
-                let _ = write!(md, " {} |", short(*s));
+                let _ = write!(md, " {} |", two_decimals(*s));
             }
             md.push_str("\n|---|");
             md.push_str(&"---:|".repeat(self.grid.stiffness.len()));
             md.push('\n');
             for (i, f) in self.grid.force.iter().enumerate() {
-                let _ = write!(md, "| {} |", short(*f));
+                let _ = write!(md, "| {} |", two_decimals(*f));
                 for j in 0..self.grid.stiffness.len() {
                     let r = self
                         .cells
@@ -197,7 +197,7 @@ fn ratio_text(r: f64) -> String {
 }
 
 /// A scale as a short label (`0.25`, `1`, `10`).
-fn short(x: f64) -> String {
+fn two_decimals(x: f64) -> String {
     let s = format!("{x:.2}");
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
@@ -208,7 +208,7 @@ fn label(values: &[f64], x: f64) -> String {
     if (i - i.round()).abs() < 1e-6 && i >= 0.0 {
         values
             .get(i.round() as usize)
-            .map_or(String::new(), |v| short(*v))
+            .map_or(String::new(), |v| two_decimals(*v))
     } else {
         String::new()
     }

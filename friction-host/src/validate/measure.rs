@@ -3,9 +3,10 @@
 //! drift of LuGre against the elasto-plastic model.
 
 use super::{accuracy_bound, fixed_bound, AccuracyRow, F32_BOUND, PERIODS};
+use crate::models::ModelSpec;
 use crate::models::ReferenceRun;
 use crate::models::{BristleSpec, ScalarKind};
-use crate::params::{param_set, ModelSpec};
+use crate::params::param_set;
 use crate::plot::{comparison_plot, line_plot, zip, Axis, Series};
 use crate::signals::{validation_signals, Signal};
 use crate::sim::{drive_core, drive_reference, max_diff, rms_diff};

@@ -14,13 +14,12 @@ mod report;
 mod run;
 
 use crate::io::pct;
-pub use crate::params::param_set;
 pub use measure::{accuracy, accuracy_on, bristle_convergence, BristleConvergence};
 pub use plan::elasto_plastic_with_z_ba;
 pub use report::accuracy_plot_name;
 pub use run::{run, run_with};
 
-use crate::params::ModelSpec;
+use crate::models::ModelSpec;
 
 /// Accuracy bound (fraction of the model's static force) at step `h`, from
 /// the model's host module; `None` where none is set.
@@ -131,7 +130,7 @@ mod tests {
         );
         for (name, sets) in MODEL_SETS {
             for set in *sets {
-                let file = super::param_set(set).unwrap();
+                let file = crate::params::param_set(set).unwrap();
                 assert_eq!(file.model.name(), *name, "params/{set}.toml");
             }
         }

@@ -3,8 +3,9 @@
 //! by the host registry) and each model's host module, and the experiments.
 
 use crate::experiments;
+use crate::models::ModelSpec;
 use crate::models::MODEL_SETS;
-use crate::params::{param_set, ModelSpec};
+use crate::params::param_set;
 use anyhow::Result;
 
 /// One entry of the accuracy table: `(label, model, bounded, plots)`.

@@ -7,7 +7,7 @@ use super::{
     accuracy_bound, fixed_bound, pct, AccuracyRow, BristleConvergence, F32_BOUND, PERIODS,
 };
 use crate::experiments::{self, Outcome};
-use crate::params::ModelSpec;
+use crate::models::ModelSpec;
 use anyhow::Result;
 use std::fmt::Write as _;
 use std::path::Path;
