@@ -13,9 +13,10 @@
 //! ```
 //!
 //! This is the filter of `scipy.signal.butter(n, fc, fs=fs, output="sos")`
-//! and of MATLAB's `butter`. [`filtfilt`] runs it forward, then backward over
-//! the reversed output, so the phase cancels and the magnitude response is
-//! squared (-6 dB at `fc`). The ends are padded by odd reflection about the
+//! and of MATLAB's `butter`. [`Butterworth::filtfilt`] runs it forward, then
+//! backward over the reversed output, so the phase cancels and the magnitude
+//! response is squared (-6 dB at `fc`). The ends are padded by odd
+//! reflection about the
 //! first and last samples, and each section starts in the steady state of
 //! the first padded sample, so a signal that starts with an offset (a
 //! position, for instance) shows no start-up transient.

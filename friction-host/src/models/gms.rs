@@ -295,7 +295,7 @@ impl HostModel for GmsSpec {
     fn accuracy_bound(&self, h: f64) -> Option<f64> {
         Some(if h >= 1e-3 { 0.03 } else { 0.01 })
     }
-    /// Unstable where some stage of [`GmsSpec::creep_growth`] grows by more
+    /// Unstable where some stage of `GmsSpec::creep_growth` grows by more
     /// than round-off needs to reach the creep itself (`e^36`).
     fn unstable_creep(&self, mass: f64, rate: f64) -> Option<String> {
         let growth = self.creep_growth(mass, rate);
