@@ -16,10 +16,9 @@
 //! and of MATLAB's `butter`. [`Butterworth::filtfilt`] runs it forward, then
 //! backward over the reversed output, so the phase cancels and the magnitude
 //! response is squared (-6 dB at `fc`). The ends are padded by odd
-//! reflection about the
-//! first and last samples, and each section starts in the steady state of
-//! the first padded sample, so a signal that starts with an offset (a
-//! position, for instance) shows no start-up transient.
+//! reflection about the first and last samples, and each section starts in
+//! the steady state of the first padded sample, so a signal that starts
+//! with an offset (a position, for instance) shows no start-up transient.
 
 /// One second-order section `(b0, b1, b2, a1, a2)` with `a0 = 1`.
 #[derive(Clone, Copy, Debug, PartialEq)]
