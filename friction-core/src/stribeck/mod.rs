@@ -205,4 +205,4 @@ impl<S: Scalar> StribeckCurve<S> {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

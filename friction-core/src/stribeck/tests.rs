@@ -1,7 +1,8 @@
 use super::*;
 use crate::CoulombParams;
 
-fn canudas() -> StribeckParams {
+/// The curve of Canudas de Wit et al. (1995), shared with the maps' tests.
+pub(crate) fn canudas() -> StribeckParams {
     StribeckParams {
         fc: 1.0,
         fs: 1.5,

@@ -1,15 +1,6 @@
 use super::*;
 use crate::model::{FrictionModel, ParamError};
-use crate::stribeck::StribeckParams;
-
-fn canudas() -> StribeckParams {
-    StribeckParams {
-        fc: 1.0,
-        fs: 1.5,
-        vs: 1e-3,
-        exponent: 2.0,
-    }
-}
+use crate::stribeck::tests::canudas;
 
 #[test]
 fn maps_oppose_motion() {
