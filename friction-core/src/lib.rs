@@ -125,7 +125,7 @@ pub type FeedForwardServo<F, S> = Compensator<S, FeedForward<F>>;
 ///     inertia: 0.0023, torque_constant: 1.02, limit: 10.0 };
 /// let adaptive = ParameterAdaptiveParams::new(LuGreParams::OLSSON_1998, 20.0).build_fixed_step::<f32>(&servo)?;
 /// let fallback = CoulombViscousParams { fc: 0.28, sigma2: 0.0176 }.build::<f32>()?;
-/// let supervised = SupervisorParams::DEFAULT.build(adaptive, fallback, servo.h)?;
+/// let supervised = SupervisorParams::DEFAULT.build(adaptive, fallback, &servo)?;
 /// let ctl: ParameterAdaptiveServo<f32> = servo.build(supervised)?;
 /// # let _ = ctl;
 /// # Ok::<(), friction_core::ParamError>(())

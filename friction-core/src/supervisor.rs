@@ -2,8 +2,9 @@
 //! applies whichever of three candidates predicts the measured friction best,
 //! with hysteresis: see [`Supervised`].
 
-use crate::compensator::{Compensation, FrictionSample};
+use crate::compensator::{Compensation, CompensatorParams, FrictionSample};
 use crate::model::{non_negative, positive, FrictionModel, ParamError};
+use crate::gain::Gain;
 use crate::Scalar;
 
 /// Which candidate the supervisor applies.
@@ -108,13 +109,16 @@ impl SupervisorParams {
     }
 
     /// Validates and builds the supervisor of `primary` with the static map
-    /// `fallback`, for a compensator at period `h` (s).
+    /// `fallback`, for the compensator of `servo` (its period, inertia and
+    /// torque constant: the evidence is the friction they measure).
     ///
     /// ```
-    /// use friction_core::{CoulombViscousParams, LuGreParams, Observer, SupervisorParams};
+    /// use friction_core::{CompensatorParams, CoulombViscousParams, LuGreParams, Observer, SupervisorParams};
+    /// let servo = CompensatorParams { h: 1e-3, kp: 60.0, ki: 200.0, kd: 1.2,
+    ///     inertia: 0.0023, torque_constant: 1.02, limit: 10.0 };
     /// let observer: Observer<_, f32> = Observer::new(LuGreParams::OLSSON_1998.build::<f32>()?, 20.0)?;
     /// let fallback = CoulombViscousParams { fc: 0.28, sigma2: 0.0176 }.build::<f32>()?;
-    /// let supervised = SupervisorParams::DEFAULT.build::<f32, _, _>(observer, fallback, 1e-3)?;
+    /// let supervised = SupervisorParams::DEFAULT.build::<f32, _, _>(observer, fallback, &servo)?;
     /// # let _ = supervised;
     /// # Ok::<(), friction_core::ParamError>(())
     /// ```
@@ -122,10 +126,11 @@ impl SupervisorParams {
         &self,
         primary: P,
         fallback: F,
-        h: f64,
+        servo: &CompensatorParams,
     ) -> Result<Supervised<P, F, S>, ParamError> {
         self.validate()?;
-        positive("h", h)?;
+        servo.validate()?;
+        let h = servo.h;
         let ticks = libm::round(self.window / h).max(1.0);
         if ticks > 1e6 {
             return Err(ParamError::OutOfRange("window"));
@@ -135,6 +140,8 @@ impl SupervisorParams {
             fallback,
             window: ticks as u32,
             inv_window: S::from_f64(1.0 / ticks),
+            torque_constant: Gain::new("torque_constant", servo.torque_constant)?,
+            momentum: Gain::new("inertia", servo.inertia / h)?,
             blend: S::from_f64(1.0 / self.memory),
             ratio: S::from_f64(self.ratio),
             floor: S::from_f64(self.tolerance * self.tolerance),
@@ -170,19 +177,25 @@ pub struct SupervisorStatus<S> {
     pub errors: [S; 3],
 }
 
-/// The supervisor's state: the primary's, the status, the window sums and
-/// the last two estimates of each candidate.
+/// The supervisor's state: the primary's, the status and the window's sums.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SupervisedState<T, S> {
     /// The primary compensation's state.
     pub primary: T,
     status: StoredStatus<S>,
-    /// The last two estimates `[primary, fallback]`, newest first.
-    last: [[S; 2]; 2],
-    /// Sums over the window: measured force, primary, fallback predictions.
+    /// Sums over the window's ticks: commands issued, primary and fallback
+    /// estimates.
     sums: [S; 3],
+    /// The measured velocity at the window's first tick.
+    start_velocity: S,
+    /// Ticks in the window so far (0: the next tick opens one).
     count: u32,
+    /// The last closed window's errors `[primary, fallback, off]` (summed,
+    /// then squared means), until blended in.
+    pending: [S; 3],
+    /// A [`Stage`]'s code.
+    stage: u8,
 }
 
 /// A [`SupervisorStatus`] as a state stores it: the mode as its code, so
@@ -237,17 +250,22 @@ impl<S: Copy> StoredStatus<S> {
 /// one reaches the command. The evidence is the friction the compensator
 /// measures ([`FrictionSample`]: commands less inertia times the second
 /// difference of the position). Summed over a window of `N` ticks, the
-/// second differences telescope, so the window's mean measured friction
-/// carries the encoder's rounding only from its two ends:
+/// second differences telescope into the change of the measured velocity
+/// across the window, so the window's mean measured friction needs only
+/// the sum of the commands and carries the encoder's rounding only from
+/// the window's two ends:
 ///
 /// ```text
-/// E_c     = mean over the window of (force - (F_c[k-1] + F_c[k-2]) / 2)   each candidate c
-/// P_c    += (E_c^2 - P_c) / memory                                          per window
+/// E_c     = (kc sum u - J (v_end - v_start) / h - sum F_c) / N     each candidate c, per window
+/// P_c    += (E_c^2 - P_c) / memory                                  per window
 /// switch from the active a to the best b when P_b < ratio P_a (after warm-up, and at most once per window)
 /// ```
 ///
-/// `F_c[k-1]`, `F_c[k-2]` are the candidate's estimates at the ticks whose
-/// commands the sample averages. An external torque (gravity, a load) is
+/// The sums run over the window's ticks (`u` the commands issued, `F_c` the
+/// candidate's estimates); `v_start` and `v_end` are the measured
+/// velocities at the window's first tick and at the tick after its last
+/// (with a velocity filter or observer, its estimate). A skipped tick (a
+/// non-finite input) restarts the window. An external torque (gravity, a load) is
 /// in the measured friction for every candidate alike. A candidate that
 /// predicts worse than no compensation loses to it: the compensator falls
 /// back to the static map or to nothing, and returns to the primary when its
@@ -263,6 +281,9 @@ pub struct Supervised<P, F, S> {
     fallback: F,
     window: u32,
     inv_window: S,
+    torque_constant: Gain<S>,
+    /// `J / h`: the window's momentum change per unit of velocity change.
+    momentum: Gain<S>,
     blend: S,
     ratio: S,
     floor: S,
@@ -288,18 +309,46 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
         state.status.get()
     }
 
-    /// Ends a window: updates the errors and, past the warm-up, the mode.
-    // In place on the stored status: this runs inside the control tick
-    // once a window, and its cost is the tick's worst case.
-    fn close_window<T>(&self, state: &mut SupervisedState<T, S>) {
-        let [force, primary, fallback] = state.sums;
+    /// Ends a window at measured velocity `v` (the tick after its last): its
+    /// summed prediction errors wait in `pending` for the next three ticks,
+    /// which square them ([`Self::square_errors`]), blend them in
+    /// ([`Self::blend_errors`]) and choose the mode ([`Self::choose_mode`]).
+    // The window's work is spread over four ticks: it runs inside the
+    // control tick, and its cost is the tick's worst case.
+    fn close_window<T>(&self, state: &mut SupervisedState<T, S>, v: S) {
+        let [commands, primary, fallback] = state.sums;
+        let force =
+            self.torque_constant.times(commands) - self.momentum.times(v - state.start_velocity);
         state.sums = [S::ZERO; 3];
         state.count = 0;
+        state.pending = [force - primary, force - fallback, force];
+        state.stage = Stage::Square as u8;
+    }
+
+    /// The closed window's next stage.
+    fn next_stage<T>(&self, state: &mut SupervisedState<T, S>) {
+        match Stage::of_code(state.stage) {
+            Stage::Square => self.square_errors(state),
+            Stage::Blend => self.blend_errors(state),
+            Stage::Choose => self.choose_mode(state),
+            Stage::Idle => state.stage = Stage::Idle as u8,
+        }
+    }
+
+    /// The closed window's summed errors into its squared mean errors.
+    fn square_errors<T>(&self, state: &mut SupervisedState<T, S>) {
+        for p in state.pending.iter_mut() {
+            let error = (*p * self.inv_window).sat(S::from_f64(1e15));
+            *p = error * error;
+        }
+        state.stage = Stage::Blend as u8;
+    }
+
+    /// The closed window's squared errors into the filtered ones.
+    fn blend_errors<T>(&self, state: &mut SupervisedState<T, S>) {
         let st = &mut state.status;
         let first = st.windows == 0;
-        for (p, predicted) in st.errors.iter_mut().zip([primary, fallback, S::ZERO]) {
-            let error = ((force - predicted) * self.inv_window).sat(S::from_f64(1e15));
-            let squared = error * error;
+        for (p, squared) in st.errors.iter_mut().zip(state.pending) {
             *p = if first {
                 squared
             } else {
@@ -308,22 +357,33 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
         }
         st.windows = st.windows.saturating_add(1);
         st.since_switch = st.since_switch.saturating_add(1);
+        state.stage = Stage::Choose as u8;
+    }
+
+    /// Past the warm-up and the dwell, switches to the candidate whose
+    /// error is below `ratio` times the active one's, or retries the primary.
+    fn choose_mode<T>(&self, state: &mut SupervisedState<T, S>) {
+        state.stage = Stage::Idle as u8;
+        let st = &mut state.status;
         // a switch holds for `dwell` windows (the errors then reflect it)
         if st.windows <= self.warm_up || st.since_switch < self.dwell {
             return;
         }
-        let floor = self.floor;
-        let errors = st.errors;
-        let error =
-            |m: SupervisorMode| errors.get(m.index()).copied().unwrap_or(S::ZERO).max(floor);
+        let [primary, fallback, off] = st.errors.map(|x| x.max(self.floor));
         let current = st.mode();
-        let mut next = current;
-        for m in SupervisorMode::ALL {
-            if error(m) < error(next) {
-                next = m;
+        let active = match current {
+            SupervisorMode::Primary => primary,
+            SupervisorMode::Fallback => fallback,
+            SupervisorMode::Off => off,
+        };
+        // the candidate with the smallest error, the active one on a tie
+        let (mut next, mut best) = (current, active);
+        for (m, error) in SupervisorMode::ALL.into_iter().zip([primary, fallback, off]) {
+            if error < best {
+                (next, best) = (m, error);
             }
         }
-        if error(next) >= self.ratio * error(current) {
+        if best >= self.ratio * active {
             next = current;
         }
         if next == current
@@ -341,11 +401,32 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
     }
 }
 
+/// Where a closed window's evidence stands (a byte in the state, any value
+/// other than these being `Idle`).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Stage {
+    Idle = 0,
+    Square = 1,
+    Blend = 2,
+    Choose = 3,
+}
+
+impl Stage {
+    fn of_code(code: u8) -> Self {
+        match code {
+            1 => Stage::Square,
+            2 => Stage::Blend,
+            3 => Stage::Choose,
+            _ => Stage::Idle,
+        }
+    }
+}
+
 impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensation<S>
     for Supervised<P, F, S>
 {
     type State = SupervisedState<P::State, S>;
-    const LEARNS: bool = true;
+    const LEARNS: bool = P::LEARNS;
     const USES_H: bool = P::USES_H;
 
     /// Steps every candidate and returns the active one's estimate. The
@@ -355,6 +436,14 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
     /// another compensation caused would teach it the wrong values.
     #[inline]
     fn estimate(&self, state: &mut Self::State, v: S, e: S, h: S) -> S {
+        if state.count >= self.window {
+            self.close_window(state, v);
+        } else if state.stage != Stage::Idle as u8 {
+            self.next_stage(state);
+        }
+        if state.count == 0 {
+            state.start_velocity = v;
+        }
         let e = if state.status.mode() == SupervisorMode::Primary {
             e
         } else {
@@ -369,8 +458,11 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
         // a map without state ignores the period: a constant one lets the
         // compiler drop the period's checks from the tick
         let fallback = self.fallback.step(&mut (), v, S::ZERO);
-        let [newest, _] = state.last;
-        state.last = [[primary, fallback], newest];
+        let [_, p, f] = &mut state.sums;
+        *p = *p + primary;
+        *f = *f + fallback;
+        // below the window (at most 1e6 ticks) but in a state of any bits
+        state.count = state.count.wrapping_add(1);
         match state.status.mode() {
             SupervisorMode::Primary => primary,
             SupervisorMode::Fallback => fallback,
@@ -384,24 +476,21 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
 
     #[inline]
     fn learn(&self, state: &mut Self::State, sample: FrictionSample<S>) {
-        if P::LEARNS {
-            self.primary.learn(&mut state.primary, sample);
-        }
-        let half = S::from_f64(0.5);
-        let [[p1, f1], [p2, f2]] = state.last;
-        let [force, primary, fallback] = &mut state.sums;
-        *force = *force + sample.force;
-        *primary = *primary + half * (p1 + p2);
-        *fallback = *fallback + half * (f1 + f2);
-        state.count = state.count.saturating_add(1);
-        if state.count >= self.window {
-            self.close_window(state);
-        }
+        self.primary.learn(&mut state.primary, sample);
     }
 
     #[inline]
     fn commanded(&self, state: &mut Self::State, command: S) {
         self.primary.commanded(&mut state.primary, command);
+        state.sums[0] = state.sums[0] + command;
+    }
+
+    /// The window restarts: the commands and velocities of a gap are not
+    /// the compensator's.
+    fn skipped(&self, state: &mut Self::State) {
+        self.primary.skipped(&mut state.primary);
+        state.sums = [S::ZERO; 3];
+        state.count = 0;
     }
 
     /// The primary's state carried over ([`Compensation::carry_over`]; the
@@ -420,6 +509,7 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
         });
         state.sums = [S::ZERO; 3];
         state.count = 0;
+        state.stage = Stage::Idle as u8;
     }
 }
 
@@ -474,7 +564,7 @@ mod tests {
         // right before and a third after
         let primary = FeedForward(map(0.84));
         let sup = SupervisorParams::DEFAULT
-            .build(primary, map(0.28), 1e-3)
+            .build(primary, map(0.28), &servo())
             .unwrap();
         let ctl = servo().build(sup).unwrap();
         let modes = run(
@@ -505,7 +595,7 @@ mod tests {
     fn a_primary_that_predicts_well_stays() {
         // the primary is the plant's own map, the fallback half of it
         let sup = SupervisorParams::DEFAULT
-            .build(FeedForward(map(0.28)), map(0.14), 1e-3)
+            .build(FeedForward(map(0.28)), map(0.14), &servo())
             .unwrap();
         let ctl = servo().build(sup).unwrap();
         let modes = run(&ctl, |_| 1.0, 20, |c, s| c.status(s).mode);
@@ -518,7 +608,7 @@ mod tests {
     #[test]
     fn settings_are_checked() {
         let bad = |p: SupervisorParams, e: ParamError| {
-            let r = p.build::<f64, _, _>(crate::NoCompensation, map(0.28), 1e-3);
+            let r = p.build::<f64, _, _>(crate::NoCompensation, map(0.28), &servo());
             assert_eq!(r.err(), Some(e));
         };
         let d = SupervisorParams::DEFAULT;

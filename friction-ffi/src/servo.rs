@@ -766,7 +766,7 @@ where
     let built = (|| {
         let law = ParameterAdaptiveParams::from(adaptive).build_fixed_step::<S>(&p)?;
         let map = CoulombViscousParams::from(fallback).build::<S>()?;
-        let supervised = SupervisorParams::from(supervisor).build(law, map, p.h)?;
+        let supervised = SupervisorParams::from(supervisor).build(law, map, &p)?;
         p.build(supervised)
     })();
     match built {
@@ -845,7 +845,7 @@ where
     let built = (|| {
         let law = ParameterAdaptiveParams::from(adaptive).build_fixed_step::<S>(&p)?;
         let map = CoulombViscousParams::from(fallback).build::<S>()?;
-        SupervisorParams::from(supervisor).build(law, map, p.h)
+        SupervisorParams::from(supervisor).build(law, map, &p)
     })();
     let refusal = match built.and_then(|next| c.retune(s, next)) {
         Ok(()) => Refusal::OK,

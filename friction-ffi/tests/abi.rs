@@ -1002,7 +1002,7 @@ fn parameter_core<S: Scalar>(sp: &friction_servo_params) -> ParameterAdaptiveSer
         .unwrap();
     let map = CoulombViscousParams::from(&fb).build::<S>().unwrap();
     let supervised = SupervisorParams::from(&sup)
-        .build(law, map, servo.h)
+        .build(law, map, &servo)
         .unwrap();
     servo.build(supervised).unwrap()
 }
@@ -1809,7 +1809,7 @@ fn retune_through_the_abi_is_the_core_bit_for_bit() {
                 .build_fixed_step::<f64>(&core_servo_params(&sp))
                 .unwrap();
             let map = CoulombViscousParams::from(&fb2).build::<f64>().unwrap();
-            let next = SupervisorParams::from(&sup).build(law, map, sp.h).unwrap();
+            let next = SupervisorParams::from(&sup).build(law, map, &core_servo_params(&sp)).unwrap();
             core.retune(&mut state, next).unwrap();
             let mut e = friction_estimates_f64 {
                 fc_pos: 0.0,

@@ -766,7 +766,7 @@ fn main() -> ! {
     ) else {
         fail("per-parameter adaptation or fallback parameters")
     };
-    let Ok(supervised) = supervisor().build(law, map, p.h) else {
+    let Ok(supervised) = supervisor().build(law, map, &p) else {
         fail("supervisor parameters")
     };
     let (Ok(c_none3), Ok(c_obs3), Ok(c_param)) = (

@@ -202,7 +202,7 @@ where
         (Some(p), Some(f)) => controller_reading(
             setup,
             f.params
-                .build(p.build(observer, h)?, f.map.build::<f64>()?, h)?,
+                .build(p.build(observer, h)?, f.map.build::<f64>()?, &setup.params)?,
             &["theta", "mode"],
             |c, s| {
                 vec![

@@ -542,7 +542,7 @@ impl Model {
         let sp = supervisor_params(table, map.fc)?;
         let value = |e: friction_core::ParamError| PyValueError::new_err(e.to_string());
         let fallback = map.build::<f64>().map_err(value)?;
-        let supervised: SupervisedLaw = sp.build(law, fallback, setup.params.h).map_err(value)?;
+        let supervised: SupervisedLaw = sp.build(law, fallback, &setup.params).map_err(value)?;
         Ok(controller_reading(
             setup,
             supervised,

@@ -49,6 +49,12 @@ pub trait Compensation<S: Scalar> {
     #[inline]
     fn commanded(&self, _state: &mut Self::State, _command: S) {}
 
+    /// Told that a tick was skipped (a non-finite input): the next
+    /// [`Compensation::estimate`] comes after a gap. A compensation that
+    /// sums evidence over consecutive ticks restarts it here.
+    #[inline]
+    fn skipped(&self, _state: &mut Self::State) {}
+
     /// Makes `state`, a state of the compensation `old`, a state of this one,
     /// between two ticks of a re-tuned drive
     /// ([`Compensator::retune`](super::Compensator::retune)). An observer keeps

@@ -318,7 +318,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
         r: Setpoint<S>,
     ) -> CompensatorTick<S> {
         if !all_finite([x, r.x, r.v, r.a]) {
-            Self::skip(state);
+            self.skip(state);
             return CompensatorTick {
                 command: S::ZERO,
                 friction: S::ZERO,
@@ -394,7 +394,7 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
         command: S,
     ) -> S {
         if !all_finite([x, r.x, command]) {
-            Self::skip(state);
+            self.skip(state);
             return S::ZERO;
         }
         let v = self.velocity(state, x);
@@ -415,7 +415,8 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
     /// A tick with a non-finite input: the gap counts toward the next
     /// velocity, and no friction sample spans it.
     #[inline(always)]
-    fn skip(state: &mut CompensatorState<S, C::State>) {
+    fn skip(&self, state: &mut CompensatorState<S, C::State>) {
+        self.compensation.skipped(&mut state.friction);
         if state.since_last > 0 {
             state.since_last = state.since_last.saturating_add(1);
         }

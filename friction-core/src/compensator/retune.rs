@@ -385,7 +385,7 @@ mod tests {
                 sup.build(
                     p.build_fixed_step::<S>(&servo()).unwrap(),
                     fallback(m.curve.fc),
-                    1e-3,
+                    &servo(),
                 )
                 .unwrap()
             };

@@ -509,7 +509,7 @@ mod tests {
         };
         let adaptive = law(factor).build_fixed_step::<S>(&servo()).unwrap();
         servo()
-            .build(p.build(adaptive, fallback, 1e-3).unwrap())
+            .build(p.build(adaptive, fallback, &servo()).unwrap())
             .unwrap()
     }
 

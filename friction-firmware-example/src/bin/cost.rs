@@ -549,7 +549,7 @@ fn parameter_servo<S: Scalar>(label: &str) -> ParameterAdaptiveServo<S> {
         .unwrap_or_else(|_| fail(label));
     let map = fallback().build::<S>().unwrap_or_else(|_| fail(label));
     let supervised = supervisor()
-        .build(law, map, p.h)
+        .build(law, map, &p)
         .unwrap_or_else(|_| fail(label));
     p.build(supervised).unwrap_or_else(|_| fail(label))
 }

@@ -123,6 +123,7 @@ pub fn parameter_adaptation(cfg: &ServoConfig, model: LuGreParams) -> ParameterA
         speed: cfg.peak_speed(),
         load: cfg.adaptation_load,
         load_max: cfg.load_max,
+        min_speed: std::env::var("MINV").ok().map(|x| x.parse::<f64>().unwrap() * model.curve.vs).unwrap_or(0.0),
         ..ParameterAdaptiveParams::new(model, cfg.observer_gain)
     }
 }
@@ -223,7 +224,7 @@ fn parameter_controller(
         Some(f) => controller_reading(
             setup,
             f.params
-                .build(adaptive, f.map.build::<f64>()?, setup.params.h)?,
+                .build(adaptive, f.map.build::<f64>()?, &setup.params)?,
             &PARAMETER_NAMES,
             |c, s| with_mode(&s.primary, f64::from(c.status(s).mode.code())),
         ),

@@ -71,7 +71,16 @@ impl<S: Scalar> CoulombViscous<S> {
     /// `Fc sign(v) + sigma2 v`.
     #[inline]
     pub fn force(&self, v: S) -> S {
-        self.fc * v.sign() + self.sigma2 * v
+        // the level chosen, not multiplied by the sign: a Q16.16 product is
+        // several 32-bit ones on a Cortex-M0
+        let coulomb = if v > S::ZERO {
+            self.fc
+        } else if v < S::ZERO {
+            -self.fc
+        } else {
+            S::ZERO
+        };
+        coulomb + self.sigma2 * v
     }
 }
 
