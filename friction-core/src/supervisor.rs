@@ -605,6 +605,86 @@ mod tests {
         );
     }
 
+    /// The plant of [`run`] at scale 1 under `ctl`, its position `NaN` at
+    /// the ticks in `gaps`: after each tick, the status and the true mean
+    /// friction since tick 0.
+    fn windows<C>(
+        ctl: &crate::Compensator<f64, Supervised<C, CoulombViscous<f64>, f64>>,
+        ticks: usize,
+        gaps: &[usize],
+    ) -> std::vec::Vec<(SupervisorStatus<f64>, f64)>
+    where
+        C: Compensation<f64>,
+    {
+        let mut s = CompensatorState::default();
+        let (mut x, mut v, mut impulse) = (0.0f64, 0.0f64, 0.0f64);
+        let w = 2.0 * core::f64::consts::PI * 0.5;
+        let mut out = std::vec::Vec::new();
+        for k in 0..ticks {
+            let t = k as f64 * 1e-3;
+            let r = Setpoint {
+                x: 0.5 * libm::sin(w * t),
+                v: 0.5 * w * libm::cos(w * t),
+                a: -0.5 * w * w * libm::sin(w * t),
+            };
+            let measured = if gaps.contains(&k) { f64::NAN } else { x };
+            let u = ctl.tick(&mut s, measured, r).command;
+            for _ in 0..100 {
+                let f = 0.28 * libm::tanh(v / 1e-3) + 0.0176 * v;
+                impulse += 1e-5 * f;
+                v += 1e-5 * (1.02 * u - f) / 0.0023;
+                x += 1e-5 * v;
+            }
+            let status = ctl.compensation().status(s.friction());
+            out.push((status, impulse / ((k + 1) as f64 * 1e-3)));
+        }
+        out
+    }
+
+    #[test]
+    fn a_window_measures_the_plants_mean_friction() {
+        // no compensation as the primary: its error is the measured mean
+        // friction itself, as the window's commands and velocities give it;
+        // the plant's own integral of its friction is the truth
+        let sup = SupervisorParams::DEFAULT
+            .build(crate::NoCompensation, map(0.28), &servo())
+            .unwrap();
+        let ctl = servo().build(sup).unwrap();
+        let run = windows(&ctl, 104, &[]);
+        // the window of ticks 0..100 closes at tick 100; its errors are
+        // squared at 101 and blended (the first: taken as they are) at 102
+        assert_eq!(run[101].0.windows, 0);
+        let (status, truth) = run[102];
+        assert_eq!(status.windows, 1);
+        let measured = libm::sqrt(status.errors[0]);
+        // within 0.5 % of the Coulomb level (the window's ends fall half a
+        // tick apart in the velocity)
+        assert!(
+            (measured - truth.abs()).abs() < 0.005 * 0.28,
+            "measured {measured}, plant {truth}"
+        );
+        assert_eq!(status.errors[0], status.errors[2]);
+        // the fallback, the plant's map on the measured velocity, predicts
+        // it far better than no compensation
+        assert!(status.errors[1] < 1e-3 * status.errors[2], "{status:?}");
+    }
+
+    #[test]
+    fn a_skipped_tick_restarts_the_window() {
+        let sup = SupervisorParams::DEFAULT
+            .build(crate::NoCompensation, map(0.28), &servo())
+            .unwrap();
+        let ctl = servo().build(sup).unwrap();
+        let run = windows(&ctl, 400, &[50]);
+        // the window restarts at tick 51 and closes at 151 (blended at 153)
+        assert_eq!(run[150].0.windows, 0);
+        assert_eq!(run[153].0.windows, 1);
+        let (status, truth) = run[399];
+        assert_eq!(status.windows, 3);
+        assert!(status.errors.iter().all(|e| e.is_finite()), "{status:?}");
+        assert!(libm::sqrt(status.errors[2]) < 2.0 * 0.28, "{status:?} {truth}");
+    }
+
     #[test]
     fn settings_are_checked() {
         let bad = |p: SupervisorParams, e: ParamError| {
