@@ -123,7 +123,6 @@ pub fn parameter_adaptation(cfg: &ServoConfig, model: LuGreParams) -> ParameterA
         speed: cfg.peak_speed(),
         load: cfg.adaptation_load,
         load_max: cfg.load_max,
-        min_speed: std::env::var("MINV").ok().map(|x| x.parse::<f64>().unwrap() * model.curve.vs).unwrap_or(0.0),
         ..ParameterAdaptiveParams::new(model, cfg.observer_gain)
     }
 }
