@@ -83,6 +83,7 @@ pub use scalar::{Scalar, ScalarConversion};
 pub use stribeck::{StribeckCurve, StribeckParams};
 pub use supervisor::{
     Supervised, SupervisedState, SupervisorMode, SupervisorParams, SupervisorStatus,
+    MIN_WINDOW_TICKS,
 };
 
 /// A compensated servo tick on a fixed-step model's observer, the firmware

@@ -2,9 +2,10 @@
 //! applies whichever of three candidates predicts the measured friction best,
 //! with hysteresis: see [`Supervised`].
 
+use crate::bits::Flag;
 use crate::compensator::{Compensation, CompensatorParams, FrictionSample};
-use crate::model::{non_negative, positive, FrictionModel, ParamError};
 use crate::gain::Gain;
+use crate::model::{non_negative, positive, FrictionModel, ParamError};
 use crate::Scalar;
 
 /// Which candidate the supervisor applies.
@@ -51,11 +52,18 @@ impl SupervisorMode {
     }
 }
 
+/// The fewest controller periods an evidence window may span: a window's
+/// close, spread over the ticks after it (measure, square, blend, choose),
+/// ends before the next one closes.
+pub const MIN_WINDOW_TICKS: u32 = 4;
+
 /// Design-time parameters of the supervisor, in `f64`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SupervisorParams {
-    /// Evidence window (s, `> 0`): one prediction error per window.
+    /// Evidence window (s, `> 0`): one prediction error per window, of at
+    /// least [`MIN_WINDOW_TICKS`] controller periods (its close is spread
+    /// over that many ticks).
     pub window: f64,
     /// Memory of the mean-square prediction errors, in windows (`>= 1`).
     pub memory: f64,
@@ -132,7 +140,12 @@ impl SupervisorParams {
         servo.validate()?;
         let h = servo.h;
         let ticks = libm::round(self.window / h).max(1.0);
-        if ticks > 1e6 {
+        // the window's sum of commands must fit the scalar (Q16.16: below
+        // 32,768 command units)
+        if ticks < f64::from(MIN_WINDOW_TICKS)
+            || ticks > 1e6
+            || S::try_from_f64(ticks * servo.limit).is_err()
+        {
             return Err(ParamError::OutOfRange("window"));
         }
         Ok(Supervised {
@@ -142,6 +155,7 @@ impl SupervisorParams {
             inv_window: S::from_f64(1.0 / ticks),
             torque_constant: Gain::new("torque_constant", servo.torque_constant)?,
             momentum: Gain::new("inertia", servo.inertia / h)?,
+            period: h,
             blend: S::from_f64(1.0 / self.memory),
             ratio: S::from_f64(self.ratio),
             floor: S::from_f64(self.tolerance * self.tolerance),
@@ -187,10 +201,18 @@ pub struct SupervisedState<T, S> {
     /// Sums over the window's ticks: commands issued, primary and fallback
     /// estimates.
     sums: [S; 3],
+    /// The same three at the latest tick, and at the tick before the
+    /// window's first: the window's ends count half (see [`Supervised`]).
+    last: [S; 3],
+    before: [S; 3],
     /// The measured velocity at the window's first tick.
     start_velocity: S,
-    /// Ticks in the window so far (0: the next tick opens one).
+    /// Ticks in the window so far.
     count: u32,
+    /// Whether the window began at a close: the first window after a
+    /// start, a skipped tick or a swap is not measured (its first
+    /// velocity and commands are not the window's).
+    measuring: Flag,
     /// The last closed window's errors `[primary, fallback, off]` (summed,
     /// then squared means), until blended in.
     pending: [S; 3],
@@ -248,24 +270,28 @@ impl<S: Copy> StoredStatus<S> {
 /// static feed-forward map `F(v)` on the measured velocity (the fallback),
 /// and no compensation at all. All three run every tick; only the active
 /// one reaches the command. The evidence is the friction the compensator
-/// measures ([`FrictionSample`]: commands less inertia times the second
-/// difference of the position). Summed over a window of `N` ticks, the
-/// second differences telescope into the change of the measured velocity
-/// across the window, so the window's mean measured friction needs only
-/// the sum of the commands and carries the encoder's rounding only from
-/// the window's two ends:
+/// measures, the sum of the [`FrictionSample`]s (commands less inertia
+/// times the second difference of the position) over a window of `N`
+/// ticks, written without forming them: the second differences telescope
+/// into the change of the measured velocity across the window, so the
+/// window needs only the sum of the commands and carries the encoder's
+/// rounding only from its two ends:
 ///
 /// ```text
+/// sum x   = x[-1] / 2 + x[0] + ... + x[N-2] + x[N-1] / 2               x[-1]: the tick before the window
 /// E_c     = (kc sum u - J (v_end - v_start) / h - sum F_c) / N     each candidate c, per window
 /// P_c    += (E_c^2 - P_c) / memory                                  per window
 /// switch from the active a to the best b when P_b < ratio P_a (after warm-up, and at most once per window)
 /// ```
 ///
 /// The sums run over the window's ticks (`u` the commands issued, `F_c` the
-/// candidate's estimates); `v_start` and `v_end` are the measured
-/// velocities at the window's first tick and at the tick after its last
-/// (with a velocity filter or observer, its estimate). A skipped tick (a
-/// non-finite input) restarts the window. An external torque (gravity, a load) is
+/// candidate's estimates), with the ends counted half as the samples,
+/// which average two ticks, count them; `v_start` and
+/// `v_end` are the measured velocities at the window's first tick and at
+/// the tick after its last (with a velocity filter or observer, its
+/// estimate). The first window after a start, a skipped tick (a non-finite
+/// input) or a swap ([`Compensation::carry_over`]) is not measured: its
+/// first velocity is not the window's. An external torque (gravity, a load) is
 /// in the measured friction for every candidate alike. A candidate that
 /// predicts worse than no compensation loses to it: the compensator falls
 /// back to the static map or to nothing, and returns to the primary when its
@@ -284,6 +310,8 @@ pub struct Supervised<P, F, S> {
     torque_constant: Gain<S>,
     /// `J / h`: the window's momentum change per unit of velocity change.
     momentum: Gain<S>,
+    /// The compensator's period it was built for.
+    period: f64,
     blend: S,
     ratio: S,
     floor: S,
@@ -316,11 +344,27 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
     // The window's work is spread over four ticks: it runs inside the
     // control tick, and its cost is the tick's worst case.
     fn close_window<T>(&self, state: &mut SupervisedState<T, S>, v: S) {
-        let [commands, primary, fallback] = state.sums;
-        let force =
-            self.torque_constant.times(commands) - self.momentum.times(v - state.start_velocity);
+        let sums = state.sums;
+        let [last, before] = [state.last, state.before];
+        let start_velocity = state.start_velocity;
+        let measured = state.measuring.get();
         state.sums = [S::ZERO; 3];
         state.count = 0;
+        state.before = last;
+        state.start_velocity = v;
+        state.measuring = Flag::new(true);
+        if !measured {
+            return;
+        }
+        // the window's ends count half: the sum of the friction samples
+        // `kc (u[k-1] + u[k-2]) / 2 - J (v[k] - v[k-1]) / h` over its ticks
+        let half = S::from_f64(0.5);
+        let mut ends = [S::ZERO; 3];
+        for ((end, sum), (l, b)) in ends.iter_mut().zip(sums).zip(last.into_iter().zip(before)) {
+            *end = sum - half * (l - b);
+        }
+        let [commands, primary, fallback] = ends;
+        let force = self.torque_constant.times(commands) - self.momentum.times(v - start_velocity);
         state.pending = [force - primary, force - fallback, force];
         state.stage = Stage::Square as u8;
     }
@@ -337,8 +381,15 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
 
     /// The closed window's summed errors into its squared mean errors.
     fn square_errors<T>(&self, state: &mut SupervisedState<T, S>) {
+        // a window summed from a non-finite estimate is the worst evidence
+        let big = S::from_f64(1e15);
         for p in state.pending.iter_mut() {
-            let error = (*p * self.inv_window).sat(S::from_f64(1e15));
+            let error = *p * self.inv_window;
+            let error = if error.is_finite() {
+                error.sat(big)
+            } else {
+                big
+            };
             *p = error * error;
         }
         state.stage = Stage::Blend as u8;
@@ -349,7 +400,7 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
         let st = &mut state.status;
         let first = st.windows == 0;
         for (p, squared) in st.errors.iter_mut().zip(state.pending) {
-            *p = if first {
+            *p = if first || !p.is_finite() {
                 squared
             } else {
                 *p + self.blend * (squared - *p)
@@ -378,7 +429,10 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
         };
         // the candidate with the smallest error, the active one on a tie
         let (mut next, mut best) = (current, active);
-        for (m, error) in SupervisorMode::ALL.into_iter().zip([primary, fallback, off]) {
+        for (m, error) in SupervisorMode::ALL
+            .into_iter()
+            .zip([primary, fallback, off])
+        {
             if error < best {
                 (next, best) = (m, error);
             }
@@ -441,26 +495,22 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
         } else if state.stage != Stage::Idle as u8 {
             self.next_stage(state);
         }
-        if state.count == 0 {
-            state.start_velocity = v;
-        }
         let e = if state.status.mode() == SupervisorMode::Primary {
             e
         } else {
             S::ZERO
         };
+        // not made finite here: the compensator zeroes a non-finite
+        // estimate, and the window that sums one is judged the worst
         let primary = self.primary.estimate(&mut state.primary, v, e, h);
-        let primary = if primary.is_finite() {
-            primary
-        } else {
-            S::ZERO
-        };
         // a map without state ignores the period: a constant one lets the
         // compiler drop the period's checks from the tick
         let fallback = self.fallback.step(&mut (), v, S::ZERO);
         let [_, p, f] = &mut state.sums;
         *p = *p + primary;
         *f = *f + fallback;
+        state.last[1] = primary;
+        state.last[2] = fallback;
         // below the window (at most 1e6 ticks) but in a state of any bits
         state.count = state.count.wrapping_add(1);
         match state.status.mode() {
@@ -470,8 +520,9 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
         }
     }
 
+    /// The period it was built for: its window's momentum is `J / h`.
     fn period(&self) -> Option<f64> {
-        self.primary.period()
+        Some(self.period)
     }
 
     #[inline]
@@ -483,14 +534,16 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
     fn commanded(&self, state: &mut Self::State, command: S) {
         self.primary.commanded(&mut state.primary, command);
         state.sums[0] = state.sums[0] + command;
+        state.last[0] = command;
     }
 
-    /// The window restarts: the commands and velocities of a gap are not
-    /// the compensator's.
+    /// The window restarts and is not measured: a gap's commands and
+    /// velocities are not the compensator's.
     fn skipped(&self, state: &mut Self::State) {
         self.primary.skipped(&mut state.primary);
         state.sums = [S::ZERO; 3];
         state.count = 0;
+        state.measuring = Flag::new(false);
     }
 
     /// The primary's state carried over ([`Compensation::carry_over`]; the
@@ -509,6 +562,7 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
         });
         state.sums = [S::ZERO; 3];
         state.count = 0;
+        state.measuring = Flag::new(false);
         state.stage = Stage::Idle as u8;
     }
 }
@@ -606,8 +660,8 @@ mod tests {
     }
 
     /// The plant of [`run`] at scale 1 under `ctl`, its position `NaN` at
-    /// the ticks in `gaps`: after each tick, the status and the true mean
-    /// friction since tick 0.
+    /// the ticks in `gaps`: after each tick, the status and the plant's
+    /// friction impulse since tick 0 (its integral over time).
     fn windows<C>(
         ctl: &crate::Compensator<f64, Supervised<C, CoulombViscous<f64>, f64>>,
         ticks: usize,
@@ -636,7 +690,7 @@ mod tests {
                 x += 1e-5 * v;
             }
             let status = ctl.compensation().status(s.friction());
-            out.push((status, impulse / ((k + 1) as f64 * 1e-3)));
+            out.push((status, impulse));
         }
         out
     }
@@ -650,15 +704,19 @@ mod tests {
             .build(crate::NoCompensation, map(0.28), &servo())
             .unwrap();
         let ctl = servo().build(sup).unwrap();
-        let run = windows(&ctl, 104, &[]);
-        // the window of ticks 0..100 closes at tick 100; its errors are
-        // squared at 101 and blended (the first: taken as they are) at 102
-        assert_eq!(run[101].0.windows, 0);
-        let (status, truth) = run[102];
+        let run = windows(&ctl, 204, &[]);
+        // the window of ticks 0..100 (the first after a start, not
+        // measured) closes at tick 100, the window of ticks 100..200 at
+        // tick 200; its errors are squared at 201 and blended (the first:
+        // taken as they are) at 202
+        assert_eq!(run[201].0.windows, 0);
+        let status = run[202].0;
         assert_eq!(status.windows, 1);
+        // the plant's mean friction over ticks 100..200 (its impulse after
+        // tick 199 less that after tick 99, over 0.1 s)
+        let truth = (run[199].1 - run[99].1) / 0.1;
         let measured = libm::sqrt(status.errors[0]);
-        // within 0.5 % of the Coulomb level (the window's ends fall half a
-        // tick apart in the velocity)
+        // within 0.5 % of the Coulomb level
         assert!(
             (measured - truth.abs()).abs() < 0.005 * 0.28,
             "measured {measured}, plant {truth}"
@@ -675,14 +733,20 @@ mod tests {
             .build(crate::NoCompensation, map(0.28), &servo())
             .unwrap();
         let ctl = servo().build(sup).unwrap();
-        let run = windows(&ctl, 400, &[50]);
-        // the window restarts at tick 51 and closes at 151 (blended at 153)
-        assert_eq!(run[150].0.windows, 0);
-        assert_eq!(run[153].0.windows, 1);
-        let (status, truth) = run[399];
-        assert_eq!(status.windows, 3);
-        assert!(status.errors.iter().all(|e| e.is_finite()), "{status:?}");
-        assert!(libm::sqrt(status.errors[2]) < 2.0 * 0.28, "{status:?} {truth}");
+        let run = windows(&ctl, 500, &[150]);
+        // the window of ticks 100..150 is cut at the gap; the window that
+        // restarts at tick 151 closes at 251, not measured; the next, of
+        // ticks 251..351, closes at 351 (blended at 353)
+        assert_eq!(run[149].0.windows, 0);
+        assert_eq!(run[352].0.windows, 0);
+        let status = run[353].0;
+        assert_eq!(status.windows, 1);
+        let truth = (run[350].1 - run[250].1) / 0.1;
+        let measured = libm::sqrt(status.errors[2]);
+        assert!(
+            (measured - truth.abs()).abs() < 0.005 * 0.28,
+            "measured {measured}, plant {truth}"
+        );
     }
 
     #[test]
@@ -714,5 +778,34 @@ mod tests {
             },
             ParamError::NotFinite("warm_up"),
         );
+        // three ticks at 1 kHz: the close would not end before the next
+        bad(
+            SupervisorParams { window: 3e-3, ..d },
+            ParamError::OutOfRange("window"),
+        );
+        assert!(SupervisorParams { window: 4e-3, ..d }
+            .build::<f64, _, _>(crate::NoCompensation, map(0.28), &servo())
+            .is_ok());
+    }
+
+    #[cfg(feature = "fixed")]
+    #[test]
+    fn a_fixed_point_window_holds_its_sum_of_commands() {
+        let d = SupervisorParams::DEFAULT;
+        // in Q16.16 a window's sum of commands stays below 32,768: 10 s of
+        // commands up to 10 do not fit, 3 s do
+        let fixed = |window: f64| {
+            let map = CoulombViscousParams {
+                fc: 0.28,
+                sigma2: 0.0176,
+            }
+            .build::<crate::Fixed32>()
+            .unwrap();
+            SupervisorParams { window, ..d }
+                .build::<crate::Fixed32, _, _>(crate::NoCompensation, map, &servo())
+                .err()
+        };
+        assert_eq!(fixed(10.0), Some(ParamError::OutOfRange("window")));
+        assert_eq!(fixed(3.0), None);
     }
 }

@@ -1033,7 +1033,7 @@ typedef struct {
  */
 typedef struct {
   /**
-   * Evidence window `> 0` (s).
+   * Evidence window `> 0` (s), at least four controller periods.
    */
   double window;
   /**

@@ -413,7 +413,8 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
     }
 
     /// A tick with a non-finite input: the gap counts toward the next
-    /// velocity, and no friction sample spans it.
+    /// velocity, no friction sample spans it, and the compensation is told
+    /// ([`Compensation::skipped`]).
     #[inline(always)]
     fn skip(&self, state: &mut CompensatorState<S, C::State>) {
         self.compensation.skipped(&mut state.friction);

@@ -72,7 +72,8 @@ pub struct ServoTable {
     pub rls_min_speed: Option<f64>,
     /// Whether the adaptive rows are supervised (default true).
     pub supervisor: Option<bool>,
-    /// The supervisor's evidence window (s).
+    /// The supervisor's evidence window (s, at least four controller
+    /// periods).
     pub supervisor_window: Option<f64>,
     /// Box factor of the per-parameter estimates.
     pub adaptation_box: Option<f64>,
@@ -566,10 +567,11 @@ impl ServoTable {
                 c.adaptation_box,
             ));
         }
-        if c.supervisor_window * c.rate < 1.0 {
+        // the supervisor's close is spread over the window's first ticks
+        if (c.supervisor_window * c.rate).round() < f64::from(friction_core::MIN_WINDOW_TICKS) {
             return Err(invalid(
                 "supervisor_window",
-                "at least one controller period",
+                "at least four controller periods",
                 c.supervisor_window,
             ));
         }
