@@ -53,7 +53,7 @@ impl SupervisorMode {
 }
 
 /// The fewest controller periods an evidence window may span: a window's
-/// close, spread over the ticks after it (measure, square, blend, choose),
+/// close, spread over the ticks from it on (close, square, blend, choose),
 /// ends before the next one closes.
 pub const MIN_WINDOW_TICKS: u32 = 4;
 
