@@ -1127,6 +1127,14 @@ mod tests {
             },
             "`dead_zone`",
         );
+        // three periods at the default 1 kHz: the supervisor needs four
+        bad(
+            ServoTable {
+                supervisor_window: Some(0.003),
+                ..Default::default()
+            },
+            "at least four controller periods",
+        );
         bad(
             ServoTable {
                 plant_bam: Some("no-such.json".into()),
