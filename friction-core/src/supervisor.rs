@@ -578,37 +578,55 @@ mod tests {
         CoulombViscousParams { fc, sigma2: 0.0176 }.build().unwrap()
     }
 
+    /// A supervised servo of the tests, around `primary` with the fallback map.
+    type Servo<P> = crate::Compensator<f64, Supervised<P, CoulombViscous<f64>, f64>>;
+
     /// A plant `J dv/dt = kc u - scale(t) F_cv(v)` (Coulomb + viscous,
-    /// smoothed over 1e-3 rad/s) under `ctl`; returns the mode after each
-    /// second.
-    fn run<C: Compensation<f64>>(
-        ctl: &crate::Compensator<f64, C>,
+    /// smoothed over 1e-3 rad/s) under `ctl` for `ticks` ticks, its measured
+    /// position `NaN` at the ticks in `gaps`: after each tick, the status and
+    /// the plant's friction impulse since tick 0 (its integral over time).
+    fn simulate<P: Compensation<f64>>(
+        ctl: &Servo<P>,
         scale: impl Fn(f64) -> f64,
-        seconds: usize,
-        status: impl Fn(&C, &C::State) -> SupervisorMode,
-    ) -> std::vec::Vec<SupervisorMode> {
+        ticks: usize,
+        gaps: &[usize],
+    ) -> std::vec::Vec<(SupervisorStatus<f64>, f64)> {
         let mut s = CompensatorState::default();
-        let (mut x, mut v) = (0.0f64, 0.0f64);
+        let (mut x, mut v, mut impulse) = (0.0f64, 0.0f64, 0.0f64);
         let w = 2.0 * core::f64::consts::PI * 0.5;
-        let mut modes = std::vec::Vec::new();
-        for k in 0..seconds * 1000 {
+        let mut out = std::vec::Vec::new();
+        for k in 0..ticks {
             let t = k as f64 * 1e-3;
             let r = Setpoint {
                 x: 0.5 * libm::sin(w * t),
                 v: 0.5 * w * libm::cos(w * t),
                 a: -0.5 * w * w * libm::sin(w * t),
             };
-            let u = ctl.tick(&mut s, x, r).command;
+            let measured = if gaps.contains(&k) { f64::NAN } else { x };
+            let u = ctl.tick(&mut s, measured, r).command;
             for _ in 0..100 {
                 let f = scale(t) * (0.28 * libm::tanh(v / 1e-3) + 0.0176 * v);
+                impulse += 1e-5 * f;
                 v += 1e-5 * (1.02 * u - f) / 0.0023;
                 x += 1e-5 * v;
             }
-            if k % 1000 == 999 {
-                modes.push(status(ctl.compensation(), s.friction()));
-            }
+            out.push((ctl.compensation().status(s.friction()), impulse));
         }
-        modes
+        out
+    }
+
+    /// The mode after each second of [`simulate`] without gaps.
+    fn run<P: Compensation<f64>>(
+        ctl: &Servo<P>,
+        scale: impl Fn(f64) -> f64,
+        seconds: usize,
+    ) -> std::vec::Vec<SupervisorMode> {
+        simulate(ctl, scale, seconds * 1000, &[])
+            .iter()
+            .skip(999)
+            .step_by(1000)
+            .map(|(status, _)| status.mode)
+            .collect()
     }
 
     #[test]
@@ -621,12 +639,7 @@ mod tests {
             .build(primary, map(0.28), &servo())
             .unwrap();
         let ctl = servo().build(sup).unwrap();
-        let modes = run(
-            &ctl,
-            |t| if t < 20.0 { 1.0 } else { 3.0 },
-            40,
-            |c, s| c.status(s).mode,
-        );
+        let modes = run(&ctl, |t| if t < 20.0 { 1.0 } else { 3.0 }, 40);
         assert_eq!(modes[0], SupervisorMode::Primary, "{modes:?}"); // warm-up
                                                                     // in the fallback from the second second on, but for the retry of
                                                                     // the primary after 10 s in it (one dwell of 1 s)
@@ -652,59 +665,37 @@ mod tests {
             .build(FeedForward(map(0.28)), map(0.14), &servo())
             .unwrap();
         let ctl = servo().build(sup).unwrap();
-        let modes = run(&ctl, |_| 1.0, 20, |c, s| c.status(s).mode);
+        let modes = run(&ctl, |_| 1.0, 20);
         assert!(
             modes.iter().all(|m| *m == SupervisorMode::Primary),
             "{modes:?}"
         );
     }
 
-    /// The plant of [`run`] at scale 1 under `ctl`, its position `NaN` at
-    /// the ticks in `gaps`: after each tick, the status and the plant's
-    /// friction impulse since tick 0 (its integral over time).
-    fn windows<C>(
-        ctl: &crate::Compensator<f64, Supervised<C, CoulombViscous<f64>, f64>>,
-        ticks: usize,
-        gaps: &[usize],
-    ) -> std::vec::Vec<(SupervisorStatus<f64>, f64)>
-    where
-        C: Compensation<f64>,
-    {
-        let mut s = CompensatorState::default();
-        let (mut x, mut v, mut impulse) = (0.0f64, 0.0f64, 0.0f64);
-        let w = 2.0 * core::f64::consts::PI * 0.5;
-        let mut out = std::vec::Vec::new();
-        for k in 0..ticks {
-            let t = k as f64 * 1e-3;
-            let r = Setpoint {
-                x: 0.5 * libm::sin(w * t),
-                v: 0.5 * w * libm::cos(w * t),
-                a: -0.5 * w * w * libm::sin(w * t),
-            };
-            let measured = if gaps.contains(&k) { f64::NAN } else { x };
-            let u = ctl.tick(&mut s, measured, r).command;
-            for _ in 0..100 {
-                let f = 0.28 * libm::tanh(v / 1e-3) + 0.0176 * v;
-                impulse += 1e-5 * f;
-                v += 1e-5 * (1.02 * u - f) / 0.0023;
-                x += 1e-5 * v;
-            }
-            let status = ctl.compensation().status(s.friction());
-            out.push((status, impulse));
-        }
-        out
+    /// No compensation as the primary: its error is the measured mean
+    /// friction itself, as the window's commands and velocities give it.
+    fn measuring_servo() -> Servo<crate::NoCompensation> {
+        let sup = SupervisorParams::DEFAULT
+            .build(crate::NoCompensation, map(0.28), &servo())
+            .unwrap();
+        servo().build(sup).unwrap()
+    }
+
+    /// A window's measured mean friction (the root of its mean-square
+    /// error `error`) within 0.5 % of the Coulomb level of the plant's
+    /// `truth`.
+    fn assert_measures(error: f64, truth: f64) {
+        let measured = libm::sqrt(error);
+        assert!(
+            (measured - truth.abs()).abs() < 0.005 * 0.28,
+            "measured {measured}, plant {truth}"
+        );
     }
 
     #[test]
     fn a_window_measures_the_plants_mean_friction() {
-        // no compensation as the primary: its error is the measured mean
-        // friction itself, as the window's commands and velocities give it;
         // the plant's own integral of its friction is the truth
-        let sup = SupervisorParams::DEFAULT
-            .build(crate::NoCompensation, map(0.28), &servo())
-            .unwrap();
-        let ctl = servo().build(sup).unwrap();
-        let run = windows(&ctl, 204, &[]);
+        let run = simulate(&measuring_servo(), |_| 1.0, 204, &[]);
         // the window of ticks 0..100 (the first after a start, not
         // measured) closes at tick 100, the window of ticks 100..200 at
         // tick 200; its errors are squared at 201 and blended (the first:
@@ -714,13 +705,7 @@ mod tests {
         assert_eq!(status.windows, 1);
         // the plant's mean friction over ticks 100..200 (its impulse after
         // tick 199 less that after tick 99, over 0.1 s)
-        let truth = (run[199].1 - run[99].1) / 0.1;
-        let measured = libm::sqrt(status.errors[0]);
-        // within 0.5 % of the Coulomb level
-        assert!(
-            (measured - truth.abs()).abs() < 0.005 * 0.28,
-            "measured {measured}, plant {truth}"
-        );
+        assert_measures(status.errors[0], (run[199].1 - run[99].1) / 0.1);
         assert_eq!(status.errors[0], status.errors[2]);
         // the fallback, the plant's map on the measured velocity, predicts
         // it far better than no compensation
@@ -729,11 +714,7 @@ mod tests {
 
     #[test]
     fn a_skipped_tick_restarts_the_window() {
-        let sup = SupervisorParams::DEFAULT
-            .build(crate::NoCompensation, map(0.28), &servo())
-            .unwrap();
-        let ctl = servo().build(sup).unwrap();
-        let run = windows(&ctl, 500, &[150]);
+        let run = simulate(&measuring_servo(), |_| 1.0, 500, &[150]);
         // the window of ticks 100..150 is cut at the gap; the window that
         // restarts at tick 151 closes at 251, not measured; the next, of
         // ticks 251..351, closes at 351 (blended at 353)
@@ -741,12 +722,7 @@ mod tests {
         assert_eq!(run[352].0.windows, 0);
         let status = run[353].0;
         assert_eq!(status.windows, 1);
-        let truth = (run[350].1 - run[250].1) / 0.1;
-        let measured = libm::sqrt(status.errors[2]);
-        assert!(
-            (measured - truth.abs()).abs() < 0.005 * 0.28,
-            "measured {measured}, plant {truth}"
-        );
+        assert_measures(status.errors[2], (run[350].1 - run[250].1) / 0.1);
     }
 
     #[test]
