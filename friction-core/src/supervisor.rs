@@ -189,6 +189,10 @@ pub struct SupervisorStatus<S> {
     pub since_switch: u32,
     /// Mean-square prediction errors `[primary, fallback, off]`.
     pub errors: [S; 3],
+    /// Mean-square tracking errors `[primary, fallback, off]` while each
+    /// was applied (position units squared; 0 until measured over half a
+    /// dwell since it was last switched to).
+    pub tracking: [S; 3],
 }
 
 /// The supervisor's state: the primary's, the status and the window's sums.
@@ -218,6 +222,12 @@ pub struct SupervisedState<T, S> {
     pending: [S; 3],
     /// A [`Stage`]'s code.
     stage: u8,
+    /// Each mode's filtered mean-square tracking error while applied, and
+    /// how many windows measured it since it was last switched to.
+    tracking: [S; 3],
+    tracked: [u8; 3],
+    /// The tracking error at the last close (squared by the square stage).
+    error_sample: S,
 }
 
 /// A [`SupervisorStatus`] as a state stores it: the mode as its code, so
@@ -232,7 +242,7 @@ struct StoredStatus<S> {
     errors: [S; 3],
 }
 
-impl<S: Copy> StoredStatus<S> {
+impl<S: Copy + Default> StoredStatus<S> {
     fn new(s: SupervisorStatus<S>) -> Self {
         Self {
             mode: s.mode.code(),
@@ -250,6 +260,7 @@ impl<S: Copy> StoredStatus<S> {
             windows: self.windows,
             since_switch: self.since_switch,
             errors: self.errors,
+            ..SupervisorStatus::default()
         }
     }
 
@@ -334,7 +345,25 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
 
     /// The status of `state`.
     pub fn status<T>(&self, state: &SupervisedState<T, S>) -> SupervisorStatus<S> {
-        state.status.get()
+        let enough = self.tracking_windows();
+        let mut status = state.status.get();
+        for ((out, value), count) in status
+            .tracking
+            .iter_mut()
+            .zip(state.tracking)
+            .zip(state.tracked)
+        {
+            if count >= enough {
+                *out = value;
+            }
+        }
+        status
+    }
+
+    /// The windows a mode's tracking is measured over before it counts:
+    /// half a dwell.
+    fn tracking_windows(&self) -> u8 {
+        (self.dwell / 2).clamp(1, 255) as u8
     }
 
     /// Ends a window at measured velocity `v` (the tick after its last): its
@@ -343,7 +372,7 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
     /// ([`Self::blend_errors`]) and choose the mode ([`Self::choose_mode`]).
     // The window's work is spread over four ticks: it runs inside the
     // control tick, and its cost is the tick's worst case.
-    fn close_window<T>(&self, state: &mut SupervisedState<T, S>, v: S) {
+    fn close_window<T>(&self, state: &mut SupervisedState<T, S>, v: S, e: S) {
         let sums = state.sums;
         let [last, before] = [state.last, state.before];
         let start_velocity = state.start_velocity;
@@ -366,6 +395,7 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
         let [commands, primary, fallback] = ends;
         let force = self.torque_constant.times(commands) - self.momentum.times(v - start_velocity);
         state.pending = [force - primary, force - fallback, force];
+        state.error_sample = e;
         state.stage = Stage::Square as u8;
     }
 
@@ -392,6 +422,13 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
             };
             *p = error * error;
         }
+        let e = state.error_sample;
+        state.error_sample = if e.is_finite() {
+            let e = e.sat(big);
+            e * e
+        } else {
+            big
+        };
         state.stage = Stage::Blend as u8;
     }
 
@@ -405,6 +442,18 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
             } else {
                 *p + self.blend * (squared - *p)
             };
+        }
+        // the applied mode's tracking, once the switch's transient has
+        // settled (half a dwell)
+        if st.since_switch >= self.dwell / 2 {
+            let m = st.mode().index();
+            let t = &mut state.tracking[m];
+            *t = if state.tracked[m] == 0 || !t.is_finite() {
+                state.error_sample
+            } else {
+                *t + self.blend * (state.error_sample - *t)
+            };
+            state.tracked[m] = state.tracked[m].saturating_add(1);
         }
         st.windows = st.windows.saturating_add(1);
         st.since_switch = st.since_switch.saturating_add(1);
@@ -440,6 +489,7 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
         if best >= self.ratio * active {
             next = current;
         }
+        next = self.by_tracking(&state.tracking, &state.tracked, current, next);
         if next == current
             && current != SupervisorMode::Primary
             && self.retry > 0
@@ -448,10 +498,50 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
             next = SupervisorMode::Primary;
         }
         if next != current {
+            state.tracked[next.index()] = 0;
             st.mode = next.code();
             st.switches = st.switches.saturating_add(1);
             st.since_switch = 0;
         }
+    }
+}
+
+impl<P, F, S: Scalar> Supervised<P, F, S> {
+    /// The prediction's choice `next` from `current`, overruled by the
+    /// tracking where both modes' are known (measured over at least half a
+    /// dwell since each was last switched to): a mode that tracked better
+    /// by the ratio is kept, and one that tracked worse than another by the
+    /// ratio is left for the best of them. The friction a candidate
+    /// predicts is the evidence for all three at once; what each did to the
+    /// tracking is known only for those applied, and it is what counts (an
+    /// observer whose levels wander can still track well on its correction).
+    fn by_tracking(
+        &self,
+        tracking: &[S; 3],
+        tracked: &[u8; 3],
+        current: SupervisorMode,
+        next: SupervisorMode,
+    ) -> SupervisorMode {
+        let enough = self.tracking_windows();
+        let known = |m: SupervisorMode| tracked[m.index()] >= enough;
+        let error = |m: SupervisorMode| tracking[m.index()];
+        if !known(current) {
+            return next;
+        }
+        if next != current {
+            return if known(next) && error(current) < self.ratio * error(next) {
+                current
+            } else {
+                next
+            };
+        }
+        let mut best = current;
+        for m in SupervisorMode::ALL {
+            if known(m) && error(m) < self.ratio * error(current) && error(m) < error(best) {
+                best = m;
+            }
+        }
+        best
     }
 }
 
@@ -491,7 +581,7 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
     #[inline]
     fn estimate(&self, state: &mut Self::State, v: S, e: S, h: S) -> S {
         if state.count >= self.window {
-            self.close_window(state, v);
+            self.close_window(state, v, e);
         } else if state.stage != Stage::Idle as u8 {
             self.next_stage(state);
         }
@@ -564,6 +654,7 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
         state.count = 0;
         state.measuring = Flag::new(false);
         state.stage = Stage::Idle as u8;
+        state.tracked = [0; 3];
     }
 }
 
@@ -670,6 +761,93 @@ mod tests {
             modes.iter().all(|m| *m == SupervisorMode::Primary),
             "{modes:?}"
         );
+    }
+
+    /// The supervisor driven directly for `seconds`: the velocity held at
+    /// 0.1 rad/s, the commands those of a plant whose friction is the map
+    /// of level `truth(t)`, the tracking error 1e-4 rad while the primary is
+    /// applied and `fallback_error` otherwise; the mode after each second.
+    fn drive(
+        sup: &Supervised<FeedForward<CoulombViscous<f64>>, CoulombViscous<f64>, f64>,
+        truth: impl Fn(f64) -> f64,
+        fallback_error: f64,
+        seconds: usize,
+    ) -> std::vec::Vec<SupervisorMode> {
+        let mut s = SupervisedState::default();
+        let mut modes = std::vec::Vec::new();
+        for k in 0..seconds * 1000 {
+            let t = k as f64 * 1e-3;
+            let e = match sup.status(&s).mode {
+                SupervisorMode::Primary => 1e-4,
+                _ => fallback_error,
+            };
+            sup.estimate(&mut s, 0.1, e, 1e-3);
+            let friction = map(truth(t)).step(&mut (), 0.1, 0.0);
+            sup.commanded(&mut s, friction / 1.02);
+            if k % 1000 == 999 {
+                modes.push(sup.status(&s).mode);
+            }
+        }
+        modes
+    }
+
+    #[test]
+    fn a_primary_that_tracks_better_is_kept_though_it_predicts_worse() {
+        // the primary predicts twice the friction, the fallback the
+        // friction itself; the primary tracks to 0.1 mrad, the fallback to
+        // 10 mrad
+        let sup = SupervisorParams::DEFAULT
+            .build(FeedForward(map(0.56)), map(0.28), &servo())
+            .unwrap();
+        let modes = drive(&sup, |_| 0.28, 1e-2, 30);
+        // the prediction chooses the fallback after the warm-up; its
+        // tracking, once measured, sends the supervisor back for good
+        assert!(modes[1..3].contains(&SupervisorMode::Fallback), "{modes:?}");
+        assert!(
+            modes[4..].iter().all(|m| *m == SupervisorMode::Primary),
+            "{modes:?}"
+        );
+        // with equal tracking the prediction decides: the fallback, but
+        // for the retries of the primary
+        let modes = drive(&sup, |_| 0.28, 1e-4, 30);
+        let primary = modes[2..]
+            .iter()
+            .filter(|m| **m == SupervisorMode::Primary)
+            .count();
+        assert!(primary <= 3, "{modes:?}");
+    }
+
+    #[test]
+    fn a_fallback_that_tracked_better_is_kept_though_the_primary_predicts_better() {
+        // the fallback predicts the friction for 3 s, the primary after
+        // it; the fallback tracks to 0.1 mrad, the primary to 10 mrad
+        let sup = SupervisorParams::DEFAULT
+            .build(FeedForward(map(0.56)), map(0.28), &servo())
+            .unwrap();
+        let mut s = SupervisedState::default();
+        let truth = |t: f64| if t < 3.0 { 0.28 } else { 0.56 };
+        let mut modes = std::vec::Vec::new();
+        for k in 0..30_000 {
+            let t = k as f64 * 1e-3;
+            let e = match sup.status(&s).mode {
+                SupervisorMode::Primary => 1e-2,
+                _ => 1e-4,
+            };
+            sup.estimate(&mut s, 0.1, e, 1e-3);
+            sup.commanded(&mut s, map(truth(t)).step(&mut (), 0.1, 0.0) / 1.02);
+            if k % 1000 == 999 {
+                modes.push(sup.status(&s).mode);
+            }
+        }
+        // in the fallback from the second second on, but for a retry of
+        // the primary after 10 s in it (one dwell, and half a dwell to
+        // measure it)
+        let primary = modes[2..]
+            .iter()
+            .filter(|m| **m == SupervisorMode::Primary)
+            .count();
+        assert!((1..=4).contains(&primary), "{modes:?}");
+        assert_eq!(modes[29], SupervisorMode::Fallback, "{modes:?}");
     }
 
     /// No compensation as the primary: its error is the measured mean

@@ -66,12 +66,12 @@
  * Words (8 bytes each) of a `float` servo object, room for the largest
  * value it holds (a compile-time check keeps it so).
  */
-#define FRICTION_SERVO_F32_WORDS 88
+#define FRICTION_SERVO_F32_WORDS 91
 
 /**
  * Words (8 bytes each) of a `double` servo object.
  */
-#define FRICTION_SERVO_F64_WORDS 160
+#define FRICTION_SERVO_F64_WORDS 165
 
 /**
  * Longest parameter name [`friction_error`] holds, NUL included.

@@ -20,9 +20,9 @@ use friction_core::{
 
 /// Words (8 bytes each) of a `float` servo object, room for the largest
 /// value it holds (a compile-time check keeps it so).
-pub const FRICTION_SERVO_F32_WORDS: usize = 88;
+pub const FRICTION_SERVO_F32_WORDS: usize = 91;
 /// Words (8 bytes each) of a `double` servo object.
-pub const FRICTION_SERVO_F64_WORDS: usize = 160;
+pub const FRICTION_SERVO_F64_WORDS: usize = 165;
 
 /// A compensated servo axis in `float` (caller-allocated; see [`friction_servo_init_f32`]).
 #[repr(C)]
