@@ -53,9 +53,9 @@ impl SupervisorMode {
 }
 
 /// The fewest controller periods an evidence window may span: a window's
-/// close, spread over the ticks from it on (close, square, blend, choose),
-/// ends before the next one closes.
-pub const MIN_WINDOW_TICKS: u32 = 4;
+/// close, spread over the ticks from it on (close, square, blend, track,
+/// choose), ends before the next one closes.
+pub const MIN_WINDOW_TICKS: u32 = 5;
 
 /// Design-time parameters of the supervisor, in `f64`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -158,6 +158,7 @@ impl SupervisorParams {
             period: h,
             blend: S::from_f64(1.0 / self.memory),
             ratio: S::from_f64(self.ratio),
+            tracking_ratio: S::from_f64(self.ratio * self.ratio),
             floor: S::from_f64(self.tolerance * self.tolerance),
             warm_up: libm::ceil(self.warm_up).min(1e9) as u32,
             dwell: libm::ceil(self.memory).min(1e9) as u32,
@@ -228,6 +229,12 @@ pub struct SupervisedState<T, S> {
     tracked: [u8; 3],
     /// The tracking error at the last close (squared by the square stage).
     error_sample: S,
+    /// The modes the applied one tracked better and worse than, a bit per
+    /// mode (see [`Supervised`]'s `track_modes`).
+    beaten: u8,
+    beaten_by: u8,
+    /// Whether the applied primary is a retry, not judged yet.
+    retried: Flag,
 }
 
 /// A [`SupervisorStatus`] as a state stores it: the mode as its code, so
@@ -275,7 +282,8 @@ impl<S: Copy + Default> StoredStatus<S> {
 ///
 /// A supervisor that makes an adaptive compensation safe to ship enabled:
 /// it applies whichever of three candidates predicts the measured friction
-/// best, with hysteresis.
+/// best, with hysteresis, unless the tracking each had while applied says
+/// otherwise.
 ///
 /// The candidates are the primary compensation (an adaptive observer), a
 /// static feed-forward map `F(v)` on the measured velocity (the fallback),
@@ -293,6 +301,8 @@ impl<S: Copy + Default> StoredStatus<S> {
 /// E_c     = (kc sum u - J (v_end - v_start) / h - sum F_c) / N     each candidate c, per window
 /// P_c    += (E_c^2 - P_c) / memory                                  per window
 /// switch from the active a to the best b when P_b < ratio P_a (after warm-up, and at most once per window)
+/// T_a    += (e^2 - T_a) / memory                                    per window, the applied mode's tracking
+/// but stay in a when T_a < ratio^2 T_b (both known); a retried primary goes back when T_m < ratio^2 T_primary
 /// ```
 ///
 /// The sums run over the window's ticks (`u` the commands issued, `F_c` the
@@ -310,6 +320,22 @@ impl<S: Copy + Default> StoredStatus<S> {
 /// on the measured velocity, with its adaptation held (it sees no tracking
 /// error while it is not applied).
 ///
+/// The friction a candidate predicts is evidence for all three at once;
+/// what each does to the tracking is known only for the modes applied, and
+/// it is what counts: an observer whose levels wander can still track well
+/// on its correction, and one that rings at reversals can predict a
+/// window's mean friction well. So each mode's tracking error `T` (the
+/// position error at each window's close, squared and filtered as the
+/// prediction errors) is measured while it is applied, from half a dwell
+/// after the switch to it (the switch's transient settled), and counts once
+/// it has been measured over half a dwell since it was last switched to.
+/// The tracking overrules the prediction in two ways, by the ratio on the
+/// rms (`ratio^2` on the mean squares: tracking errors of different times
+/// are compared, so only a clear difference counts): the applied mode stays
+/// while it tracks better than the mode the prediction chooses had tracked;
+/// and a primary retried after `retry` windows in a fallback mode goes back
+/// at the end of its dwell if it tracks worse than that mode did.
+///
 /// The state and the reason are readable ([`Supervised::status`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -325,6 +351,8 @@ pub struct Supervised<P, F, S> {
     period: f64,
     blend: S,
     ratio: S,
+    /// `ratio^2`: the ratio on the rms tracking errors.
+    tracking_ratio: S,
     floor: S,
     warm_up: u32,
     dwell: u32,
@@ -366,11 +394,13 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
         (self.dwell / 2).clamp(1, 255) as u8
     }
 
-    /// Ends a window at measured velocity `v` (the tick after its last): its
-    /// summed prediction errors wait in `pending` for the next three ticks,
-    /// which square them ([`Self::square_errors`]), blend them in
-    /// ([`Self::blend_errors`]) and choose the mode ([`Self::choose_mode`]).
-    // The window's work is spread over four ticks: it runs inside the
+    /// Ends a window at measured velocity `v` and tracking error `e` (the
+    /// tick after its last): its summed prediction errors and `e` wait in
+    /// `pending` and `error_sample` for the next four ticks, which square
+    /// them ([`Self::square_errors`]), blend them in
+    /// ([`Self::blend_errors`], [`Self::track_modes`]) and choose the mode
+    /// ([`Self::choose_mode`]).
+    // The window's work is spread over five ticks: it runs inside the
     // control tick, and its cost is the tick's worst case.
     fn close_window<T>(&self, state: &mut SupervisedState<T, S>, v: S, e: S) {
         let sums = state.sums;
@@ -404,6 +434,7 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
         match Stage::of_code(state.stage) {
             Stage::Square => self.square_errors(state),
             Stage::Blend => self.blend_errors(state),
+            Stage::Track => self.track_modes(state),
             Stage::Choose => self.choose_mode(state),
             Stage::Idle => state.stage = Stage::Idle as u8,
         }
@@ -443,21 +474,58 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
                 *p + self.blend * (squared - *p)
             };
         }
-        // the applied mode's tracking, once the switch's transient has
-        // settled (half a dwell)
-        if st.since_switch >= self.dwell / 2 {
-            let m = st.mode().index();
-            let t = &mut state.tracking[m];
-            *t = if state.tracked[m] == 0 || !t.is_finite() {
-                state.error_sample
-            } else {
-                *t + self.blend * (state.error_sample - *t)
-            };
-            state.tracked[m] = state.tracked[m].saturating_add(1);
-        }
         st.windows = st.windows.saturating_add(1);
         st.since_switch = st.since_switch.saturating_add(1);
+        state.stage = Stage::Track as u8;
+    }
+
+    /// The applied mode's tracking error into its filtered one, once the
+    /// switch's transient has settled (half a dwell), and the tracking's
+    /// verdict for [`Self::choose_mode`]: the modes the applied one tracked
+    /// better than, by the ratio on the rms (`beaten`, a bit per mode), of
+    /// those whose tracking is known (measured over half a dwell since each
+    /// was last switched to).
+    fn track_modes<T>(&self, state: &mut SupervisedState<T, S>) {
         state.stage = Stage::Choose as u8;
+        let c = state.status.mode().index();
+        let settled = state.status.since_switch > self.dwell / 2;
+        let sample = state.error_sample;
+        // the applied mode's filtered error and count (no indexing: the
+        // core never panics)
+        let (mut own, mut own_count) = (S::ZERO, 0u8);
+        for (i, (t, count)) in state
+            .tracking
+            .iter_mut()
+            .zip(&mut state.tracked)
+            .enumerate()
+        {
+            if i == c {
+                if settled {
+                    *t = if *count == 0 || !t.is_finite() {
+                        sample
+                    } else {
+                        *t + self.blend * (sample - *t)
+                    };
+                    *count = count.saturating_add(1);
+                }
+                (own, own_count) = (*t, *count);
+            }
+        }
+        let enough = self.tracking_windows();
+        let (mut beaten, mut beaten_by) = (0u8, 0u8);
+        if own_count >= enough {
+            for (i, (&error, &count)) in state.tracking.iter().zip(&state.tracked).enumerate() {
+                if i != c && count >= enough {
+                    if own < self.tracking_ratio * error {
+                        beaten |= 1 << i;
+                    } else if error < self.tracking_ratio * own {
+                        beaten_by |= 1 << i;
+                    }
+                }
+            }
+        }
+        state.beaten = beaten;
+        state.beaten_by = beaten_by;
     }
 
     /// Past the warm-up and the dwell, switches to the candidate whose
@@ -489,59 +557,39 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
         if best >= self.ratio * active {
             next = current;
         }
-        next = self.by_tracking(&state.tracking, &state.tracked, current, next);
+        // the applied mode stays while it tracks clearly better than the
+        // one chosen had tracked (see `track_modes`)
+        if state.beaten & (1 << next.index()) != 0 {
+            next = current;
+        }
+        // a retried primary that tracks clearly worse than the fallback (or
+        // no compensation) did before it goes back
+        if state.retried.get() {
+            state.retried = Flag::new(false);
+            for m in [SupervisorMode::Off, SupervisorMode::Fallback] {
+                if state.beaten_by & (1 << m.index()) != 0 {
+                    next = m;
+                }
+            }
+        }
         if next == current
             && current != SupervisorMode::Primary
             && self.retry > 0
             && st.since_switch >= self.retry
         {
             next = SupervisorMode::Primary;
+            state.retried = Flag::new(true);
         }
         if next != current {
-            state.tracked[next.index()] = 0;
+            for (i, count) in state.tracked.iter_mut().enumerate() {
+                if i == next.index() {
+                    *count = 0;
+                }
+            }
             st.mode = next.code();
             st.switches = st.switches.saturating_add(1);
             st.since_switch = 0;
         }
-    }
-}
-
-impl<P, F, S: Scalar> Supervised<P, F, S> {
-    /// The prediction's choice `next` from `current`, overruled by the
-    /// tracking where both modes' are known (measured over at least half a
-    /// dwell since each was last switched to): a mode that tracked better
-    /// by the ratio is kept, and one that tracked worse than another by the
-    /// ratio is left for the best of them. The friction a candidate
-    /// predicts is the evidence for all three at once; what each did to the
-    /// tracking is known only for those applied, and it is what counts (an
-    /// observer whose levels wander can still track well on its correction).
-    fn by_tracking(
-        &self,
-        tracking: &[S; 3],
-        tracked: &[u8; 3],
-        current: SupervisorMode,
-        next: SupervisorMode,
-    ) -> SupervisorMode {
-        let enough = self.tracking_windows();
-        let known = |m: SupervisorMode| tracked[m.index()] >= enough;
-        let error = |m: SupervisorMode| tracking[m.index()];
-        if !known(current) {
-            return next;
-        }
-        if next != current {
-            return if known(next) && error(current) < self.ratio * error(next) {
-                current
-            } else {
-                next
-            };
-        }
-        let mut best = current;
-        for m in SupervisorMode::ALL {
-            if known(m) && error(m) < self.ratio * error(current) && error(m) < error(best) {
-                best = m;
-            }
-        }
-        best
     }
 }
 
@@ -552,7 +600,8 @@ enum Stage {
     Idle = 0,
     Square = 1,
     Blend = 2,
-    Choose = 3,
+    Track = 3,
+    Choose = 4,
 }
 
 impl Stage {
@@ -560,7 +609,8 @@ impl Stage {
         match code {
             1 => Stage::Square,
             2 => Stage::Blend,
-            3 => Stage::Choose,
+            3 => Stage::Track,
+            4 => Stage::Choose,
             _ => Stage::Idle,
         }
     }
@@ -800,11 +850,15 @@ mod tests {
             .build(FeedForward(map(0.56)), map(0.28), &servo())
             .unwrap();
         let modes = drive(&sup, |_| 0.28, 1e-2, 30);
-        // the prediction chooses the fallback after the warm-up; its
-        // tracking, once measured, sends the supervisor back for good
-        assert!(modes[1..3].contains(&SupervisorMode::Fallback), "{modes:?}");
+        // the prediction chooses the fallback after the warm-up; the
+        // primary, retried after 10 s in it, tracks clearly better than the
+        // fallback did and is kept for good
         assert!(
-            modes[4..].iter().all(|m| *m == SupervisorMode::Primary),
+            modes[1..10].iter().all(|m| *m == SupervisorMode::Fallback),
+            "{modes:?}"
+        );
+        assert!(
+            modes[11..].iter().all(|m| *m == SupervisorMode::Primary),
             "{modes:?}"
         );
         // with equal tracking the prediction decides: the fallback, but
@@ -839,9 +893,10 @@ mod tests {
                 modes.push(sup.status(&s).mode);
             }
         }
-        // in the fallback from the second second on, but for a retry of
-        // the primary after 10 s in it (one dwell, and half a dwell to
-        // measure it)
+        // in the fallback from the second second on (from 3 s, when the
+        // primary predicts better, because the fallback tracked better),
+        // but for a retry of the primary after 10 s in it: one dwell, at
+        // whose end it has tracked worse than the fallback did and goes back
         let primary = modes[2..]
             .iter()
             .filter(|m| **m == SupervisorMode::Primary)
@@ -932,12 +987,12 @@ mod tests {
             },
             ParamError::NotFinite("warm_up"),
         );
-        // three ticks at 1 kHz: the close would not end before the next
+        // four ticks at 1 kHz: the close would not end before the next
         bad(
-            SupervisorParams { window: 3e-3, ..d },
+            SupervisorParams { window: 4e-3, ..d },
             ParamError::OutOfRange("window"),
         );
-        assert!(SupervisorParams { window: 4e-3, ..d }
+        assert!(SupervisorParams { window: 5e-3, ..d }
             .build::<f64, _, _>(crate::NoCompensation, map(0.28), &servo())
             .is_ok());
     }
