@@ -54,8 +54,8 @@ impl SupervisorMode {
 
 /// The fewest controller periods an evidence window may span: a window's
 /// close, spread over the ticks from it on (close, square, blend, track,
-/// choose), ends before the next one closes.
-pub const MIN_WINDOW_TICKS: u32 = 5;
+/// judge, choose), ends before the next one closes.
+pub const MIN_WINDOW_TICKS: u32 = 6;
 
 /// Design-time parameters of the supervisor, in `f64`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -227,7 +227,7 @@ pub struct SupervisedState<T, S> {
     /// how many windows measured it since it was last switched to.
     tracking: [S; 3],
     tracked: [u8; 3],
-    /// The tracking error at the last close (squared by the square stage).
+    /// The tracking error at the last close.
     error_sample: S,
     /// The modes the applied one tracked better and worse than, a bit per
     /// mode (see [`Supervised`]'s `track_modes`).
@@ -396,11 +396,11 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
 
     /// Ends a window at measured velocity `v` and tracking error `e` (the
     /// tick after its last): its summed prediction errors and `e` wait in
-    /// `pending` and `error_sample` for the next four ticks, which square
+    /// `pending` and `error_sample` for the next five ticks, which square
     /// them ([`Self::square_errors`]), blend them in
-    /// ([`Self::blend_errors`], [`Self::track_modes`]) and choose the mode
-    /// ([`Self::choose_mode`]).
-    // The window's work is spread over five ticks: it runs inside the
+    /// ([`Self::blend_errors`], [`Self::track_modes`]), judge the tracking
+    /// ([`Self::judge_modes`]) and choose the mode ([`Self::choose_mode`]).
+    // The window's work is spread over six ticks: it runs inside the
     // control tick, and its cost is the tick's worst case.
     fn close_window<T>(&self, state: &mut SupervisedState<T, S>, v: S, e: S) {
         let sums = state.sums;
@@ -435,6 +435,7 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
             Stage::Square => self.square_errors(state),
             Stage::Blend => self.blend_errors(state),
             Stage::Track => self.track_modes(state),
+            Stage::Judge => self.judge_modes(state),
             Stage::Choose => self.choose_mode(state),
             Stage::Idle => state.stage = Stage::Idle as u8,
         }
@@ -453,13 +454,6 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
             };
             *p = error * error;
         }
-        let e = state.error_sample;
-        state.error_sample = if e.is_finite() {
-            let e = e.sat(big);
-            e * e
-        } else {
-            big
-        };
         state.stage = Stage::Blend as u8;
     }
 
@@ -480,19 +474,19 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
     }
 
     /// The applied mode's tracking error into its filtered one, once the
-    /// switch's transient has settled (half a dwell), and the tracking's
-    /// verdict for [`Self::choose_mode`]: the modes the applied one tracked
-    /// better than, by the ratio on the rms (`beaten`, a bit per mode), of
-    /// those whose tracking is known (measured over half a dwell since each
-    /// was last switched to).
+    /// switch's transient has settled (half a dwell).
     fn track_modes<T>(&self, state: &mut SupervisedState<T, S>) {
-        state.stage = Stage::Choose as u8;
+        state.stage = Stage::Judge as u8;
+        if state.status.since_switch <= self.dwell / 2 {
+            return;
+        }
         let c = state.status.mode().index();
-        let settled = state.status.since_switch > self.dwell / 2;
-        let sample = state.error_sample;
-        // the applied mode's filtered error and count (no indexing: the
-        // core never panics)
-        let (mut own, mut own_count) = (S::ZERO, 0u8);
+        // squared here, not at the close: the square stage is a worst case
+        let big = S::from_f64(1e15);
+        let e = state.error_sample;
+        let e = if e.is_finite() { e.sat(big) } else { big };
+        let sample = e * e;
+        // no indexing: the core never panics
         for (i, (t, count)) in state
             .tracking
             .iter_mut()
@@ -500,15 +494,28 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
             .enumerate()
         {
             if i == c {
-                if settled {
-                    *t = if *count == 0 || !t.is_finite() {
-                        sample
-                    } else {
-                        *t + self.blend * (sample - *t)
-                    };
-                    *count = count.saturating_add(1);
-                }
-                (own, own_count) = (*t, *count);
+                *t = if *count == 0 || !t.is_finite() {
+                    sample
+                } else {
+                    *t + self.blend * (sample - *t)
+                };
+                *count = count.saturating_add(1);
+            }
+        }
+    }
+
+    /// The tracking's verdict for [`Self::choose_mode`] (a stage of its own:
+    /// each stage's work adds to the tick's worst case): the modes the
+    /// applied one tracked better and worse than, by the ratio on the rms
+    /// (`beaten`, `beaten_by`, a bit per mode), of those whose tracking is
+    /// known (measured over half a dwell since each was last switched to).
+    fn judge_modes<T>(&self, state: &mut SupervisedState<T, S>) {
+        state.stage = Stage::Choose as u8;
+        let c = state.status.mode().index();
+        let (mut own, mut own_count) = (S::ZERO, 0u8);
+        for (i, (&t, &count)) in state.tracking.iter().zip(&state.tracked).enumerate() {
+            if i == c {
+                (own, own_count) = (t, count);
             }
         }
         let enough = self.tracking_windows();
@@ -601,7 +608,8 @@ enum Stage {
     Square = 1,
     Blend = 2,
     Track = 3,
-    Choose = 4,
+    Judge = 4,
+    Choose = 5,
 }
 
 impl Stage {
@@ -610,7 +618,8 @@ impl Stage {
             1 => Stage::Square,
             2 => Stage::Blend,
             3 => Stage::Track,
-            4 => Stage::Choose,
+            4 => Stage::Judge,
+            5 => Stage::Choose,
             _ => Stage::Idle,
         }
     }
@@ -987,12 +996,12 @@ mod tests {
             },
             ParamError::NotFinite("warm_up"),
         );
-        // four ticks at 1 kHz: the close would not end before the next
+        // five ticks at 1 kHz: the close would not end before the next
         bad(
-            SupervisorParams { window: 4e-3, ..d },
+            SupervisorParams { window: 5e-3, ..d },
             ParamError::OutOfRange("window"),
         );
-        assert!(SupervisorParams { window: 5e-3, ..d }
+        assert!(SupervisorParams { window: 6e-3, ..d }
             .build::<f64, _, _>(crate::NoCompensation, map(0.28), &servo())
             .is_ok());
     }

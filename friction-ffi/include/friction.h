@@ -1033,7 +1033,7 @@ typedef struct {
  */
 typedef struct {
   /**
-   * Evidence window `> 0` (s), at least four controller periods.
+   * Evidence window `> 0` (s), at least six controller periods.
    */
   double window;
   /**

@@ -571,7 +571,7 @@ impl ServoTable {
         if (c.supervisor_window * c.rate).round() < f64::from(friction_core::MIN_WINDOW_TICKS) {
             return Err(invalid(
                 "supervisor_window",
-                "at least four controller periods",
+                "at least six controller periods",
                 c.supervisor_window,
             ));
         }
@@ -1127,13 +1127,13 @@ mod tests {
             },
             "`dead_zone`",
         );
-        // three periods at the default 1 kHz: the supervisor needs four
+        // five periods at the default 1 kHz: the supervisor needs six
         bad(
             ServoTable {
-                supervisor_window: Some(0.003),
+                supervisor_window: Some(0.005),
                 ..Default::default()
             },
-            "at least four controller periods",
+            "at least six controller periods",
         );
         bad(
             ServoTable {
