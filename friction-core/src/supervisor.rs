@@ -174,9 +174,9 @@ impl Default for SupervisorParams {
     }
 }
 
-/// What the supervisor knows: the mode, how often it switched, and each
+/// What the supervisor knows: the mode, how often it switched, each
 /// candidate's filtered mean-square prediction error `[primary, fallback,
-/// off]` (force units squared).
+/// off]` (force units squared) and each mode's tracking while applied.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SupervisorStatus<S> {
@@ -191,8 +191,9 @@ pub struct SupervisorStatus<S> {
     /// Mean-square prediction errors `[primary, fallback, off]`.
     pub errors: [S; 3],
     /// Mean-square tracking errors `[primary, fallback, off]` while each
-    /// was applied (position units squared; 0 until measured over half a
-    /// dwell since it was last switched to).
+    /// was applied (position units squared; one sample a window, filtered
+    /// over the memory; 0 until measured over half a dwell since it was
+    /// last switched to).
     pub tracking: [S; 3],
 }
 
@@ -230,7 +231,7 @@ pub struct SupervisedState<T, S> {
     /// The tracking error at the last close.
     error_sample: S,
     /// The modes the applied one tracked better and worse than, a bit per
-    /// mode (see [`Supervised`]'s `track_modes`).
+    /// mode (see [`Supervised`]'s `judge_modes`).
     beaten: u8,
     beaten_by: u8,
     /// Whether the applied primary is a retry, not judged yet.
@@ -325,16 +326,24 @@ impl<S: Copy + Default> StoredStatus<S> {
 /// it is what counts: an observer whose levels wander can still track well
 /// on its correction, and one that rings at reversals can predict a
 /// window's mean friction well. So each mode's tracking error `T` (the
-/// position error at each window's close, squared and filtered as the
-/// prediction errors) is measured while it is applied, from half a dwell
-/// after the switch to it (the switch's transient settled), and counts once
-/// it has been measured over half a dwell since it was last switched to.
-/// The tracking overrules the prediction in two ways, by the ratio on the
-/// rms (`ratio^2` on the mean squares: tracking errors of different times
-/// are compared, so only a clear difference counts): the applied mode stays
-/// while it tracks better than the mode the prediction chooses had tracked;
-/// and a primary retried after `retry` windows in a fallback mode goes back
-/// at the end of its dwell if it tracks worse than that mode did.
+/// position error at each window's close, squared and filtered over the
+/// memory) is measured while it is applied, from half a dwell after the
+/// switch to it (the switch's transient settled), and counts once it has
+/// been measured over half a dwell since it was last switched to. The
+/// tracking overrules the prediction in two ways, by the ratio on the rms
+/// (`ratio^2` on the mean squares: tracking errors of different times are
+/// compared, so only a clear difference counts): the applied mode stays
+/// while it tracks better than the mode the prediction chooses had
+/// tracked; and a primary retried after `retry` windows in a fallback mode
+/// goes back at the end of its dwell if it tracks worse than the fallback
+/// (or no compensation) did, to the fallback where both did.
+///
+/// Limits: one sample a window is a coarse measure (a periodic reference
+/// can alias with the windows); a mode's figure is renewed only while it
+/// is applied, so the applied mode is kept while it tracks better than an
+/// old figure of the other (measured in a worse stretch, it holds the
+/// applied mode longer); in Q16.16 an error below a few mrad squares to
+/// 0 (two such modes are equal, and the prediction decides).
 ///
 /// The state and the reason are readable ([`Supervised::status`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -565,7 +574,7 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
             next = current;
         }
         // the applied mode stays while it tracks clearly better than the
-        // one chosen had tracked (see `track_modes`)
+        // one chosen had tracked (see `judge_modes`)
         if state.beaten & (1 << next.index()) != 0 {
             next = current;
         }
@@ -714,6 +723,7 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
         state.measuring = Flag::new(false);
         state.stage = Stage::Idle as u8;
         state.tracked = [0; 3];
+        state.retried = Flag::new(false);
     }
 }
 
