@@ -232,7 +232,13 @@ impl<S: Scalar> RlsFeedForward<S> {
         [v.sign(), (v * self.inv_speed_scale).sat(S::VELOCITY_LIMIT)]
     }
 
-    /// The estimate `w0 sign(v) + w1 v / v_ref` within `±F_max`.
+    /// The estimate `max(w0, 0) sign(v) + w1 v / v_ref` within `±F_max`.
+    ///
+    /// A Coulomb level is never negative: a fit that makes `w0 < 0` has
+    /// taken a load that changes sign with the direction (gravity on a
+    /// swinging joint) for friction, and fed forward it would push along
+    /// the motion. The fit itself keeps `w0` (the least squares stay
+    /// unbiased); only the feed-forward drops it.
     #[inline]
     pub fn force(&self, state: &RlsState<S>, v: S) -> S {
         if !v.is_finite() {
@@ -241,7 +247,7 @@ impl<S: Scalar> RlsFeedForward<S> {
         let w = self.weights(state);
         let phi = self.regressor(v.sat(S::VELOCITY_LIMIT));
         let viscous = (w[1] * phi[1]).sat(self.max_force);
-        (w[0] * phi[0] + viscous).sat(self.max_force)
+        (w[0].max(S::ZERO) * phi[0] + viscous).sat(self.max_force)
     }
 
     /// One least-squares update from a sample: skipped below the minimum

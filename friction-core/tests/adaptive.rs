@@ -362,6 +362,50 @@ fn rls_covariance_stays_bounded_over_a_million_standstill_ticks() {
     assert!(after <= p.max_covariance);
 }
 
+/// Samples of a "friction" that pushes along the motion (a load that
+/// changes sign with the direction, as gravity does on a swinging joint)
+/// fit a negative Coulomb weight, which the fit keeps and the feed-forward
+/// drops: it never pushes along the motion with a Coulomb level.
+#[test]
+fn rls_feeds_forward_no_negative_coulomb_level() {
+    fn check<S: Scalar>() {
+        let rls = RlsParams::new(0.63, 10.0).build::<S>().unwrap();
+        let mut s = RlsState::default();
+        for k in 0..400 {
+            let v = if k % 2 == 0 { 0.5 } else { -0.3 };
+            rls.update(
+                &mut s,
+                FrictionSample {
+                    force: S::from_f64(-0.4 * f64::signum(v) + 0.1 * v),
+                    v: S::from_f64(v),
+                },
+            );
+        }
+        let (fc, viscous) = rls.coefficients(&s);
+        assert!(
+            (fc.to_f64() + 0.4).abs() < 0.01,
+            "the fit keeps w0: {}",
+            fc.to_f64()
+        );
+        assert!(
+            (viscous.to_f64() - 0.1).abs() < 0.01,
+            "{}",
+            viscous.to_f64()
+        );
+        for v in [0.5, -0.3, 1e-3] {
+            let f = rls.force(&s, S::from_f64(v)).to_f64();
+            assert!(
+                (f - 0.1 * v).abs() < 0.01,
+                "v {v}: {f} is the viscous term alone"
+            );
+        }
+    }
+    check::<f64>();
+    check::<f32>();
+    #[cfg(feature = "fixed")]
+    check::<friction_core::Fixed32>();
+}
+
 #[test]
 fn rls_finds_a_coulomb_viscous_plant() {
     // plant F = 0.3 sign v + 0.05 v (a static map: the regressors fit exactly)

@@ -768,6 +768,31 @@ impl ServoConfig {
         }
     }
 
+    /// Encoder counts the reference's peak speed crosses in one controller
+    /// period, `encoder_counts A f / rate`; `None` with an ideal encoder.
+    pub fn counts_per_period(&self) -> Option<f64> {
+        (self.encoder_counts > 0.0)
+            .then(|| self.encoder_counts * self.amplitude * self.frequency / self.rate)
+    }
+
+    /// With the backward difference on an encoder that moves less than one
+    /// count per period at the peak speed (it then reads 0 or a whole count
+    /// on every tick, so a Stribeck curve and the adaptation see no speed
+    /// in between): a note that says so and names the velocity observer.
+    pub fn coarse_encoder_note(&self) -> Option<String> {
+        let counts = self.counts_per_period()?;
+        (counts < 1.0 && self.velocity_observer == 0.0 && self.velocity_filter == 0.0).then(|| {
+            format!(
+                "the encoder moves {counts:.2} counts per period at the peak speed, so the \
+                 measured velocity is 0 or a whole count per period on every tick; \
+                 try `velocity_observer = {}` (a twentieth of the rate), which estimates \
+                 the speed between counts, and compare both on your axis \
+                 (docs/guide/servo.md, \"A 12-bit encoder\")",
+                self.rate / 20.0
+            )
+        })
+    }
+
     /// The plant's friction scale at time `t` (`friction_drift`).
     pub fn drift(&self, t: f64) -> f64 {
         let d = &self.friction_drift;
@@ -823,6 +848,47 @@ impl ServoConfig {
 mod tests {
     use super::*;
     use crate::params::ParamFile;
+
+    /// The coarse-encoder note: only with the backward difference on an
+    /// encoder that moves less than one count per period at the peak speed
+    /// (amplitude 0.5, 0.2 Hz, 1 kHz: `counts x 1e-4` counts per period).
+    #[test]
+    fn a_coarse_encoder_with_the_backward_difference_gets_a_note() {
+        let at = |counts: f64| ServoTable {
+            encoder_counts: Some(counts),
+            ..ServoTable::default()
+        };
+        for (counts, noted) in [
+            (0.0, false),
+            (4096.0, true),
+            (9999.0, true),
+            (10_000.0, false),
+        ] {
+            let c = at(counts).resolve("p.toml").unwrap();
+            assert_eq!(c.coarse_encoder_note().is_some(), noted, "{counts} counts");
+        }
+        let note = at(4096.0)
+            .resolve("p.toml")
+            .unwrap()
+            .coarse_encoder_note()
+            .unwrap();
+        assert!(
+            note.contains("0.41 counts") && note.contains("velocity_observer = 50"),
+            "{note}"
+        );
+        for table in [
+            ServoTable {
+                velocity_observer: Some(50.0),
+                ..at(4096.0)
+            },
+            ServoTable {
+                velocity_filter: Some(100.0),
+                ..at(4096.0)
+            },
+        ] {
+            assert_eq!(table.resolve("p.toml").unwrap().coarse_encoder_note(), None);
+        }
+    }
 
     /// `load_max` defaults to `LOADED_AXIS_LOAD_MAX` on an axis with
     /// gravity and to 0 elsewhere; a set value wins, and a nominal above the

@@ -168,12 +168,17 @@ pub fn benchmark(file: &ParamFile, origin: &str) -> Result<ServoBenchmark> {
     for r in results.into_iter().flatten() {
         runs.push(r?);
     }
-    let note = (runs.len() < ROWS.len()).then(|| {
+    let skipped = (runs.len() < ROWS.len()).then(|| {
         format!(
             "observer and adaptive rows skipped: `{}` has no observer form",
             spec.name()
         )
     });
+    let notes: Vec<String> = skipped
+        .into_iter()
+        .chain(cfg.coarse_encoder_note())
+        .collect();
+    let note = (!notes.is_empty()).then(|| notes.join("; "));
     let n = ticks(&cfg);
     let t: Vec<f64> = (0..n).map(|k| k as f64 / cfg.rate).collect();
     let x_ref = t.iter().map(|&ti| setpoint(&cfg, ti).x).collect();
