@@ -24,7 +24,8 @@ pub struct RlsParams {
     pub max_covariance: f64,
     /// Bound `F_max > 0` on each weight and on the estimate (force units).
     pub max_force: f64,
-    /// Initial Coulomb level `w0` (force units), within `±F_max`.
+    /// Initial Coulomb level `w0` (force units), within `±F_max` (a negative
+    /// one is fed forward as 0, see [`RlsFeedForward::force`]).
     pub initial_coulomb: f64,
     /// Initial viscous coefficient (force per speed unit), with
     /// `|coefficient v_ref| <= F_max`.
@@ -162,7 +163,7 @@ impl<S: Scalar> RlsState<S> {
 /// K = P φ / (λ + φᵀ P φ)
 /// w = w + K (y - φᵀ w)
 /// P = (P - K φᵀ P) / λ,   then scaled down to trace(P) <= p_max
-/// F^ = sat(F_max, w0 sign(v) + w1 v / v_ref)        on the measured velocity
+/// F^ = sat(F_max, max(w0, 0) sign(v) + w1 v / v_ref)  on the measured velocity
 /// ```
 ///
 /// so `w0` estimates the Coulomb level and `w1 / v_ref` the viscous
@@ -301,7 +302,7 @@ impl<S: Scalar> RlsFeedForward<S> {
     }
 }
 
-/// The feed-forward `F^ = w0 sign(v) + w1 v / v_ref` on the measured velocity,
+/// The feed-forward `F^ = max(w0, 0) sign(v) + w1 v / v_ref` on the measured velocity,
 /// learning from every sample the compensator measures.
 impl<S: Scalar> Compensation<S> for RlsFeedForward<S> {
     type State = RlsState<S>;

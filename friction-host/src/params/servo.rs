@@ -743,6 +743,15 @@ pub fn read_bam(file: &str, name: &str) -> Result<BamFile, ServoError> {
     })
 }
 
+/// A count figure with two significant digits.
+fn shown(counts: f64) -> String {
+    if counts >= 0.01 {
+        format!("{counts:.2}")
+    } else {
+        format!("{counts:.1e}")
+    }
+}
+
 impl ServoConfig {
     /// The core compensator's parameters.
     pub fn controller(&self) -> CompensatorParams {
@@ -781,13 +790,16 @@ impl ServoConfig {
     /// in between): a note that says so and names the velocity observer.
     pub fn coarse_encoder_note(&self) -> Option<String> {
         let counts = self.counts_per_period()?;
-        (counts < 1.0 && self.velocity_observer == 0.0 && self.velocity_filter == 0.0).then(|| {
+        let moving = counts > 0.0;
+        let backward_difference = self.velocity_observer == 0.0 && self.velocity_filter == 0.0;
+        (moving && counts < 1.0 && backward_difference).then(|| {
             format!(
-                "the encoder moves {counts:.2} counts per period at the peak speed, so the \
+                "the encoder moves {} counts per period at the peak speed, so the \
                  measured velocity is 0 or a whole count per period on every tick; \
                  try `velocity_observer = {}` (a twentieth of the rate), which estimates \
-                 the speed between counts, and compare both on your axis \
-                 (docs/guide/servo.md, \"A 12-bit encoder\")",
+                 the speed between counts, and compare both on your axis: on a loaded \
+                 axis (gravity) it can be worse (docs/guide/servo.md, \"A 12-bit encoder\")",
+                shown(counts),
                 self.rate / 20.0
             )
         })
@@ -876,6 +888,22 @@ mod tests {
             note.contains("0.41 counts") && note.contains("velocity_observer = 50"),
             "{note}"
         );
+        // a still reference moves no counts: nothing to say
+        let still = ServoTable {
+            amplitude: Some(0.0),
+            ..at(4096.0)
+        };
+        assert_eq!(still.resolve("p.toml").unwrap().coarse_encoder_note(), None);
+        let slow = ServoTable {
+            amplitude: Some(1e-6),
+            ..at(4096.0)
+        };
+        let note = slow
+            .resolve("p.toml")
+            .unwrap()
+            .coarse_encoder_note()
+            .unwrap();
+        assert!(note.contains("8.2e-7 counts"), "{note}");
         for table in [
             ServoTable {
                 velocity_observer: Some(50.0),

@@ -58,7 +58,7 @@ pub struct ServoBenchmark {
     pub coulomb_level: f64,
     /// The runs, in the order of [`ROWS`] (observer rows only for observable models).
     pub runs: Vec<ServoRun>,
-    /// Why rows were skipped, if any.
+    /// Notes on the run, if any: skipped rows, a coarse encoder.
     pub note: Option<String>,
 }
 
