@@ -743,7 +743,7 @@ pub fn read_bam(file: &str, name: &str) -> Result<BamFile, ServoError> {
     })
 }
 
-/// A count figure with two significant digits.
+/// A count figure: two decimals, in exponent form below 0.01.
 fn shown(counts: f64) -> String {
     if counts >= 0.01 {
         format!("{counts:.2}")
