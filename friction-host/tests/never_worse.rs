@@ -75,6 +75,7 @@ fn no_supervised_adaptive_row_is_worse_than_none_or_its_static_feed_forward() {
         "adaptive",
         "adaptive+50",
         "adaptive-50",
+        "adaptive-theta",
         "adaptive-theta+50",
         "adaptive-theta-50",
     ] {

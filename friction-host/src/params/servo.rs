@@ -743,15 +743,6 @@ pub fn read_bam(file: &str, name: &str) -> Result<BamFile, ServoError> {
     })
 }
 
-/// A count figure: two decimals, in exponent form below 0.01.
-fn shown(counts: f64) -> String {
-    if counts >= 0.01 {
-        format!("{counts:.2}")
-    } else {
-        format!("{counts:.1e}")
-    }
-}
-
 impl ServoConfig {
     /// The core compensator's parameters.
     pub fn controller(&self) -> CompensatorParams {
@@ -799,7 +790,7 @@ impl ServoConfig {
                  try `velocity_observer = {}` (a twentieth of the rate), which estimates \
                  the speed between counts, and compare both on your axis: on a loaded \
                  axis (gravity) it can be worse (docs/guide/servo.md, \"A 12-bit encoder\")",
-                shown(counts),
+                crate::checks::short(counts),
                 self.rate / 20.0
             )
         })
@@ -885,7 +876,7 @@ mod tests {
             .coarse_encoder_note()
             .unwrap();
         assert!(
-            note.contains("0.41 counts") && note.contains("velocity_observer = 50"),
+            note.contains("0.4096 counts") && note.contains("velocity_observer = 50"),
             "{note}"
         );
         // a still reference moves no counts: nothing to say
@@ -903,7 +894,7 @@ mod tests {
             .unwrap()
             .coarse_encoder_note()
             .unwrap();
-        assert!(note.contains("8.2e-7 counts"), "{note}");
+        assert!(note.contains("8.192e-7 counts"), "{note}");
         for table in [
             ServoTable {
                 velocity_observer: Some(50.0),
