@@ -184,9 +184,10 @@ pub struct SupervisorStatus<S> {
     pub mode: SupervisorMode,
     /// Switches so far.
     pub switches: u32,
-    /// Completed evidence windows.
+    /// Completed evidence windows (each counted when its evidence has
+    /// chosen the mode, five ticks after it closed).
     pub windows: u32,
-    /// Windows since the last switch.
+    /// Windows since the last switch (counted as `windows`).
     pub since_switch: u32,
     /// Mean-square prediction errors `[primary, fallback, off]`.
     pub errors: [S; 3],
@@ -452,16 +453,8 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
 
     /// The closed window's summed errors into its squared mean errors.
     fn square_errors<T>(&self, state: &mut SupervisedState<T, S>) {
-        // a window summed from a non-finite estimate is the worst evidence
-        let big = S::from_f64(1e15);
         for p in state.pending.iter_mut() {
-            let error = *p * self.inv_window;
-            let error = if error.is_finite() {
-                error.sat(big)
-            } else {
-                big
-            };
-            *p = error * error;
+            *p = bounded_square(*p * self.inv_window);
         }
         state.stage = Stage::Blend as u8;
     }
@@ -477,8 +470,6 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
                 *p + self.blend * (squared - *p)
             };
         }
-        st.windows = st.windows.saturating_add(1);
-        st.since_switch = st.since_switch.saturating_add(1);
         state.stage = Stage::Track as u8;
     }
 
@@ -486,15 +477,13 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
     /// switch's transient has settled (half a dwell).
     fn track_modes<T>(&self, state: &mut SupervisedState<T, S>) {
         state.stage = Stage::Judge as u8;
-        if state.status.since_switch <= self.dwell / 2 {
+        // the window is counted in `choose_mode`: `since_switch + 1 <= dwell / 2`
+        if state.status.since_switch < self.dwell / 2 {
             return;
         }
         let c = state.status.mode().index();
         // squared here, not at the close: the square stage is a worst case
-        let big = S::from_f64(1e15);
-        let e = state.error_sample;
-        let e = if e.is_finite() { e.sat(big) } else { big };
-        let sample = e * e;
+        let sample = bounded_square(state.error_sample);
         // no indexing: the core never panics
         for (i, (t, count)) in state
             .tracking
@@ -549,6 +538,10 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
     fn choose_mode<T>(&self, state: &mut SupervisedState<T, S>) {
         state.stage = Stage::Idle as u8;
         let st = &mut state.status;
+        // the window counts here, not where its errors are blended: each
+        // stage's work adds to the tick's worst case
+        st.windows = st.windows.saturating_add(1);
+        st.since_switch = st.since_switch.saturating_add(1);
         // a switch holds for `dwell` windows (the errors then reflect it)
         if st.windows <= self.warm_up || st.since_switch < self.dwell {
             return;
@@ -606,6 +599,21 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
             st.switches = st.switches.saturating_add(1);
             st.since_switch = 0;
         }
+    }
+}
+
+/// `x²`, at most `1e30`; a non-finite `x` gives `1e30` (a window summed
+/// from a non-finite estimate is the worst evidence).
+#[inline]
+fn bounded_square<S: Scalar>(x: S) -> S {
+    let big = S::from_f64(1e30);
+    let square = x * x;
+    // one comparison, false for NaN and infinity (a check of finiteness
+    // and a clamp before the product cost the stage's tick twice as much)
+    if square < big {
+        square
+    } else {
+        big
     }
 }
 
@@ -947,14 +955,18 @@ mod tests {
     #[test]
     fn a_window_measures_the_plants_mean_friction() {
         // the plant's own integral of its friction is the truth
-        let run = simulate(&measuring_servo(), |_| 1.0, 204, &[]);
+        let run = simulate(&measuring_servo(), |_| 1.0, 207, &[]);
         // the window of ticks 0..100 (the first after a start, not
         // measured) closes at tick 100, the window of ticks 100..200 at
-        // tick 200; its errors are squared at 201 and blended (the first:
-        // taken as they are) at 202
-        assert_eq!(run[201].0.windows, 0);
-        let status = run[202].0;
+        // tick 200; its errors are squared at 201, blended (the first:
+        // taken as they are) at 202 and the window counted at the choice,
+        // at 205
+        assert_eq!(run[201].0.errors, [0.0; 3]);
+        assert_ne!(run[202].0.errors, [0.0; 3]);
+        assert_eq!(run[204].0.windows, 0);
+        let status = run[205].0;
         assert_eq!(status.windows, 1);
+        assert_eq!(status.errors, run[202].0.errors);
         // the plant's mean friction over ticks 100..200 (its impulse after
         // tick 199 less that after tick 99, over 0.1 s)
         assert_measures(status.errors[0], (run[199].1 - run[99].1) / 0.1);
@@ -969,10 +981,11 @@ mod tests {
         let run = simulate(&measuring_servo(), |_| 1.0, 500, &[150]);
         // the window of ticks 100..150 is cut at the gap; the window that
         // restarts at tick 151 closes at 251, not measured; the next, of
-        // ticks 251..351, closes at 351 (blended at 353)
+        // ticks 251..351, closes at 351 (blended at 353, counted at 356)
         assert_eq!(run[149].0.windows, 0);
-        assert_eq!(run[352].0.windows, 0);
-        let status = run[353].0;
+        assert_eq!(run[352].0.errors, [0.0; 3]);
+        assert_eq!(run[355].0.windows, 0);
+        let status = run[356].0;
         assert_eq!(status.windows, 1);
         assert_measures(status.errors[2], (run[350].1 - run[250].1) / 0.1);
     }
