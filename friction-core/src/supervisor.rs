@@ -1049,4 +1049,36 @@ mod tests {
         assert_eq!(fixed(10.0), Some(ParamError::OutOfRange("window")));
         assert_eq!(fixed(3.0), None);
     }
+
+    #[test]
+    fn a_windows_error_is_squared_within_its_bound() {
+        assert_eq!(bounded_square(3.0f32), 9.0);
+        assert_eq!(bounded_square(-3.0f64), 9.0);
+        // past the bound, and every non-finite error, is the worst evidence
+        for x in [
+            1e16f32,
+            -1e16,
+            f32::MAX,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+        ] {
+            assert_eq!(bounded_square(x), 1e30, "{x}");
+        }
+        for x in [1e16f64, f64::INFINITY, f64::NAN] {
+            assert_eq!(bounded_square(x), 1e30, "{x}");
+        }
+    }
+
+    #[cfg(feature = "fixed")]
+    #[test]
+    fn a_fixed_point_windows_error_saturates_its_square() {
+        use crate::Fixed32;
+        let x = Fixed32::from_f64(3.0);
+        assert_eq!(bounded_square(x), Fixed32::from_f64(9.0));
+        // 200² overflows Q16.16: the square saturates, as the bound does
+        let big = Fixed32::from_f64(200.0);
+        assert_eq!(bounded_square(big), Fixed32::from_f64(1e30));
+        assert_eq!(bounded_square(-big), Fixed32::from_f64(1e30));
+    }
 }
