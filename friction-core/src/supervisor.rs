@@ -608,8 +608,8 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
 fn bounded_square<S: Scalar>(x: S) -> S {
     let big = S::from_f64(1e30);
     let square = x * x;
-    // one comparison, false for NaN and infinity (a check of finiteness
-    // and a clamp before the product cost the stage's tick twice as much)
+    // one comparison, false for NaN and infinity: cheaper in the stage's
+    // tick than a check of finiteness and a clamp before the product
     if square < big {
         square
     } else {

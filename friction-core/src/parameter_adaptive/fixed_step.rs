@@ -353,9 +353,9 @@ impl<S: Scalar> ParameterAdaptiveFixedStep<S> {
     /// returns `F^`. A non-finite input leaves the state untouched and
     /// returns the force the state holds.
     // always inlined on a core with an FPU: a call from the servo tick
-    // saves and restores seven FPU register pairs, about 8 instructions of a
-    // budgeted tick; on a Cortex-M0 the inlined step spills registers (the
-    // Q16.16 tick takes 34 more)
+    // saves and restores the FPU's callee-saved registers, which counts in
+    // a budgeted tick; on a Cortex-M0 the inlined step spills registers
+    // and costs more than the call (see the cost guide)
     #[cfg_attr(target_abi = "eabihf", inline(always))]
     #[cfg_attr(not(target_abi = "eabihf"), inline)]
     pub fn step(&self, state: &mut ParameterAdaptiveFixedStepState<S>, v: S, e: S) -> S {
