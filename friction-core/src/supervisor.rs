@@ -1054,6 +1054,9 @@ mod tests {
     fn a_windows_error_is_squared_within_its_bound() {
         assert_eq!(bounded_square(3.0f32), 9.0);
         assert_eq!(bounded_square(-3.0f64), 9.0);
+        // just under the bound, as it is
+        assert_eq!(bounded_square(1e14f32), 1e14f32 * 1e14f32);
+        assert_eq!(bounded_square(-9.9e14f64), 9.9e14 * 9.9e14);
         // past the bound, and every non-finite error, is the worst evidence
         for x in [
             1e16f32,
@@ -1073,12 +1076,18 @@ mod tests {
     #[cfg(feature = "fixed")]
     #[test]
     fn a_fixed_point_windows_error_saturates_its_square() {
+        // in Q16.16 the bound is the largest value and the product
+        // saturates to it: the worst evidence, as in floating point
         use crate::Fixed32;
         let x = Fixed32::from_f64(3.0);
         assert_eq!(bounded_square(x), Fixed32::from_f64(9.0));
-        // 200² overflows Q16.16: the square saturates, as the bound does
-        let big = Fixed32::from_f64(200.0);
-        assert_eq!(bounded_square(big), Fixed32::from_f64(1e30));
-        assert_eq!(bounded_square(-big), Fixed32::from_f64(1e30));
+        assert_eq!(
+            bounded_square(Fixed32::from_f64(181.0)),
+            Fixed32::from_f64(32761.0)
+        );
+        let largest = Fixed32::from_f64(1e30);
+        for x in [200.0, -200.0, 1e30, -1e30] {
+            assert_eq!(bounded_square(Fixed32::from_f64(x)), largest, "{x}");
+        }
     }
 }

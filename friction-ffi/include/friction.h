@@ -1125,11 +1125,12 @@ typedef struct {
    */
   uint32_t switches;
   /**
-   * Completed evidence windows.
+   * Completed evidence windows (each counted when its evidence has
+   * chosen the mode, five ticks after it closed).
    */
   uint32_t windows;
   /**
-   * Windows since the last switch.
+   * Windows since the last switch (counted as `windows`).
    */
   uint32_t since_switch;
 } friction_supervisor_status;

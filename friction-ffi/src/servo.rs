@@ -707,9 +707,10 @@ pub struct friction_supervisor_status {
     pub mode: friction_mode,
     /// Switches so far.
     pub switches: u32,
-    /// Completed evidence windows.
+    /// Completed evidence windows (each counted when its evidence has
+    /// chosen the mode, five ticks after it closed).
     pub windows: u32,
-    /// Windows since the last switch.
+    /// Windows since the last switch (counted as `windows`).
     pub since_switch: u32,
 }
 

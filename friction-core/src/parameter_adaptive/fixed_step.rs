@@ -352,7 +352,7 @@ impl<S: Scalar> ParameterAdaptiveFixedStep<S> {
     /// One period with measured velocity `v` and position error `e`;
     /// returns `F^`. A non-finite input leaves the state untouched and
     /// returns the force the state holds.
-    // always inlined on a core with an FPU: a call from the servo tick
+    // always inlined on a hard-float ARM target: a call from the servo tick
     // saves and restores the FPU's callee-saved registers, which counts in
     // a budgeted tick; on a Cortex-M0 the inlined step spills registers
     // and costs more than the call (see the cost guide)
