@@ -458,7 +458,9 @@ impl From<&friction_parameter_adaptive_params> for ParameterAdaptiveParams {
             load: p.load,
             load_max: p.load_max,
             // the fixed-step form the C servo runs has no prediction law
+            // and only the implicit step
             prediction_rate: 0.0,
+            exact_step: false,
         }
     }
 }

@@ -140,9 +140,10 @@ impl ParameterAdaptiveParams {
     /// for a compensator with `servo`'s period, gains and torque constant.
     /// Besides [`build`](Self::build)'s checks, rejects what the scalar
     /// cannot carry: the largest force the boxes allow at the velocity
-    /// limit (times 4, for sums), each scaled gain and box; and a
+    /// limit (times 4, for sums), each scaled gain and box; a
     /// `prediction_rate` other than 0 (the prediction-error law is the
-    /// variable form's).
+    /// variable form's) and `exact_step` (the fixed-step form is the
+    /// implicit step).
     ///
     /// ```
     /// # #[cfg(feature = "fixed")] {
@@ -165,6 +166,14 @@ impl ParameterAdaptiveParams {
             return Err(ParamError::NotBelow {
                 name: "prediction_rate",
                 limit: "0 in the fixed-step form",
+            });
+        }
+        // the exact step forms an exponential a tick, which the Cortex-M0
+        // budget of this tick does not hold: the variable form's only
+        if self.exact_step {
+            return Err(ParamError::NotBelow {
+                name: "exact_step",
+                limit: "true (the fixed-step form has the implicit step)",
             });
         }
         // the gains and boxes of the variable form, in f64 (which holds h)
@@ -803,6 +812,19 @@ mod tests {
             Some(ParamError::NotBelow {
                 name: "prediction_rate",
                 limit: "0 in the fixed-step form",
+            })
+        );
+        // so is the exact step
+        assert_eq!(
+            ParameterAdaptiveParams {
+                exact_step: true,
+                ..law(1.0)
+            }
+            .build_fixed_step::<f32>(&servo())
+            .err(),
+            Some(ParamError::NotBelow {
+                name: "exact_step",
+                limit: "true (the fixed-step form has the implicit step)",
             })
         );
         // the variable form's checks come first

@@ -65,12 +65,18 @@ pub struct ParameterAdaptiveParams {
     /// learns from the friction the compensator measures (see
     /// [`ParameterAdaptive`]); `prediction_rate h <= 1`.
     pub prediction_rate: f64,
+    /// The bristle's step (see [`ParameterAdaptive`]): `false`, an implicit
+    /// Euler step within the sliding level `g^(v) / sigma0`, the one form
+    /// every scalar has; `true`, LuGre's own exact step within the levels
+    /// at rest, for the variable form only.
+    pub exact_step: bool,
 }
 
 impl ParameterAdaptiveParams {
     /// Defaults around `model` with observer gain `k`: rate 4 1/s, `w = 1`,
     /// no leakage, box factor 5, no dead zone, no speed threshold,
-    /// reference speed 1, no load term, no prediction-error law.
+    /// reference speed 1, no load term, no prediction-error law, the
+    /// implicit step.
     pub const fn new(model: LuGreParams, observer_gain: f64) -> Self {
         Self {
             model,
@@ -85,6 +91,7 @@ impl ParameterAdaptiveParams {
             load: 0.0,
             load_max: 0.0,
             prediction_rate: 0.0,
+            exact_step: false,
         }
     }
 
@@ -203,6 +210,7 @@ impl ParameterAdaptiveParams {
             sigma0: convert("sigma0", self.model.sigma0)?,
             h: convert("h", h)?,
             inv_h: convert("h", 1.0 / h)?,
+            exact_step: Flag::new(self.exact_step),
             sigma1: convert_or_zero("sigma1", self.model.sigma1)?,
             observer_gain: convert_or_zero("observer_gain", self.observer_gain)?,
             inv_vs: convert("vs", 1.0 / self.model.curve.vs)?,

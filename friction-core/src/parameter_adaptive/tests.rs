@@ -223,9 +223,16 @@ fn hostile_samples_keep_every_estimate_in_its_box() {
 
 #[test]
 fn hostile_finite_inputs_keep_every_estimate_in_its_box() {
+    for exact_step in [false, true] {
+        hostile_finite_inputs_with(exact_step);
+    }
+}
+
+fn hostile_finite_inputs_with(exact_step: bool) {
     let p = ParameterAdaptiveParams {
         load_max: 0.3,
         leakage: 0.1,
+        exact_step,
         ..ParameterAdaptiveParams::new(LuGreParams::OLSSON_1998, 20.0)
     };
     let boxes = p.boxes();
@@ -267,4 +274,46 @@ fn hostile_finite_inputs_keep_every_estimate_in_its_box() {
         assert!(f.is_finite());
         assert_eq!(s, before);
     }
+}
+
+/// With its adaptation off, the exact step is LuGre's observer on the
+/// nominal model ([`crate::Observer`] on [`crate::LuGre`], an independent
+/// implementation of the same step), through break-aways, reversals and
+/// a correction (within the observer's output bound `Fs + sigma1 |v|`,
+/// which the law does not share); the implicit step is not (it differs by
+/// far more at a stiff bristle, which is why the exact one exists).
+#[test]
+fn without_adaptation_the_exact_step_is_lugres_observer() {
+    let gain = 20.0;
+    let model = LuGreParams::CANUDAS_1995;
+    let observer = crate::Observer::new(model.build::<f64>().unwrap(), gain).unwrap();
+    let h = servo().h;
+    let law = |exact_step| {
+        ParameterAdaptiveParams {
+            rate: 0.0,
+            exact_step,
+            ..ParameterAdaptiveParams::new(model, gain)
+        }
+        .build::<f64>(&servo())
+        .unwrap()
+    };
+    let (exact, implicit) = (law(true), law(false));
+    let mut lugre = crate::LuGreState::default();
+    let (mut a, mut b) = (exact.initial(), implicit.initial());
+    let (mut worst_exact, mut worst_implicit, mut peak) = (0.0f64, 0.0f64, 0.0f64);
+    for k in 0..4000 {
+        let t = k as f64 * h;
+        // reversals at 1 Hz, from standstill through the Stribeck region
+        // (vs = 1e-3) to ten times it, and an error up to 2e-5
+        let v = 0.01 * libm::sin(2.0 * core::f64::consts::PI * t) * (t * 0.5).min(1.0);
+        let e = 2e-5 * libm::sin(2.0 * core::f64::consts::PI * 7.0 * t);
+        let want = observer.step(&mut lugre, v, e, h);
+        let got = exact.step(&mut a, v, e);
+        worst_exact = worst_exact.max((got - want).abs());
+        worst_implicit = worst_implicit.max((implicit.step(&mut b, v, e) - want).abs());
+        peak = peak.max(want.abs());
+    }
+    assert!(peak > 1.0, "{peak}");
+    assert!(worst_exact < 1e-9 * peak, "{worst_exact:e}");
+    assert!(worst_implicit > 1e-2 * peak, "{worst_implicit:e}");
 }

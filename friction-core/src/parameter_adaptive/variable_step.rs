@@ -83,6 +83,15 @@ pub(super) struct Estimate<S> {
 /// follows a change of the estimates within the bristle's lag
 /// `g / (sigma0 |v|)`.
 ///
+/// The bristle's step over a tick: an implicit Euler step with `z` within
+/// the sliding level `g^(v) / sigma0` and `dz/dt` its mean rate (the
+/// default, and the fixed-step form's for every scalar); or, with
+/// [`ParameterAdaptiveParams::exact_step`](super::ParameterAdaptiveParams::exact_step),
+/// LuGre's exact step for a held velocity, with `z` within the levels at
+/// rest `g^(0) / sigma0` and `dz/dt` at the end of the tick: with its
+/// adaptation off it is then LuGre's observer ([`crate::Observer`]) on
+/// the nominal model.
+///
 /// `τ` is the torque the transmission carries: the compensator's own last
 /// command times `kc`, less an external torque the user may set
 /// ([`ParameterAdaptive::set_external_torque`]). The adaptation signal is the
@@ -126,6 +135,8 @@ pub struct ParameterAdaptive<S> {
     pub(super) sigma0: S,
     pub(super) h: S,
     pub(super) inv_h: S,
+    /// [`ParameterAdaptiveParams::exact_step`].
+    pub(super) exact_step: Flag,
     pub(super) sigma1: S,
     pub(super) observer_gain: S,
     pub(super) inv_vs: S,
@@ -223,15 +234,21 @@ impl<S: Scalar> ParameterAdaptive<S> {
         let e = e.sat(S::VELOCITY_LIMIT);
         let s = self.shape(v);
         let g = self.level(state, s);
-        // LuGre's observer, implicit Euler: z' = (z + h (v - k e)) / (1 + sigma0 h |v| / g)
         let drive = (v - (self.observer_gain * e).sat(S::VELOCITY_LIMIT)).sat(S::VELOCITY_LIMIT);
-        let z = (state.z + self.h * drive) / (S::ONE + self.sigma0_h * v.abs() / g);
-        let zeta = (self.sigma0 * z / g).min(S::ONE).max(-S::ONE);
-        // the damping term carries the correction -k e, as Canudas de Wit's
-        // observer does: without it the loops with a stiff sigma1 lost the
-        // damping sigma1 k e gives and did up to 9x worse than none
-        let z_dot = (z - state.z) * self.inv_h;
-        state.z = zeta * g / self.sigma0;
+        let (z, z_dot, zeta) = if self.exact_step.get() {
+            let (z, z_dot) = self.bristle(state, v, drive, g);
+            (z, z_dot, (self.sigma0 * z / g).min(S::ONE).max(-S::ONE))
+        } else {
+            // implicit Euler: z' = (z + h (v - k e)) / (1 + sigma0 h |v| / g)
+            let z = (state.z + self.h * drive) / (S::ONE + self.sigma0_h * v.abs() / g);
+            let zeta = (self.sigma0 * z / g).min(S::ONE).max(-S::ONE);
+            // the damping term carries the correction -k e, as Canudas de
+            // Wit's observer does: without it the loops with a stiff sigma1
+            // lost the damping sigma1 k e gives and did up to 9x worse than none
+            let z_dot = (z - state.z) * self.inv_h;
+            (zeta * g / self.sigma0, z_dot, zeta)
+        };
+        state.z = z;
         // adaptation
         let de = if state.primed.get() {
             (e - state.last_error).sat(self.signal_limit)
@@ -255,6 +272,45 @@ impl<S: Scalar> ParameterAdaptive<S> {
             *x = next.max(k.low).min(k.high);
         }
         self.force(state, v, z_dot)
+    }
+
+    /// The exact step ([`ParameterAdaptiveParams::exact_step`]): LuGre's
+    /// observer over the step, `dz/dt = u - a z` with `u = v - k e`
+    /// (the `drive`) and `a = sigma0 |v| / g` held: the exact solution, as
+    /// LuGre's own step ([`crate::LuGre`]), within `±g^(0) / sigma0` (the
+    /// levels at rest, LuGre's bound); returns `z` and its rate at the end
+    /// of the step, `u - a z` (0 while held at the bound).
+    ///
+    /// Why not the implicit step within `g^(v) / sigma0`: at a stiff
+    /// `sigma0` the implicit step leaves a rate of about `(z - z_eq) / h`
+    /// in the damping term, and the bound at `g^(v)` cuts the elastic force
+    /// from the static level to the sliding one within a step as the speed
+    /// rises. Both kick the loop at every break-away, which rang on stiff
+    /// plants.
+    #[inline]
+    fn bristle(&self, state: &ParameterAdaptiveState<S>, v: S, drive: S, g: S) -> (S, S) {
+        let r = g / self.sigma0; // > 0: g is at least the boxes' smallest level
+        let speed = v.abs();
+        let a = speed / r;
+        let x = a * self.h;
+        let z0 = state.z;
+        let bound = self.level(state, S::ONE) / self.sigma0;
+        let free = if x > S::ONE {
+            // the equilibrium u / a, formed without a; beyond the bound
+            // only with a correction
+            let z_eq = (drive / speed * r).sat(bound + bound);
+            z_eq + (z0 - z_eq) * (-x).exp()
+        } else if x > S::ZERO {
+            z0 + (drive - a * z0) * (-(-x).exp_m1() / a)
+        } else {
+            z0 + drive * self.h
+        };
+        let z = free.sat(bound);
+        let mut rate = drive - speed * (z / r);
+        if z.abs() >= bound && rate * z > S::ZERO {
+            rate = S::ZERO;
+        }
+        (z, rate)
     }
 
     /// `g^(v)` at the bristle's side (`Fc+^` for `z >= 0`), with the

@@ -112,9 +112,11 @@ pub fn lugre_nominal(spec: &ModelSpec, scale: f64, stiffness: f64) -> LuGreParam
 /// The per-parameter adaptation of the `adaptive` rows around `model`,
 /// from the file's settings: its rate, the θ law's derivative weight and
 /// leakage, the box factor, the dead zone (default one encoder count), the
-/// nominal load coefficient and its bound.
+/// nominal load coefficient and its bound; LuGre's exact step (the
+/// implicit one rings at a stiff bristle's break-away: `docs/guide/servo.md`).
 pub fn parameter_adaptation(cfg: &ServoConfig, model: LuGreParams) -> ParameterAdaptiveParams {
     ParameterAdaptiveParams {
+        exact_step: true,
         rate: cfg.parameter_rate,
         derivative_weight: cfg.adaptation_derivative,
         leakage: cfg.adaptation_leakage,
