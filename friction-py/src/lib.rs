@@ -232,7 +232,8 @@ impl Model {
     /// theta-adaptive observer when `adaptive` is a dict of its parameters
     /// (`gamma`, `gamma_derivative`, `leakage`, `theta0`, `theta_min`,
     /// `theta_max`; missing keys take the defaults), or the per-parameter
-    /// adaptive observer (the `adaptive` rows of `friction servo`) when
+    /// adaptive observer (the `adaptive` rows of `friction servo`, with the
+    /// core's default implicit step where the rows take the exact one) when
     /// `parameter_adaptive` is True or a dict of its settings (`rate`,
     /// `derivative_weight`, `leakage`, `box_factor`, `dead_zone`,
     /// `min_speed`, `speed`, `load`, `load_max`). The per-parameter observer

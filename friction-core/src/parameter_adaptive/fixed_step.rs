@@ -168,8 +168,9 @@ impl ParameterAdaptiveParams {
                 limit: "0 in the fixed-step form",
             });
         }
-        // the exact step forms an exponential a tick, which the Cortex-M0
-        // budget of this tick does not hold: the variable form's only
+        // the exact step forms an exponential a tick, against a Cortex-M0
+        // budget with little headroom (its cost not measured yet): the
+        // variable form's only
         if self.exact_step {
             return Err(ParamError::NotBelow {
                 name: "exact_step",
@@ -827,7 +828,7 @@ mod tests {
                 limit: "true (the fixed-step form has the implicit step)",
             })
         );
-        // the variable form's checks come first
+        // the variable form's checks come before the scalar's
         assert_eq!(
             ParameterAdaptiveParams {
                 rate: -1.0,

@@ -12,7 +12,7 @@ mod variable_step;
 
 use crate::bits::Flag;
 use crate::compensator::CompensatorParams;
-use crate::model::{convert, non_negative, positive, ParamError};
+use crate::model::{convert, convert_derived, non_negative, positive, ParamError};
 use crate::models::lugre::LuGreParams;
 use crate::Scalar;
 pub use fixed_step::{ParameterAdaptiveFixedStep, ParameterAdaptiveFixedStepState};
@@ -68,7 +68,8 @@ pub struct ParameterAdaptiveParams {
     /// The bristle's step (see [`ParameterAdaptive`]): `false`, an implicit
     /// Euler step within the sliding level `g^(v) / sigma0`, the one form
     /// every scalar has; `true`, LuGre's own exact step within the levels
-    /// at rest, for the variable form only.
+    /// at rest, for the variable form only (its build then also refuses a
+    /// least level over `sigma0` the scalar cannot hold, as LuGre's does).
     pub exact_step: bool,
 }
 
@@ -165,6 +166,11 @@ impl ParameterAdaptiveParams {
         let size = [1.0, 1.0, 1.0, self.speed * VISCOUS_SLOWDOWN, torque];
         let nominal = self.nominal();
         let boxes = self.boxes();
+        if self.exact_step {
+            // the exact step divides by the least level over sigma0, as
+            // LuGre's build checks Fc / sigma0
+            convert_derived::<S>("sigma0", boxes[0].0.min(boxes[1].0) / self.model.sigma0)?;
+        }
         if self.prediction_rate * h > 1.0 {
             return Err(ParamError::NotBelow {
                 name: "prediction_rate",

@@ -63,6 +63,23 @@ fn invalid_settings_are_named() {
             limit: "load_max",
         },
     );
+    // the exact step divides by the least level over sigma0: one that f32
+    // cannot hold is refused, naming sigma0 (the implicit step has no such
+    // quotient)
+    let wide = ParameterAdaptiveParams {
+        box_factor: 1e36,
+        ..p
+    };
+    assert!(wide.build::<f32>(&servo()).is_ok());
+    assert_eq!(
+        ParameterAdaptiveParams {
+            exact_step: true,
+            ..wide
+        }
+        .build::<f32>(&servo())
+        .err(),
+        Some(ParamError::Underflow("sigma0"))
+    );
 }
 
 /// Simulates the Olsson plant (LuGre, exact parameters, 10 substeps of
@@ -279,9 +296,12 @@ fn hostile_finite_inputs_with(exact_step: bool) {
 /// With its adaptation off, the exact step is LuGre's observer on the
 /// nominal model ([`crate::Observer`] on [`crate::LuGre`], an independent
 /// implementation of the same step), through break-aways, reversals and
-/// a correction (within the observer's output bound `Fs + sigma1 |v|`,
-/// which the law does not share); the implicit step is not (it differs by
-/// far more at a stiff bristle, which is why the exact one exists).
+/// a correction (within the observer's output bound, `Fs + (sigma1 (1 +
+/// Fs / Fc) + sigma2) |v|`, and the law's damping clip, neither of which
+/// the other shares), at speeds that run every branch of the step (`x =
+/// sigma0 h |v| / g` from 0 to past 1); the implicit step is not (it
+/// differs by far more at a stiff bristle, which is why the exact one
+/// exists).
 #[test]
 fn without_adaptation_the_exact_step_is_lugres_observer() {
     let gain = 20.0;
@@ -301,12 +321,15 @@ fn without_adaptation_the_exact_step_is_lugres_observer() {
     let mut lugre = crate::LuGreState::default();
     let (mut a, mut b) = (exact.initial(), implicit.initial());
     let (mut worst_exact, mut worst_implicit, mut peak) = (0.0f64, 0.0f64, 0.0f64);
+    let mut stiff = 0;
     for k in 0..4000 {
         let t = k as f64 * h;
         // reversals at 1 Hz, from standstill through the Stribeck region
-        // (vs = 1e-3) to ten times it, and an error up to 2e-5
-        let v = 0.01 * libm::sin(2.0 * core::f64::consts::PI * t) * (t * 0.5).min(1.0);
+        // (vs = 1e-3) to thirty times it, and an error up to 2e-5
+        let v = 0.03 * libm::sin(2.0 * core::f64::consts::PI * t) * (t * 0.5).min(1.0);
         let e = 2e-5 * libm::sin(2.0 * core::f64::consts::PI * 7.0 * t);
+        let x = model.sigma0 * h * v.abs() / model.curve.fs;
+        stiff += usize::from(x > 1.0);
         let want = observer.step(&mut lugre, v, e, h);
         let got = exact.step(&mut a, v, e);
         worst_exact = worst_exact.max((got - want).abs());
@@ -314,6 +337,8 @@ fn without_adaptation_the_exact_step_is_lugres_observer() {
         peak = peak.max(want.abs());
     }
     assert!(peak > 1.0, "{peak}");
+    // the stiff branch ran (x above 1 even at the static level)
+    assert!(stiff > 1000, "{stiff}");
     assert!(worst_exact < 1e-9 * peak, "{worst_exact:e}");
     assert!(worst_implicit > 1e-2 * peak, "{worst_implicit:e}");
 }

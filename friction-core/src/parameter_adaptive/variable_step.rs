@@ -14,7 +14,8 @@ use crate::Scalar;
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ParameterAdaptiveState<S> {
-    /// The bristle deflection `z`, within `g^(v) / sigma0`.
+    /// The bristle deflection `z`: within `g^(v) / sigma0` (the implicit
+    /// step) or `g^(0) / sigma0` (the exact step).
     pub z: S,
     /// The estimates `[Fc+, Fc-, Ds, sigma2, mu]`.
     estimates: [S; PARAMETER_ADAPTIVE_ESTIMATES],
@@ -90,7 +91,8 @@ pub(super) struct Estimate<S> {
 /// LuGre's exact step for a held velocity, with `z` within the levels at
 /// rest `g^(0) / sigma0` and `dz/dt` at the end of the tick: with its
 /// adaptation off it is then LuGre's observer ([`crate::Observer`]) on
-/// the nominal model.
+/// the nominal model (without `vd` or a load term, below either's clip
+/// of the output).
 ///
 /// `τ` is the torque the transmission carries: the compensator's own last
 /// command times `kc`, less an external torque the user may set
@@ -306,7 +308,9 @@ impl<S: Scalar> ParameterAdaptive<S> {
             z0 + drive * self.h
         };
         let z = free.sat(bound);
-        let mut rate = drive - speed * (z / r);
+        // z / r is within the levels' ratio, which the boxes may make
+        // large: bounded, so that the product stays a number in f32
+        let mut rate = drive - speed * (z / r).sat(S::VELOCITY_LIMIT);
         if z.abs() >= bound && rate * z > S::ZERO {
             rate = S::ZERO;
         }
