@@ -22,7 +22,7 @@ fn judged_rows() -> Vec<(&'static str, friction_host::servo::Row)> {
 }
 
 /// Where `adaptive` is still more than 1.5x `static` (the guide lists
-/// both as missed targets, with the measured figures).
+/// it as a missed target, with the measured figure).
 const KNOWN_MISSES: [&str; 1] = ["haessig1991-bristle"];
 
 /// Every shipped parameter file: `params/*.toml` and `params/actuators/*.toml`.
