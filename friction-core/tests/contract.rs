@@ -260,8 +260,9 @@ proptest! {
     }
 }
 
-/// Drives an observer with hostile but finite inputs: the estimate is finite
-/// and within `force_bound(v)`, the state finite, within `state_ok`.
+/// Drives an observer with hostile inputs: the estimate is finite and
+/// within `force_bound(v)`, or the hold force where the step cannot be
+/// taken (a non-finite input, `h < 0`); the state finite, within `state_ok`.
 fn observer_stays_bounded<S: Scalar, M: Observable<S> + Copy>(
     model: M,
     k: f64,
@@ -280,9 +281,15 @@ fn observer_stays_bounded<S: Scalar, M: Observable<S> + Copy>(
             } else {
                 S::ZERO
             };
-            if v.is_finite() && e.is_finite() {
+            if v.is_finite() && e.is_finite() && h.is_finite() && h >= S::ZERO {
                 let bound = model.force_bound(v_used);
                 assert!(f.abs() <= bound, "|{f:?}| > {bound:?} at v {v:?}");
+            } else {
+                // a step it cannot take (h beyond the scalar's range in f32,
+                // a NaN): the hold force, as documented, which is the force
+                // at rest and may exceed force_bound(v) (the reset
+                // integrator's Stribeck-shaped stiffness is largest at rest)
+                assert_eq!(f, model.hold_force(&state), "at v {v:?} e {e:?} h {h:?}");
             }
             assert!(state_ok(&state), "state {state:?}");
         }
@@ -596,4 +603,17 @@ proptest! {
         run(LeuvenParams { curve: lugre.curve, sigma1, sigma2, n: delta, xs: fc / sigma0 }
             .build::<f32, 3>(), &inputs);
     }
+}
+
+/// The case proptest found (f32): a period beyond f32's range is no step,
+/// and the reset integrator's hold force there, at its stiffness at rest,
+/// is above its `force_bound(v)` at the Stribeck-shaped stiffness of `v`.
+#[test]
+fn a_period_beyond_the_scalar_returns_the_hold_force() {
+    let inputs = [
+        (0.0023156517135559905, 0.0, 0.004308081734145256),
+        (0.0010507715345699968, 0.0, 1.8138507520876634e299),
+    ];
+    all_observers::<f32>(0.0, &inputs);
+    all_observers::<f64>(0.0, &inputs);
 }
