@@ -59,7 +59,8 @@ class Model:
         """The compensated servo tick around the model's observer (or the
         theta-adaptive observer when `adaptive` is a dict of its parameters,
         or the per-parameter adaptive observer under its supervisor when
-        `parameter_adaptive` is True or a dict of its settings; a
+        `parameter_adaptive` is True or a dict of its settings, among them
+        `exact_step`, True for the exact step `friction servo` takes; a
         `supervisor` dict sets the supervisor, False turns it off)."""
 
 class Observer:

@@ -1023,6 +1023,13 @@ typedef struct {
    * Upper bound `load_max >= load` of the load coefficient (0: no load term).
    */
   double load_max;
+  /**
+   * Non-zero: the bristle takes LuGre's exact step (the `adaptive` rows
+   * of `friction servo`; `ParameterAdaptiveParams::exact_step`) instead of
+   * the implicit one (0, the default). It costs the Cortex-M tick more
+   * (the cost guide's `servo-parameter-exact` rows).
+   */
+  uint8_t exact_step;
 } friction_parameter_adaptive_params;
 
 /**
@@ -1649,7 +1656,7 @@ friction_status friction_servo_parameter_adaptive_retune_f64(friction_servo_f64 
  * The defaults of the per-parameter adaptive observer around the nominal
  * `model` with observer gain `gain` (1/s): rate 4 1/s, derivative weight
  * 1, no leakage, box factor 5, no dead zone, no speed threshold,
- * reference speed 1, no load term. Nothing is checked until a
+ * reference speed 1, no load term, the implicit step. Nothing is checked until a
  * constructor uses them.
  */
 friction_status friction_parameter_adaptive_defaults(const friction_lugre_params *model,

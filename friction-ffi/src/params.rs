@@ -441,6 +441,11 @@ pub struct friction_parameter_adaptive_params {
     pub load: f64,
     /// Upper bound `load_max >= load` of the load coefficient (0: no load term).
     pub load_max: f64,
+    /// Non-zero: the bristle takes LuGre's exact step (the `adaptive` rows
+    /// of `friction servo`; `ParameterAdaptiveParams::exact_step`) instead of
+    /// the implicit one (0, the default). It costs the Cortex-M tick more
+    /// (the cost guide's `servo-parameter-exact` rows).
+    pub exact_step: u8,
 }
 
 impl From<&friction_parameter_adaptive_params> for ParameterAdaptiveParams {
@@ -458,9 +463,8 @@ impl From<&friction_parameter_adaptive_params> for ParameterAdaptiveParams {
             load: p.load,
             load_max: p.load_max,
             // the fixed-step form the C servo runs has no prediction law
-            // and only the implicit step
             prediction_rate: 0.0,
-            exact_step: false,
+            exact_step: p.exact_step != 0,
         }
     }
 }

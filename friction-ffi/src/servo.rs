@@ -91,6 +91,10 @@ type AdaptiveFixedStep<S> = FixedPeriod<AdaptiveObserver<Fixed<S>, S>>;
 /// supervisor, with a Coulomb + viscous fallback.
 type ParameterLaw<S> = Supervised<ParameterAdaptiveFixedStep<S>, CoulombViscous<S>, S>;
 
+/// [`ParameterLaw`] with the exact step (`exact_step` set): a type of its
+/// own in the core, so a kind of its own here.
+type ParameterLawExact<S> = Supervised<ParameterAdaptiveFixedStep<S, true>, CoulombViscous<S>, S>;
+
 /// A compensator with its state, one variant per kind of compensation, as
 /// `build` makes it; stored as a kind and a union ([`Stored`]).
 #[derive(Clone, Copy, Debug)]
@@ -120,6 +124,10 @@ pub(crate) enum Servo<S: Scalar> {
         Compensator<S, ParameterLaw<S>>,
         CompensatorState<S, <ParameterLaw<S> as Compensation<S>>::State>,
     ),
+    ParameterAdaptiveExact(
+        Compensator<S, ParameterLawExact<S>>,
+        CompensatorState<S, <ParameterLawExact<S> as Compensation<S>>::State>,
+    ),
 }
 
 /// The kinds of compensation, added to the object's tag (`slot::put_kind`):
@@ -133,6 +141,7 @@ mod kind {
     pub(super) const ADAPTIVE: u32 = 5;
     pub(super) const ADAPTIVE_AT: u32 = 6;
     pub(super) const PARAMETER_ADAPTIVE: u32 = 7;
+    pub(super) const PARAMETER_ADAPTIVE_EXACT: u32 = 8;
 }
 
 /// A servo as an object stores it: the union field its kind names. The
@@ -150,6 +159,7 @@ pub(crate) union Stored<S: Scalar> {
     adaptive: Axis<S, AdaptiveObserver<Variable<S>, S>>,
     adaptive_at: Axis<S, AdaptiveFixedStep<S>>,
     parameter_adaptive: Axis<S, ParameterLaw<S>>,
+    parameter_exact: Axis<S, ParameterLawExact<S>>,
 }
 
 /// A compensator and its state.
@@ -194,6 +204,12 @@ impl<S: Scalar> slot::Built for Servo<S> {
                     parameter_adaptive: (c, s),
                 },
             ),
+            Self::ParameterAdaptiveExact(c, s) => (
+                kind::PARAMETER_ADAPTIVE_EXACT,
+                Stored {
+                    parameter_exact: (c, s),
+                },
+            ),
         }
     }
 }
@@ -202,7 +218,12 @@ impl<S: Scalar> slot::Built for Servo<S> {
 /// union field `$kind` names; `$other` for a kind no constructor writes
 /// (garbage, never a field read).
 macro_rules! each_servo {
-    ($kind:expr, $servo:expr, |$c:ident, $s:ident| $body:expr, $other:expr) => {{
+    ($kind:expr, $servo:expr, |$c:ident, $s:ident| $body:expr, $other:expr) => {
+        each_servo!($kind, $servo, |$c, $s| $body, $other, exact: |$c, $s| $body)
+    };
+    // `$exact` for the exact-step kind (the tick: out of line)
+    ($kind:expr, $servo:expr, |$c:ident, $s:ident| $body:expr, $other:expr,
+     exact: |$ce:ident, $se:ident| $exact:expr) => {{
         let servo: &mut Stored<S> = $servo;
         // SAFETY (each arm): a kind is only written with the field it names
         // (`slot::put_kind` from `Servo::stored`; C may copy both), and C's
@@ -236,6 +257,10 @@ macro_rules! each_servo {
             kind::PARAMETER_ADAPTIVE => {
                 let ($c, $s) = unsafe { &mut servo.parameter_adaptive };
                 $body
+            }
+            kind::PARAMETER_ADAPTIVE_EXACT => {
+                let ($ce, $se) = unsafe { &mut servo.parameter_exact };
+                $exact
             }
             _ => $other,
         }
@@ -331,9 +356,27 @@ where
 {
     let servo = servo.ok_or(friction_status::FRICTION_NULL_POINTER)?;
     let (kind, servo) = slot::get_kind(servo);
-    each_servo!(kind, servo, |c, s| Ok(c.tick(s, x, r)), {
-        Err(friction_status::FRICTION_NOT_INITIALISED)
-    })
+    each_servo!(
+        kind,
+        servo,
+        |c, s| Ok(c.tick(s, x, r)),
+        Err(friction_status::FRICTION_NOT_INITIALISED),
+        exact: |c, s| Ok(exact_tick(c, s, x, r))
+    )
+}
+
+/// The exact-step kind's tick, out of line: inlined beside the other
+/// kinds', it made every kind's tick through the C ABI dearer on a
+/// Cortex-M4F, past its budget (registers saved on entry; see the cost
+/// guide).
+#[inline(never)]
+fn exact_tick<S: Scalar>(
+    c: &Compensator<S, ParameterLawExact<S>>,
+    s: &mut CompensatorState<S, <ParameterLawExact<S> as Compensation<S>>::State>,
+    x: S,
+    r: Setpoint<S>,
+) -> friction_core::CompensatorTick<S> {
+    c.tick(s, x, r)
 }
 
 fn reset<O, S>(servo: Option<&mut O>) -> friction_status
@@ -379,7 +422,8 @@ where
         | kind::FEED_FORWARD
         | kind::OBSERVER
         | kind::OBSERVER_AT
-        | kind::PARAMETER_ADAPTIVE => return friction_status::FRICTION_NOT_SUPPORTED,
+        | kind::PARAMETER_ADAPTIVE
+        | kind::PARAMETER_ADAPTIVE_EXACT => return friction_status::FRICTION_NOT_SUPPORTED,
         _ => return friction_status::FRICTION_NOT_INITIALISED,
     };
     *out = theta;
@@ -415,6 +459,7 @@ take!(
     Adaptive: AdaptiveObserver<Variable<S>, S>,
     AdaptiveFixedStep: AdaptiveFixedStep<S>,
     ParameterAdaptive: ParameterLaw<S>,
+    ParameterAdaptiveExact: ParameterLawExact<S>,
 );
 
 /// Swaps `next` (built with the servo's own loop parameters) into the axis
@@ -714,10 +759,26 @@ pub struct friction_supervisor_status {
     pub since_switch: u32,
 }
 
-/// The per-parameter kind's compensator and state, or the status for an
+/// A per-parameter axis: the law with the implicit or the exact step.
+enum ParameterAxis<'a, S: Scalar> {
+    Implicit(&'a mut Axis<S, ParameterLaw<S>>),
+    Exact(&'a mut Axis<S, ParameterLawExact<S>>),
+}
+
+/// `$body` with `$c` and `$s` bound to either per-parameter axis.
+macro_rules! each_parameter_axis {
+    ($axis:expr, |$c:ident, $s:ident| $body:expr) => {
+        match $axis {
+            ParameterAxis::Implicit(($c, $s)) => $body,
+            ParameterAxis::Exact(($c, $s)) => $body,
+        }
+    };
+}
+
+/// The per-parameter kinds' compensator and state, or the status for an
 /// object of another kind (`FRICTION_NOT_SUPPORTED`) or none
 /// (`FRICTION_NOT_INITIALISED`).
-fn parameter_axis<O, S>(servo: &mut O) -> Result<&mut Axis<S, ParameterLaw<S>>, friction_status>
+fn parameter_axis<O, S>(servo: &mut O) -> Result<ParameterAxis<'_, S>, friction_status>
 where
     O: slot::Opaque<Value = Stored<S>>,
     S: Scalar,
@@ -725,7 +786,13 @@ where
     let (kind, servo) = slot::get_kind(servo);
     match kind {
         // SAFETY: as in `each_servo`.
-        kind::PARAMETER_ADAPTIVE => Ok(unsafe { &mut servo.parameter_adaptive }),
+        kind::PARAMETER_ADAPTIVE => Ok(ParameterAxis::Implicit(unsafe {
+            &mut servo.parameter_adaptive
+        })),
+        // SAFETY: as in `each_servo`.
+        kind::PARAMETER_ADAPTIVE_EXACT => {
+            Ok(ParameterAxis::Exact(unsafe { &mut servo.parameter_exact }))
+        }
         kind::NONE
         | kind::FEED_FORWARD
         | kind::OBSERVER
@@ -734,6 +801,27 @@ where
         | kind::ADAPTIVE_AT => Err(friction_status::FRICTION_NOT_SUPPORTED),
         _ => Err(friction_status::FRICTION_NOT_INITIALISED),
     }
+}
+
+/// The supervised per-parameter law of `adaptive` (its step as
+/// `exact_step` says), `supervisor` and `fallback` for the loop `p`.
+fn parameter_law<S: Scalar>(
+    p: &CompensatorParams,
+    adaptive: &friction_parameter_adaptive_params,
+    supervisor: &friction_supervisor_params,
+    fallback: &friction_coulomb_viscous_params,
+) -> Result<Servo<S>, friction_core::ParamError> {
+    let law = ParameterAdaptiveParams::from(adaptive);
+    let map = CoulombViscousParams::from(fallback).build::<S>()?;
+    let supervisor = SupervisorParams::from(supervisor);
+    let state = CompensatorState::default();
+    Ok(if law.exact_step {
+        let law = law.build_fixed_step_exact::<S>(p)?;
+        Servo::ParameterAdaptiveExact(p.build(supervisor.build(law, map, p)?)?, state)
+    } else {
+        let law = law.build_fixed_step::<S>(p)?;
+        Servo::ParameterAdaptive(p.build(supervisor.build(law, map, p)?)?, state)
+    })
 }
 
 fn new_parameter_adaptive<O, S>(
@@ -764,15 +852,9 @@ where
         );
     };
     let p = CompensatorParams::from(params);
-    let built = (|| {
-        let law = ParameterAdaptiveParams::from(adaptive).build_fixed_step::<S>(&p)?;
-        let map = CoulombViscousParams::from(fallback).build::<S>()?;
-        let supervised = SupervisorParams::from(supervisor).build(law, map, &p)?;
-        p.build(supervised)
-    })();
-    match built {
-        Ok(c) => {
-            let (kind, stored) = Servo::ParameterAdaptive(c, CompensatorState::default()).stored();
+    match parameter_law::<S>(&p, adaptive, supervisor, fallback) {
+        Ok(servo) => {
+            let (kind, stored) = servo.stored();
             slot::put_kind(out, kind, stored);
             report(error, Refusal::OK)
         }
@@ -838,20 +920,20 @@ where
             Refusal::new(friction_status::FRICTION_NULL_POINTER, which),
         );
     };
-    let (c, s) = match parameter_axis(servo) {
+    let axis = match parameter_axis(servo) {
         Ok(axis) => axis,
         Err(status) => return report(error, Refusal::new(status, "servo")),
     };
-    let p = *c.params();
-    let built = (|| {
-        let law = ParameterAdaptiveParams::from(adaptive).build_fixed_step::<S>(&p)?;
-        let map = CoulombViscousParams::from(fallback).build::<S>()?;
-        SupervisorParams::from(supervisor).build(law, map, &p)
-    })();
-    let refusal = match built.and_then(|next| c.retune(s, next)) {
-        Ok(()) => Refusal::OK,
-        Err(e) => Refusal::param(e),
-    };
+    // the step is the axis's kind: the other one is refused, naming it
+    let refusal = each_parameter_axis!(axis, |c, s| {
+        let p = *c.params();
+        swap(
+            c,
+            s,
+            parameter_law::<S>(&p, adaptive, supervisor, fallback),
+            "exact_step",
+        )
+    });
     report(error, refusal)
 }
 
@@ -889,7 +971,7 @@ pub extern "C" fn friction_servo_parameter_adaptive_retune_f64(
 /// The defaults of the per-parameter adaptive observer around the nominal
 /// `model` with observer gain `gain` (1/s): rate 4 1/s, derivative weight
 /// 1, no leakage, box factor 5, no dead zone, no speed threshold,
-/// reference speed 1, no load term. Nothing is checked until a
+/// reference speed 1, no load term, the implicit step. Nothing is checked until a
 /// constructor uses them.
 #[no_mangle]
 pub extern "C" fn friction_parameter_adaptive_defaults(
@@ -913,6 +995,7 @@ pub extern "C" fn friction_parameter_adaptive_defaults(
         speed: d.speed,
         load: d.load,
         load_max: d.load_max,
+        exact_step: u8::from(d.exact_step),
     };
     friction_status::FRICTION_OK
 }
@@ -944,16 +1027,18 @@ where
         return friction_status::FRICTION_NULL_POINTER;
     };
     match parameter_axis(servo) {
-        Ok((c, s)) => {
-            let law = c.compensation().primary();
-            // a state before its first tick reads the nominal values
-            let state = s.friction().primary;
-            let state = if state == Default::default() {
-                law.initial()
-            } else {
-                state
-            };
-            *out = convert(law.estimates(&state));
+        Ok(axis) => {
+            *out = convert(each_parameter_axis!(axis, |c, s| {
+                let law = c.compensation().primary();
+                // a state before its first tick reads the nominal values
+                let state = s.friction().primary;
+                let state = if state == Default::default() {
+                    law.initial()
+                } else {
+                    state
+                };
+                law.estimates(&state)
+            }));
             friction_status::FRICTION_OK
         }
         Err(status) => status,
@@ -972,8 +1057,8 @@ where
         return friction_status::FRICTION_NULL_POINTER;
     };
     match parameter_axis(servo) {
-        Ok((c, s)) => {
-            let st = c.compensation().status(s.friction());
+        Ok(axis) => {
+            let st = each_parameter_axis!(axis, |c, s| c.compensation().status(s.friction()));
             *out = friction_supervisor_status {
                 mode: match st.mode {
                     SupervisorMode::Primary => friction_mode::FRICTION_MODE_PRIMARY,

@@ -968,11 +968,14 @@ fn parameter_abi() -> (
         speed: f64::NAN,
         load: f64::NAN,
         load_max: f64::NAN,
+        exact_step: 0xA5,
     };
     assert_eq!(
         friction_parameter_adaptive_defaults(Some(&model), 20.0, Some(&mut p)),
         FRICTION_OK
     );
+    // the defaults overwrite every field, the step's flag too
+    assert_eq!(p.exact_step, 0);
     p.rate = 16.0;
     p.speed = 0.63;
     p.load_max = 0.05;
@@ -1028,6 +1031,147 @@ fn asymmetric_plant(seconds: usize, mut tick: impl FnMut(usize, f64, Setpoint<f6
             x += 1e-5 * v;
         }
     }
+}
+
+/// With `exact_step` set the per-parameter servo is the core's exact-step
+/// form (`build_fixed_step_exact`), bit for bit, with its estimates and
+/// status readable; a re-tune keeps the step (the other one is refused,
+/// naming `exact_step`, the axis untouched) and a re-tune with the same
+/// step takes.
+#[test]
+fn the_exact_step_through_the_abi_is_the_cores() {
+    let sp = friction_servo_params {
+        torque_constant: 1.02,
+        limit: 10.0,
+        ki: 200.0,
+        kp: 60.0,
+        kd: 1.2,
+        ..servo_params()
+    };
+    let (mut p, sup, fb) = parameter_abi();
+    p.exact_step = 1;
+    let mut s = friction_servo_f32 {
+        opaque: [0; FRICTION_SERVO_F32_WORDS],
+    };
+    assert_eq!(
+        friction_servo_parameter_adaptive_init_f32(
+            Some(&mut s),
+            Some(&sp),
+            Some(&p),
+            Some(&sup),
+            Some(&fb),
+            None
+        ),
+        FRICTION_OK
+    );
+    let servo = core_servo_params(&sp);
+    let law = ParameterAdaptiveParams::from(&p)
+        .build_fixed_step_exact::<f32>(&servo)
+        .unwrap();
+    let map = CoulombViscousParams::from(&fb).build::<f32>().unwrap();
+    let core = servo
+        .build(
+            SupervisorParams::from(&sup)
+                .build(law, map, &servo)
+                .unwrap(),
+        )
+        .unwrap();
+    // the implicit step's servo, to show the two differ on this run
+    let implicit = parameter_core::<f32>(&sp);
+    let (mut state, mut other) = (Default::default(), Default::default());
+    let mut differ = 0;
+    asymmetric_plant(runs(5), |k, x, r| {
+        let mut t = friction_tick_f32 {
+            command: 0.0,
+            friction: 0.0,
+        };
+        let (xf, rf) = (
+            x as f32,
+            friction_setpoint_f32 {
+                x: r.x as f32,
+                v: r.v as f32,
+                a: r.a as f32,
+            },
+        );
+        assert_eq!(
+            friction_servo_tick_f32(Some(&mut s), xf, rf, Some(&mut t)),
+            FRICTION_OK
+        );
+        let set = Setpoint {
+            x: rf.x,
+            v: rf.v,
+            a: rf.a,
+        };
+        let want = core.tick(&mut state, xf, set);
+        assert_eq!(
+            (t.command.to_bits(), t.friction.to_bits()),
+            (want.command.to_bits(), want.friction.to_bits()),
+            "tick {k}"
+        );
+        differ += usize::from(implicit.tick(&mut other, xf, set).friction != want.friction);
+        f64::from(t.command)
+    });
+    assert!(differ > 0);
+    let mut e = friction_estimates_f32 {
+        fc_pos: 0.0,
+        fc_neg: 0.0,
+        stribeck: 0.0,
+        sigma2: 0.0,
+        load: 0.0,
+    };
+    assert_eq!(
+        friction_servo_estimates_f32(Some(&mut s), Some(&mut e)),
+        FRICTION_OK
+    );
+    assert_eq!(
+        [e.fc_pos, e.fc_neg, e.stribeck, e.sigma2, e.load],
+        core.compensation()
+            .primary()
+            .estimates(&state.friction().primary)
+    );
+    let mut st = friction_supervisor_status {
+        mode: friction_mode::FRICTION_MODE_OFF,
+        switches: 99,
+        windows: 0,
+        since_switch: 0,
+    };
+    assert_eq!(
+        friction_servo_supervisor_f32(Some(&mut s), Some(&mut st)),
+        FRICTION_OK
+    );
+    assert_eq!(
+        st.windows,
+        core.compensation().status(state.friction()).windows
+    );
+    // a re-tune to the implicit step: refused, naming the flag, untouched
+    let before = s.opaque;
+    let mut err = no_error();
+    let implicit_params = friction_parameter_adaptive_params { exact_step: 0, ..p };
+    assert_eq!(
+        friction_servo_parameter_adaptive_retune_f32(
+            Some(&mut s),
+            Some(&implicit_params),
+            Some(&sup),
+            Some(&fb),
+            Some(&mut err)
+        ),
+        FRICTION_NOT_SUPPORTED
+    );
+    assert_eq!(name(&err), "exact_step");
+    assert_eq!(s.opaque, before);
+    // the same step with another rate: taken
+    let faster = friction_parameter_adaptive_params { rate: 32.0, ..p };
+    assert_eq!(
+        friction_servo_parameter_adaptive_retune_f32(
+            Some(&mut s),
+            Some(&faster),
+            Some(&sup),
+            Some(&fb),
+            None
+        ),
+        FRICTION_OK
+    );
+    assert_ne!(s.opaque, before);
 }
 
 /// The per-parameter adaptive servo under its supervisor through the ABI,

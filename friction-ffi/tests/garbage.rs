@@ -95,6 +95,7 @@ fn parameter_adaptive() -> friction_parameter_adaptive_params {
         speed: 0.0,
         load: 0.0,
         load_max: 0.0,
+        exact_step: 0,
     };
     assert_eq!(
         friction_parameter_adaptive_defaults(Some(&lugre()), 20.0, Some(&mut p)),
@@ -668,11 +669,11 @@ fn pattern(i: u64, tag: u32, bytes: &mut [u8]) {
     if i >= FILLS + RANDOM {
         // the tag word (friction-ffi's slot.rs: the first 32 bits, the tag
         // plus the kind of value, from 1): the bare tag (kind 0) or a kind
-        // past every type's (8 or more: the servo's go to 7)
+        // past every type's (9 or more: the servo's go to 8)
         let kind = if i % 2 == 0 {
             0
         } else {
-            8 + (state >> 32) as u32 % 1000
+            9 + (state >> 32) as u32 % 1000
         };
         bytes[..4].copy_from_slice(&tag.wrapping_add(kind).to_ne_bytes());
     }

@@ -232,11 +232,12 @@ impl Model {
     /// theta-adaptive observer when `adaptive` is a dict of its parameters
     /// (`gamma`, `gamma_derivative`, `leakage`, `theta0`, `theta_min`,
     /// `theta_max`; missing keys take the defaults), or the per-parameter
-    /// adaptive observer (the `adaptive` rows of `friction servo`, with the
-    /// core's default implicit step where the rows take the exact one) when
+    /// adaptive observer (the `adaptive` rows of `friction servo`) when
     /// `parameter_adaptive` is True or a dict of its settings (`rate`,
     /// `derivative_weight`, `leakage`, `box_factor`, `dead_zone`,
-    /// `min_speed`, `speed`, `load`, `load_max`). The per-parameter observer
+    /// `min_speed`, `speed`, `load`, `load_max`, and `exact_step`: True for
+    /// the exact step the rows take, False, the core's default, for the
+    /// implicit one). The per-parameter observer
     /// runs under its supervisor (fallback: the Coulomb + viscous
     /// feed-forward of the model's levels) unless `supervisor=False`; a dict
     /// sets the supervisor's `window`, `memory`, `ratio`, `warm_up`, `retry`,
@@ -370,10 +371,23 @@ fn parameter_params(
     gain: f64,
     table: &[(String, f64)],
 ) -> PyResult<ParameterAdaptiveParams> {
-    const KEYS: &str =
-        "rate, derivative_weight, leakage, box_factor, dead_zone, min_speed, speed, load, load_max";
+    const KEYS: &str = "rate, derivative_weight, leakage, box_factor, dead_zone, min_speed, \
+                        speed, load, load_max, exact_step";
     let mut p = ParameterAdaptiveParams::new(model, gain);
     for (key, x) in table {
+        if key == "exact_step" {
+            // a flag: 0 (False) or 1 (True), nothing else
+            p.exact_step = match *x {
+                0.0 => false,
+                1.0 => true,
+                _ => {
+                    return Err(PyValueError::new_err(format!(
+                        "parameter_adaptive[\"exact_step\"]: expected True or False, got {x}"
+                    )))
+                }
+            };
+            continue;
+        }
         let slot = match key.as_str() {
             "rate" => &mut p.rate,
             "derivative_weight" => &mut p.derivative_weight,

@@ -211,6 +211,14 @@ def test_parameter_adaptive_compensator_and_its_supervisor():
         m.compensator(parameter_adaptive=True, supervisor={"windw": 1.0}, **loop)
     with pytest.raises(ValueError, match="box_factor"):
         m.compensator(parameter_adaptive={"box_factor": 0.5}, **loop)
+    # the exact step (the command line's): a flag, and a different law
+    exact = m.compensator(parameter_adaptive={"exact_step": True}, supervisor=False, **loop)
+    e_exact, _ = closed_loop(exact, 2)
+    e_implicit, _ = closed_loop(m.compensator(parameter_adaptive={"exact_step": False},
+                                              supervisor=False, **loop), 2)
+    assert np.max(np.abs(e_exact - e_implicit)) > 0.0
+    with pytest.raises(ValueError, match="exact_step"):
+        m.compensator(parameter_adaptive={"exact_step": 2}, **loop)
     with pytest.raises(ValueError, match="ratio"):
         m.compensator(parameter_adaptive=True, supervisor={"ratio": 2.0}, **loop)
     with pytest.raises(ValueError, match="two laws"):

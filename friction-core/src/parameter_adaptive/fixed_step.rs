@@ -11,6 +11,7 @@ use crate::compensator::{Compensation, CompensatorParams};
 use crate::fixed_step::{carried, scale_ratio};
 use crate::gain::Gain;
 use crate::model::{check_force, convert, ParamError};
+use crate::models::lugre::phi_series_inlined;
 use crate::scalar::inverse_scale_exp;
 use crate::stribeck::{StribeckCurve, StribeckParams};
 use crate::Scalar;
@@ -81,7 +82,19 @@ pub struct ParameterAdaptiveFixedStepState<S> {
 /// F^ = (W + sigma1 / (sigma0 h) (ζ' G - W_old) + k sigma2^ v) / k
 /// ```
 ///
-/// In `f64` it agrees with the variable form to rounding; in `f32` and
+/// Built by [`ParameterAdaptiveParams::build_fixed_step_exact`]
+/// (`EXACT = true`), the bristle takes LuGre's exact step instead, as the
+/// variable form's does with [`ParameterAdaptiveParams::exact_step`]: with
+/// `x = k sigma0 h |v| / G`, `P = k sigma0 h (v - k_o e)` and `G0 = k g^(0)`
+/// (the level at rest),
+///
+/// ```text
+/// W+ = W e^-x + W_eq (1 - e^-x),  W_eq = P / x, within ±2 G0 if x > 1
+/// W  = clamp(W+, ±G0),  ζ = clamp(W / G, -1, 1)   (G0 on the side W+ ends on)
+/// F^ = (W + sigma1 / (sigma0 h) (P - x W) + k sigma2^ v) / k     (no damping held at ±G0)
+/// ```
+///
+/// In `f64` it agrees with the variable form to rounding, either step; in `f32` and
 /// Q16.16 the tests compare a servo run under the supervisor with `f64`.
 ///
 /// ```
@@ -101,7 +114,7 @@ pub struct ParameterAdaptiveFixedStepState<S> {
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct ParameterAdaptiveFixedStep<S> {
+pub struct ParameterAdaptiveFixedStep<S, const EXACT: bool = false> {
     per: [ScaledEstimate<S>; PARAMETER_ADAPTIVE_ESTIMATES],
     /// The Coulomb levels' `k γ h` and `k γd`: every estimate's gains are
     /// these times its weight, so the signal is formed once a tick.
@@ -142,8 +155,8 @@ impl ParameterAdaptiveParams {
     /// cannot carry: the largest force the boxes allow at the velocity
     /// limit (times 4, for sums), each scaled gain and box; a
     /// `prediction_rate` other than 0 (the prediction-error law is the
-    /// variable form's) and `exact_step` (the fixed-step form is the
-    /// implicit step).
+    /// variable form's) and `exact_step` (the step is the type's: see
+    /// [`build_fixed_step_exact`](Self::build_fixed_step_exact)).
     ///
     /// ```
     /// # #[cfg(feature = "fixed")] {
@@ -160,21 +173,56 @@ impl ParameterAdaptiveParams {
         &self,
         servo: &CompensatorParams,
     ) -> Result<ParameterAdaptiveFixedStep<S>, ParamError> {
+        if self.exact_step {
+            return Err(ParamError::NotBelow {
+                name: "exact_step",
+                limit: "true in build_fixed_step (build_fixed_step_exact builds the exact step)",
+            });
+        }
+        self.fixed_step_form(servo)
+    }
+
+    /// As [`build_fixed_step`](Self::build_fixed_step), with LuGre's exact
+    /// step for the bristle ([`ParameterAdaptiveParams::exact_step`], the
+    /// `adaptive` rows of `friction servo`), whatever `exact_step` says: the
+    /// step is the type's, so that the implicit step's tick carries no
+    /// test of it (a run-time choice made the implicit tick dearer on a
+    /// Cortex-M4F, past its budget; both costs are in the cost guide).
+    ///
+    /// ```
+    /// use friction_core::{CompensatorParams, LuGreParams, ParameterAdaptiveParams};
+    /// let servo = CompensatorParams { h: 1e-3, kp: 60.0, ki: 200.0, kd: 1.2,
+    ///     inertia: 0.0023, torque_constant: 1.02, limit: 10.0 };
+    /// let p = ParameterAdaptiveParams { exact_step: true,
+    ///     ..ParameterAdaptiveParams::new(LuGreParams::CANUDAS_1995, 20.0) };
+    /// assert!(p.build_fixed_step::<f32>(&servo).is_err());
+    /// let law = p.build_fixed_step_exact::<f32>(&servo)?;
+    /// let mut s = law.initial();
+    /// // sliding at a stiff bristle (sigma0 h |v| / g = 3): the elastic
+    /// // force settles at -g(v) = -Fc
+    /// for _ in 0..100 {
+    ///     law.step(&mut s, -0.03, 0.0);
+    /// }
+    /// assert!((law.elastic_force(&s) + 1.0).abs() < 1e-3);
+    /// # Ok::<(), friction_core::ParamError>(())
+    /// ```
+    pub fn build_fixed_step_exact<S: Scalar>(
+        &self,
+        servo: &CompensatorParams,
+    ) -> Result<ParameterAdaptiveFixedStep<S, true>, ParamError> {
+        self.fixed_step_form(servo)
+    }
+
+    fn fixed_step_form<S: Scalar, const EXACT: bool>(
+        &self,
+        servo: &CompensatorParams,
+    ) -> Result<ParameterAdaptiveFixedStep<S, EXACT>, ParamError> {
         // the prediction-error law (for listening beside another
         // controller) is the variable form's only
         if self.prediction_rate != 0.0 {
             return Err(ParamError::NotBelow {
                 name: "prediction_rate",
                 limit: "0 in the fixed-step form",
-            });
-        }
-        // the exact step forms an exponential a tick, against a Cortex-M0
-        // budget with little headroom (its cost not measured yet): the
-        // variable form's only
-        if self.exact_step {
-            return Err(ParamError::NotBelow {
-                name: "exact_step",
-                limit: "true (the fixed-step form has the implicit step)",
             });
         }
         // the gains and boxes of the variable form, in f64 (which holds h)
@@ -271,7 +319,7 @@ fn threshold<S: Scalar>(name: &'static str, x: f64) -> Result<S, ParamError> {
     }
 }
 
-impl<S: Scalar> ParameterAdaptiveFixedStep<S> {
+impl<S: Scalar, const EXACT: bool> ParameterAdaptiveFixedStep<S, EXACT> {
     /// The period it was built for (s).
     pub fn period(&self) -> f64 {
         self.period
@@ -380,21 +428,10 @@ impl<S: Scalar> ParameterAdaptiveFixedStep<S> {
         let level = if state.w >= S::ZERO { fc_pos } else { fc_neg };
         let g = (level + excess * s + load_coefficient * state.torque.abs()).max(self.level_floor);
         let drive = (v - self.observer_gain.times(e).sat(S::VELOCITY_LIMIT)).sat(S::VELOCITY_LIMIT);
-        // W' = (W + k sigma0 h drive) / (1 + k sigma0 h |v| / G), and ζ = W' / G,
-        // with one quotient: ζ' = (W + k sigma0 h drive) / (G + k sigma0 h |v|)
-        // (a Q16.16 quotient is a long division on a Cortex-M0)
-        let ratio = (state.w + self.sigma0_h.times(drive)) / (g + self.sigma0_h.times(v.abs()));
-        let zeta = ratio.min(S::ONE).max(-S::ONE);
-        let w = ratio * g;
-        let dw = w - state.w;
-        // ζ G: W' itself within the bristle's bound, else ±G (one product
-        // fewer: a Q16.16 product is several 32-bit ones on a Cortex-M0)
-        state.w = if ratio == zeta {
-            w
-        } else if ratio > S::ZERO {
-            g
+        let (dw, zeta) = if EXACT {
+            self.exact(state, v, drive, g)
         } else {
-            -g
+            self.implicit(state, v, drive, g)
         };
         let de = if state.primed.get() {
             (e - state.last_error).sat(self.signal_limit)
@@ -430,6 +467,92 @@ impl<S: Scalar> ParameterAdaptiveFixedStep<S> {
         self.force(state, v, dw)
     }
 
+    /// The implicit step: `W` to `ζ G`, with `ζ = clamp(ζ', -1, 1)`;
+    /// returns `W' - W` (the damping term's `sigma0 h dz/dt`) and `ζ`.
+    #[inline(always)]
+    fn implicit(
+        &self,
+        state: &mut ParameterAdaptiveFixedStepState<S>,
+        v: S,
+        drive: S,
+        g: S,
+    ) -> (S, S) {
+        // W' = (W + k sigma0 h drive) / (1 + k sigma0 h |v| / G), and ζ = W' / G,
+        // with one quotient: ζ' = (W + k sigma0 h drive) / (G + k sigma0 h |v|)
+        // (a Q16.16 quotient is a long division on a Cortex-M0)
+        let ratio = (state.w + self.sigma0_h.times(drive)) / (g + self.sigma0_h.times(v.abs()));
+        let zeta = ratio.min(S::ONE).max(-S::ONE);
+        let w = ratio * g;
+        let dw = w - state.w;
+        // ζ G: W' itself within the bristle's bound, else ±G (one product
+        // fewer: a Q16.16 product is several 32-bit ones on a Cortex-M0)
+        state.w = if ratio == zeta {
+            w
+        } else if ratio > S::ZERO {
+            g
+        } else {
+            -g
+        };
+        (dw, zeta)
+    }
+
+    /// The exact step ([`ParameterAdaptiveParams::exact_step`]; the
+    /// equations are the type's) with the level `g`; returns
+    /// `k sigma0 h dz/dt` at the end of the step (0 while held at the
+    /// bound) and `ζ`.
+    #[inline(always)]
+    fn exact(
+        &self,
+        state: &mut ParameterAdaptiveFixedStepState<S>,
+        v: S,
+        drive: S,
+        g: S,
+    ) -> (S, S) {
+        // the levels at rest (s(0) = 1) of each side
+        let [fc_pos, fc_neg, excess, _, load_coefficient] = state.estimates;
+        let common = excess + load_coefficient * state.torque.abs();
+        let rest_on =
+            |forward: bool| (if forward { fc_pos } else { fc_neg } + common).max(self.level_floor);
+        let rest = rest_on(state.w >= S::ZERO);
+        let p = self.sigma0_h.times(v.abs());
+        let push = self.sigma0_h.times(drive);
+        // 1/g unscaled (k / G), for x = p / G and W / G: one reciprocal
+        // (a long division in Q16.16 on a Cortex-M0) for both quotients
+        let inv_g = g.reciprocal_rescaled(self.inv_scale_exp);
+        let x = self.unscaled(p * inv_g);
+        // 1 - e^-x and (1 - e^-x) / x (a series below x = 0.1)
+        let (one_minus_e, phi) = if x < S::from_f64(0.1) {
+            let phi = phi_series_inlined(x);
+            (x * phi, phi)
+        } else {
+            let one_minus_e = S::ONE - x.exp_neg();
+            (one_minus_e, one_minus_e / x)
+        };
+        let w0 = state.w;
+        // W e^-x + W_eq (1 - e^-x), with W_eq (1 - e^-x) = P (1 - e^-x) / x
+        // and the equilibrium within 2 G0 beyond x = 1
+        let mut inflow = push.mul_fraction(phi);
+        if x > S::ONE {
+            inflow = inflow.sat((rest + rest).mul_fraction(one_minus_e));
+        }
+        let free = w0 - w0.mul_fraction(one_minus_e) + inflow;
+        // within the level at rest of the side W ends on (where the levels
+        // differ by direction, the side it started on would let it past its
+        // own level by their difference for a step)
+        let rest = rest_on(free >= S::ZERO);
+        let w = free.sat(rest);
+        state.w = w;
+        // W / G = z / r, within the levels' ratio, which the boxes may make
+        // large: bounded, as the variable form's
+        let ratio = self.unscaled(w * inv_g).sat(S::VELOCITY_LIMIT);
+        let mut rate = push - p * ratio;
+        let outward = (rate > S::ZERO && w > S::ZERO) || (rate < S::ZERO && w < S::ZERO);
+        if w.abs() >= rest && outward {
+            rate = S::ZERO;
+        }
+        (rate, ratio.min(S::ONE).max(-S::ONE))
+    }
+
     /// `F^ = (W + sigma1 / (sigma0 h) dW + k sigma2^ v) / k`.
     #[inline]
     fn force(&self, state: &ParameterAdaptiveFixedStepState<S>, v: S, dw: S) -> S {
@@ -439,7 +562,7 @@ impl<S: Scalar> ParameterAdaptiveFixedStep<S> {
     }
 }
 
-impl<S: Scalar> Compensation<S> for ParameterAdaptiveFixedStep<S> {
+impl<S: Scalar, const EXACT: bool> Compensation<S> for ParameterAdaptiveFixedStep<S, EXACT> {
     type State = ParameterAdaptiveFixedStepState<S>;
     const USES_H: bool = false;
     #[cfg_attr(target_abi = "eabihf", inline(always))]
@@ -488,8 +611,8 @@ mod tests {
 
     /// The `adaptive+50` row's law: Olsson's model with its levels 1.5x
     /// the plant's, the host's defaults (rate 16 1/s, speed the reference's
-    /// peak 0.63 rad/s).
-    fn law(factor: f64) -> ParameterAdaptiveParams {
+    /// peak 0.63 rad/s), with the implicit or the exact step.
+    fn law(factor: f64, exact_step: bool) -> ParameterAdaptiveParams {
         let mut nominal = LuGreParams::OLSSON_1998;
         nominal.curve.fc *= factor;
         nominal.curve.fs *= factor;
@@ -497,6 +620,7 @@ mod tests {
             speed: 0.63,
             rate: 16.0,
             load_max: 0.05,
+            exact_step,
             ..ParameterAdaptiveParams::new(nominal, 20.0)
         }
     }
@@ -509,10 +633,12 @@ mod tests {
         modes: Vec<SupervisorMode>,
     }
 
-    type Supervised<S> =
-        crate::Supervised<ParameterAdaptiveFixedStep<S>, crate::CoulombViscous<S>, S>;
+    type Supervised<S, const EXACT: bool> =
+        crate::Supervised<ParameterAdaptiveFixedStep<S, EXACT>, crate::CoulombViscous<S>, S>;
 
-    fn supervised<S: Scalar>(factor: f64) -> Compensator<S, Supervised<S>> {
+    fn supervised<S: Scalar, const EXACT: bool>(
+        factor: f64,
+    ) -> Compensator<S, Supervised<S, EXACT>> {
         let fallback = CoulombViscousParams {
             fc: 0.28 * factor,
             sigma2: 0.0176,
@@ -523,7 +649,9 @@ mod tests {
             tolerance: 0.01 * 0.28,
             ..SupervisorParams::DEFAULT
         };
-        let adaptive = law(factor).build_fixed_step::<S>(&servo()).unwrap();
+        let adaptive = law(factor, EXACT)
+            .fixed_step_form::<S, EXACT>(&servo())
+            .unwrap();
         servo()
             .build(p.build(adaptive, fallback, &servo()).unwrap())
             .unwrap()
@@ -569,8 +697,8 @@ mod tests {
         xs
     }
 
-    fn supervised_run<S: Scalar>(factor: f64, seconds: usize) -> Trace {
-        let ctl = supervised::<S>(factor);
+    fn supervised_run<S: Scalar, const EXACT: bool>(factor: f64, seconds: usize) -> Trace {
+        let ctl = supervised::<S, EXACT>(factor);
         let state = core::cell::RefCell::new(CompensatorState::default());
         let mut modes = Vec::new();
         let x = olsson_run(
@@ -605,12 +733,23 @@ mod tests {
         libm::sqrt(x.iter().map(|e| e * e).sum::<f64>() / x.len() as f64)
     }
 
+    /// Either step, on the Olsson servo (the exact step's series and
+    /// exponential; its `x > 1`, which this servo's soft bristle does not
+    /// reach, is compared at a stiff one in the module's tests).
     #[test]
     fn in_f64_the_fixed_step_form_is_the_variable_form() {
         for factor in [1.5, 0.5] {
-            let p = law(factor);
+            is_the_variable_form::<false>(factor);
+            is_the_variable_form::<true>(factor);
+        }
+    }
+
+    fn is_the_variable_form<const EXACT: bool>(factor: f64) {
+        let exact = EXACT;
+        {
+            let p = law(factor, exact);
             let at = servo()
-                .build(p.build_fixed_step::<f64>(&servo()).unwrap())
+                .build(p.fixed_step_form::<f64, EXACT>(&servo()).unwrap())
                 .unwrap();
             let var = servo().build(p.build::<f64>(&servo()).unwrap()).unwrap();
             let (mut sa, mut sv) = (CompensatorState::default(), CompensatorState::default());
@@ -626,7 +765,10 @@ mod tests {
                 },
                 || {},
             );
-            assert!(worst < 1e-9, "{factor}: commands differ by {worst:e}");
+            assert!(
+                worst < 1e-9,
+                "{factor} {exact}: commands differ by {worst:e}"
+            );
             let (ea, ev) = (
                 at.compensation().estimates(sa.friction()),
                 sv.friction().estimates(),
@@ -644,33 +786,45 @@ mod tests {
     /// 1.5x and 0.5x the plant's: the RMS tracking error over the last half
     /// within 2 % of f64's (measured: f32 within 1e-6, Q16.16 within 0.2 %),
     /// the final Coulomb estimates within 2 % of the plant's level of f64's
-    /// (measured: f32 2e-6, Q16.16 1.2 %) and the same mode every second.
+    /// (measured: f32 2e-6, Q16.16 1.2 %) and the same mode every second;
+    /// with either step.
     #[test]
     fn f32_and_fixed_point_runs_agree_with_f64() {
         for factor in [1.5, 0.5] {
-            let reference = supervised_run::<f64>(factor, 20);
+            agree_with_f64::<false>(factor);
+            agree_with_f64::<true>(factor);
+        }
+    }
+
+    fn agree_with_f64<const EXACT: bool>(factor: f64) {
+        let exact = EXACT;
+        {
+            let reference = supervised_run::<f64, EXACT>(factor, 20);
             let half = reference.x.len() / 2;
             let want = rms(&reference.x[half..]);
             #[cfg_attr(not(feature = "fixed"), allow(unused_mut))]
-            let mut runs = std::vec![("f32", supervised_run::<f32>(factor, 20))];
+            let mut runs = std::vec![("f32", supervised_run::<f32, EXACT>(factor, 20))];
             #[cfg(feature = "fixed")]
-            runs.push(("Q16.16", supervised_run::<crate::Fixed32>(factor, 20)));
+            runs.push((
+                "Q16.16",
+                supervised_run::<crate::Fixed32, EXACT>(factor, 20),
+            ));
             for (name, run) in runs {
                 let got = rms(&run.x[half..]);
                 assert!(
                     (got - want).abs() <= 0.02 * want,
-                    "{name} {factor}: {got:e} vs {want:e}"
+                    "{name} {factor} {exact}: {got:e} vs {want:e}"
                 );
                 for i in 0..2 {
                     let d = (run.estimates[i] - reference.estimates[i]).abs();
                     assert!(
                         d <= 0.02 * 0.28,
-                        "{name} {factor}: {:?} vs {:?}",
+                        "{name} {factor} {exact}: {:?} vs {:?}",
                         run.estimates,
                         reference.estimates
                     );
                 }
-                assert_eq!(run.modes, reference.modes, "{name} {factor}");
+                assert_eq!(run.modes, reference.modes, "{name} {factor} {exact}");
             }
         }
     }
@@ -697,13 +851,13 @@ mod tests {
     /// command, external torque): every estimate in its box, the output
     /// finite and within [`ParameterAdaptiveFixedStep::bound`]; NaN and infinite
     /// inputs (floats) leave the state untouched.
-    fn bounds_hold<S: Scalar>(max: f64, ticks: usize) {
+    fn bounds_hold<S: Scalar, const EXACT: bool>(max: f64, ticks: usize) {
         let p = ParameterAdaptiveParams {
             leakage: 0.1,
             dead_zone: 1e-3,
-            ..law(1.5)
+            ..law(1.5, EXACT)
         };
-        let a = p.build_fixed_step::<S>(&servo()).unwrap();
+        let a = p.fixed_step_form::<S, EXACT>(&servo()).unwrap();
         // the last place of an unscaled estimate (0 in floating point)
         let ulp = if S::SCALES_FORCES { 2.0 / 65536.0 } else { 0.0 };
         let boxes = p.boxes();
@@ -748,9 +902,9 @@ mod tests {
     /// The supervised servo under hostile finite positions and setpoints:
     /// the command finite and within the limit, the estimates in their
     /// boxes, the mode one of the three.
-    fn supervised_bounds_hold<S: Scalar>(max: f64, ticks: usize) {
-        let ctl = supervised::<S>(1.5);
-        let boxes = law(1.5).boxes();
+    fn supervised_bounds_hold<S: Scalar, const EXACT: bool>(max: f64, ticks: usize) {
+        let ctl = supervised::<S, EXACT>(1.5);
+        let boxes = law(1.5, EXACT).boxes();
         let ulp = if S::SCALES_FORCES { 2.0 / 65536.0 } else { 0.0 };
         let limit = servo().limit;
         let mut s = CompensatorState::default();
@@ -782,22 +936,28 @@ mod tests {
 
     #[test]
     fn hostile_finite_inputs_keep_the_bounds_in_f32() {
-        bounds_hold::<f32>(f64::from(f32::MAX), 1_000_000);
-        supervised_bounds_hold::<f32>(f64::from(f32::MAX), 200_000);
+        bounds_hold::<f32, false>(f64::from(f32::MAX), 1_000_000);
+        bounds_hold::<f32, true>(f64::from(f32::MAX), 1_000_000);
+        supervised_bounds_hold::<f32, false>(f64::from(f32::MAX), 200_000);
+        supervised_bounds_hold::<f32, true>(f64::from(f32::MAX), 200_000);
     }
 
     #[test]
     fn hostile_finite_inputs_keep_the_bounds_in_f64() {
-        bounds_hold::<f64>(f64::MAX, 1_000_000);
-        supervised_bounds_hold::<f64>(f64::MAX, 200_000);
+        bounds_hold::<f64, false>(f64::MAX, 1_000_000);
+        bounds_hold::<f64, true>(f64::MAX, 1_000_000);
+        supervised_bounds_hold::<f64, false>(f64::MAX, 200_000);
+        supervised_bounds_hold::<f64, true>(f64::MAX, 200_000);
     }
 
     #[cfg(feature = "fixed")]
     #[test]
     fn hostile_finite_inputs_keep_the_bounds_in_fixed_point() {
         let max = crate::Fixed32::MAX.to_f64();
-        bounds_hold::<crate::Fixed32>(max, 1_000_000);
-        supervised_bounds_hold::<crate::Fixed32>(max, 200_000);
+        bounds_hold::<crate::Fixed32, false>(max, 1_000_000);
+        bounds_hold::<crate::Fixed32, true>(max, 1_000_000);
+        supervised_bounds_hold::<crate::Fixed32, false>(max, 200_000);
+        supervised_bounds_hold::<crate::Fixed32, true>(max, 200_000);
     }
 
     #[test]
@@ -806,7 +966,7 @@ mod tests {
         assert_eq!(
             ParameterAdaptiveParams {
                 prediction_rate: 1.0,
-                ..law(1.0)
+                ..law(1.0, false)
             }
             .build_fixed_step::<f32>(&servo())
             .err(),
@@ -815,24 +975,24 @@ mod tests {
                 limit: "0 in the fixed-step form",
             })
         );
-        // so is the exact step
+        // the exact step has its own builder
         assert_eq!(
             ParameterAdaptiveParams {
                 exact_step: true,
-                ..law(1.0)
+                ..law(1.0, false)
             }
             .build_fixed_step::<f32>(&servo())
             .err(),
             Some(ParamError::NotBelow {
                 name: "exact_step",
-                limit: "true (the fixed-step form has the implicit step)",
+                limit: "true in build_fixed_step (build_fixed_step_exact builds the exact step)",
             })
         );
         // the variable form's checks come before the scalar's
         assert_eq!(
             ParameterAdaptiveParams {
                 rate: -1.0,
-                ..law(1.0)
+                ..law(1.0, false)
             }
             .build_fixed_step::<f32>(&servo())
             .err(),
@@ -842,7 +1002,7 @@ mod tests {
         {
             // a stiffness whose one-tick elastic increment at the velocity
             // limit does not fit Q16.16
-            let mut p = law(1.0);
+            let mut p = law(1.0, false);
             p.model.sigma0 = 1e8;
             assert!(p.build_fixed_step::<crate::Fixed32>(&servo()).is_err());
             assert!(p.build_fixed_step::<f32>(&servo()).is_ok());

@@ -342,3 +342,93 @@ fn without_adaptation_the_exact_step_is_lugres_observer() {
     assert!(worst_exact < 1e-9 * peak, "{worst_exact:e}");
     assert!(worst_implicit > 1e-2 * peak, "{worst_implicit:e}");
 }
+
+/// The fixed-step form's exact step is the variable form's, adapting, at
+/// the stiff bristle of the test above (`x > 1` on most ticks, where the
+/// Olsson servo of the fixed-step tests never goes): in `f64` the same
+/// force and estimates to 1e-9 of the peak force; in `f32` within 1e-3 of
+/// it (the estimates move on every tick the error is outside the dead zone).
+#[test]
+fn the_fixed_step_exact_step_is_the_variable_forms_at_a_stiff_bristle() {
+    let model = LuGreParams::CANUDAS_1995;
+    let p = ParameterAdaptiveParams {
+        exact_step: true,
+        speed: 0.03,
+        load_max: 0.05,
+        ..ParameterAdaptiveParams::new(model, 20.0)
+    };
+    let h = servo().h;
+    let variable = p.build::<f64>(&servo()).unwrap();
+    let fixed = p.build_fixed_step_exact::<f64>(&servo()).unwrap();
+    let single = p.build_fixed_step_exact::<f32>(&servo()).unwrap();
+    let (mut a, mut b, mut c) = (variable.initial(), fixed.initial(), single.initial());
+    let (mut worst, mut worst_f32, mut peak) = (0.0f64, 0.0f64, 0.0f64);
+    let mut stiff = 0;
+    for k in 0..4000 {
+        let t = k as f64 * h;
+        let v = 0.03 * libm::sin(2.0 * core::f64::consts::PI * t) * (t * 0.5).min(1.0);
+        let e = 2e-4 * libm::sin(2.0 * core::f64::consts::PI * 7.0 * t);
+        let u = 0.5 * libm::sin(2.0 * core::f64::consts::PI * 3.0 * t);
+        stiff += usize::from(model.sigma0 * h * v.abs() / model.curve.fs > 1.0);
+        let want = variable.step(&mut a, v, e);
+        variable.commanded(&mut a, u);
+        let got = fixed.step(&mut b, v, e);
+        fixed.commanded(&mut b, u);
+        let got_f32 = single.step(&mut c, v as f32, e as f32);
+        single.commanded(&mut c, u as f32);
+        worst = worst.max((got - want).abs());
+        worst_f32 = worst_f32.max((f64::from(got_f32) - want).abs());
+        peak = peak.max(want.abs());
+    }
+    assert!(stiff > 1000, "{stiff}");
+    assert!(worst < 1e-9 * peak, "{worst:e} of {peak}");
+    assert!(worst_f32 < 1e-3 * peak, "{worst_f32:e} of {peak}");
+    let (ea, eb) = (a.estimates(), fixed.estimates(&b));
+    for (x, y) in ea.iter().zip(eb) {
+        assert!((x - y).abs() < 1e-9, "{ea:?} {eb:?}");
+    }
+    // the estimates moved: a comparison that could fail
+    assert!(
+        (ea[0] - model.curve.fc).abs() > 1e-3 * model.curve.fc,
+        "{ea:?}"
+    );
+}
+
+/// With levels that differ by direction, the exact step keeps the elastic
+/// force within the level at rest of the side the bristle ends on
+/// (`Fc+ + Ds` forward, `Fc- + Ds` backward), in both forms: at a stiff
+/// bristle a reversal carries it across zero within one step, and the
+/// bound of the side it started on let it overshoot the other side's
+/// level by the difference of the two.
+#[test]
+fn the_exact_step_bounds_the_bristle_by_the_side_it_ends_on() {
+    let p = ParameterAdaptiveParams {
+        exact_step: true,
+        rate: 0.0,
+        ..ParameterAdaptiveParams::new(LuGreParams::CANUDAS_1995, 0.0)
+    };
+    let variable = p.build::<f64>(&servo()).unwrap();
+    let fixed = p.build_fixed_step_exact::<f64>(&servo()).unwrap();
+    let levels = [1.5, 0.6, 0.5, 0.4, 0.0];
+    let (mut a, mut b) = (variable.initial(), fixed.initial());
+    variable.set_estimates(&mut a, levels);
+    fixed.set_estimates(&mut b, levels);
+    let (forward, backward) = (levels[0] + levels[2], levels[1] + levels[2]);
+    let (mut lowest, mut highest) = (0.0f64, 0.0f64);
+    for k in 0..400 {
+        // 0.3 rad/s (x = sigma0 h |v| / g of 15 to 50), reversed every 100 steps
+        let v = if (k / 100) % 2 == 0 { 0.3 } else { -0.3 };
+        variable.step(&mut a, v, 0.0);
+        fixed.step(&mut b, v, 0.0);
+        for w in [1e5 * a.z, fixed.elastic_force(&b)] {
+            assert!(w <= forward + 1e-12 && w >= -backward - 1e-12, "{k}: {w}");
+            lowest = lowest.min(w);
+            highest = highest.max(w);
+        }
+    }
+    // both sides were reached: the test could fail
+    assert!(
+        highest > 0.99 * levels[0] && lowest < -0.99 * levels[1],
+        "{lowest} {highest}"
+    );
+}

@@ -279,9 +279,10 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// The exact step ([`ParameterAdaptiveParams::exact_step`]): LuGre's
     /// observer over the step, `dz/dt = u - a z` with `u = v - k e`
     /// (the `drive`) and `a = sigma0 |v| / g` held: the exact solution, as
-    /// LuGre's own step ([`crate::LuGre`]), within `±g^(0) / sigma0` (the
-    /// levels at rest, LuGre's bound); returns `z` and its rate at the end
-    /// of the step, `u - a z` (0 while held at the bound).
+    /// LuGre's own step ([`crate::LuGre`]), within `g^(0) / sigma0` (the
+    /// level at rest, LuGre's bound) of the side `z` ends on; returns `z`
+    /// and its rate at the end of the step, `u - a z` (0 while held at the
+    /// bound).
     ///
     /// Why not the implicit step within `g^(v) / sigma0`: at a stiff
     /// `sigma0` the implicit step leaves a rate of about `(z - z_eq) / h`
@@ -296,17 +297,22 @@ impl<S: Scalar> ParameterAdaptive<S> {
         let a = speed / r;
         let x = a * self.h;
         let z0 = state.z;
-        let bound = self.level(state, S::ONE) / self.sigma0;
+        // the level at rest of the side the bristle starts on
+        let start = self.level(state, S::ONE) / self.sigma0;
         let free = if x > S::ONE {
             // the equilibrium u / a, formed without a; beyond the bound
             // only with a correction
-            let z_eq = (drive / speed * r).sat(bound + bound);
+            let z_eq = (drive / speed * r).sat(start + start);
             z_eq + (z0 - z_eq) * (-x).exp()
         } else if x > S::ZERO {
             z0 + (drive - a * z0) * (-(-x).exp_m1() / a)
         } else {
             z0 + drive * self.h
         };
+        // within the level at rest of the side the bristle ends on (where
+        // the levels differ by direction, the side it started on would let
+        // it past its own level by their difference for a tick)
+        let bound = self.level_on(state, free >= S::ZERO, S::ONE) / self.sigma0;
         let z = free.sat(bound);
         // z / r is within the levels' ratio, which the boxes may make
         // large: bounded, so that the product stays a number in f32
@@ -322,8 +328,14 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// the boxes.
     #[inline]
     fn level(&self, state: &ParameterAdaptiveState<S>, s: S) -> S {
+        self.level_on(state, state.z >= S::ZERO, s)
+    }
+
+    /// [`level`](Self::level) on the forward side (`Fc+^`) or the backward one.
+    #[inline]
+    fn level_on(&self, state: &ParameterAdaptiveState<S>, forward: bool, s: S) -> S {
         let th = &state.estimates;
-        let coulomb = if state.z >= S::ZERO { th[0] } else { th[1] };
+        let coulomb = if forward { th[0] } else { th[1] };
         (coulomb + th[2] * s + th[4] * state.torque.abs()).max(self.per[0].low.min(self.per[1].low))
     }
 

@@ -63,7 +63,7 @@ use friction_core::{
 };
 use friction_core::{
     ParameterAdaptiveFixedStep, ParameterAdaptiveFixedStepState, ParameterAdaptiveServo,
-    SupervisedState,
+    Supervised, SupervisedState,
 };
 
 // the servo's model, loop period (the variable-step rows pass `H` through
@@ -522,6 +522,18 @@ step_fn!(step_servo_parameter_adaptive_q16, ParameterAdaptiveServo<Fixed32>,
     ServoParameterState<Fixed32>, (Fixed32, Setpoint<Fixed32>) => Fixed32,
     |m, s, input| m.tick(s, input.0, input.1).command);
 
+// the same with the exact step (`build_fixed_step_exact`): what it costs
+type ServoParameterExact<S> =
+    Compensator<S, Supervised<ParameterAdaptiveFixedStep<S, true>, CoulombViscous<S>, S>>;
+type ServoParameterExactState<S> =
+    CompensatorState<S, SupervisedState<ParameterAdaptiveFixedStepState<S>, S>>;
+step_fn!(step_servo_parameter_exact_f32, ServoParameterExact<f32>,
+    ServoParameterExactState<f32>, (f32, Setpoint<f32>) => f32,
+    |m, s, input| m.tick(s, input.0, input.1).command);
+step_fn!(step_servo_parameter_exact_q16, ServoParameterExact<Fixed32>,
+    ServoParameterExactState<Fixed32>, (Fixed32, Setpoint<Fixed32>) => Fixed32,
+    |m, s, input| m.tick(s, input.0, input.1).command);
+
 // the same law without its supervisor: what the supervisor costs
 type ServoParameterBare<S> = Compensator<S, ParameterAdaptiveFixedStep<S>>;
 type ServoParameterBareState<S> = CompensatorState<S, ParameterAdaptiveFixedStepState<S>>;
@@ -546,6 +558,20 @@ fn parameter_servo<S: Scalar>(label: &str) -> ParameterAdaptiveServo<S> {
     let p = controller();
     let law = parameter_adaptation()
         .build_fixed_step::<S>(&p)
+        .unwrap_or_else(|_| fail(label));
+    let map = fallback().build::<S>().unwrap_or_else(|_| fail(label));
+    let supervised = supervisor()
+        .build(law, map, &p)
+        .unwrap_or_else(|_| fail(label));
+    p.build(supervised).unwrap_or_else(|_| fail(label))
+}
+
+/// [`parameter_servo`] with the exact step of `friction servo`
+/// (`build_fixed_step_exact`).
+fn parameter_servo_exact<S: Scalar>(label: &str) -> ServoParameterExact<S> {
+    let p = controller();
+    let law = parameter_adaptation()
+        .build_fixed_step_exact::<S>(&p)
         .unwrap_or_else(|_| fail(label));
     let map = fallback().build::<S>().unwrap_or_else(|_| fail(label));
     let supervised = supervisor()
@@ -1227,6 +1253,18 @@ fn main() -> ! {
     }
     row(
         pt,
+        "servo-parameter-exact",
+        "step_servo_parameter_exact_f32",
+        "f32",
+        Form::Fixed,
+        &parameter_servo_exact::<f32>("per-parameter servo, exact step"),
+        step_servo_parameter_exact_f32,
+        servo_sweep,
+        servo_stress,
+        STRESS_LEN,
+    );
+    row(
+        pt,
         "servo-parameter-bare",
         "step_servo_parameter_bare_f32",
         "f32",
@@ -1285,6 +1323,18 @@ fn main() -> ! {
         Form::Fixed,
         &parameter_servo::<Fixed32>("per-parameter servo in Q16.16"),
         step_servo_parameter_adaptive_q16,
+        |k| q16(servo_sweep(k)),
+        |k| q16(servo_stress(k)),
+        STRESS_LEN,
+    );
+    row(
+        pt,
+        "servo-parameter-exact",
+        "step_servo_parameter_exact_q16",
+        "fixed",
+        Form::Fixed,
+        &parameter_servo_exact::<Fixed32>("per-parameter servo in Q16.16, exact step"),
+        step_servo_parameter_exact_q16,
         |k| q16(servo_sweep(k)),
         |k| q16(servo_stress(k)),
         STRESS_LEN,

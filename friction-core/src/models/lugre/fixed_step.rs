@@ -71,12 +71,14 @@ pub(crate) fn phi_series<S: Scalar>(x: S) -> S {
 }
 
 /// [`phi_series`], always inlined: LuGre's fixed step (cheaper with it
-/// inlined on a Cortex-M0). Dahl's and the elasto-plastic step call
-/// [`phi_series`] instead: inlined into Dahl's, the compiler evaluates the
-/// series on every step rather than only where it is used (see the cost
-/// guide).
+/// inlined on a Cortex-M0) and the per-parameter observer's exact step
+/// (another caller of [`phi_series`] or [`relax`] changes whether the
+/// compiler inlines them into Dahl's step, which moved its Q16.16 worst
+/// case past its guard). Dahl's and the elasto-plastic step call [`phi_series`]
+/// instead: inlined into Dahl's, the compiler evaluates the series on
+/// every step rather than only where it is used (see the cost guide).
 #[inline(always)]
-fn phi_series_inlined<S: Scalar>(x: S) -> S {
+pub(crate) fn phi_series_inlined<S: Scalar>(x: S) -> S {
     let c = |n: f64| S::from_f64(1.0 / n);
     let coarse = S::from_f64(1.0 + 1e-9) == S::ONE;
     // 1/(n+1)! nested

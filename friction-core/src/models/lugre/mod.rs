@@ -13,7 +13,7 @@ use crate::model::{
 };
 use crate::stribeck::StribeckParams;
 use crate::Scalar;
-pub(crate) use fixed_step::{phi_series, relax};
+pub(crate) use fixed_step::{phi_series, phi_series_inlined, relax};
 pub use fixed_step::{LuGreFixedStep, LuGreFixedStepState};
 pub use variable_step::{LuGre, LuGreState};
 
