@@ -66,10 +66,13 @@ pub struct ParameterAdaptiveParams {
     /// [`ParameterAdaptive`]); `prediction_rate h <= 1`.
     pub prediction_rate: f64,
     /// The bristle's step (see [`ParameterAdaptive`]): `false`, an implicit
-    /// Euler step within the sliding level `g^(v) / sigma0`, the one form
-    /// every scalar has; `true`, LuGre's own exact step within the levels
-    /// at rest, for the variable form only (its build then also refuses a
-    /// least level over `sigma0` the scalar cannot hold, as LuGre's does).
+    /// Euler step within the sliding level `g^(v) / sigma0`; `true`,
+    /// LuGre's own exact step within the level at rest of the side the
+    /// bristle ends on (the variable form's build then also refuses a least
+    /// level over `sigma0` the scalar cannot hold, as LuGre's does). The
+    /// fixed-step form takes its step from its builder:
+    /// [`build_fixed_step`](Self::build_fixed_step) (implicit; refuses
+    /// `true`) or [`build_fixed_step_exact`](Self::build_fixed_step_exact).
     pub exact_step: bool,
 }
 

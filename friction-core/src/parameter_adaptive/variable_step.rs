@@ -86,10 +86,11 @@ pub(super) struct Estimate<S> {
 ///
 /// The bristle's step over a tick: an implicit Euler step with `z` within
 /// the sliding level `g^(v) / sigma0` and `dz/dt` its mean rate (the
-/// default, and the fixed-step form's for every scalar); or, with
+/// default); or, with
 /// [`ParameterAdaptiveParams::exact_step`](super::ParameterAdaptiveParams::exact_step),
-/// LuGre's exact step for a held velocity, with `z` within the levels at
-/// rest `g^(0) / sigma0` and `dz/dt` at the end of the tick: with its
+/// LuGre's exact step for a held velocity, with `z` within the level at
+/// rest `g^(0) / sigma0` of the side it ends on and `dz/dt` at the end of
+/// the tick: with its
 /// adaptation off it is then LuGre's observer ([`crate::Observer`]) on
 /// the nominal model (without `vd` or a load term, below either's clip
 /// of the output).
@@ -127,7 +128,8 @@ pub(super) struct Estimate<S> {
 ///
 /// The fixed-step form for every scalar, Q16.16 included, is
 /// [`ParameterAdaptiveFixedStep`](crate::ParameterAdaptiveFixedStep)
-/// ([`ParameterAdaptiveParams::build_fixed_step`]).
+/// ([`ParameterAdaptiveParams::build_fixed_step`], or
+/// [`ParameterAdaptiveParams::build_fixed_step_exact`] for the exact step).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ParameterAdaptive<S> {
