@@ -76,7 +76,8 @@ pub struct SupervisorParams {
     /// (`>= 0`; 0: never), unless the fallback tracks clearly better than
     /// the primary had. A primary whose adaptation holds while it is not
     /// applied can only learn while it is: a retry lets one that was judged
-    /// too early catch up.
+    /// too early catch up, once the fallback no longer tracks clearly better
+    /// than the primary's last figure.
     pub retry: f64,
     /// Prediction errors below this (force units, RMS over a window) count
     /// as equal (`>= 0`): a few per cent of the friction level, so that
@@ -86,7 +87,7 @@ pub struct SupervisorParams {
 
 impl SupervisorParams {
     /// Windows of 0.1 s, a memory of 10 windows, ratio 0.7, warm-up 10
-    /// windows, a retry after 50 windows, no tolerance (set one: e.g. a few
+    /// windows, a retry after 100 windows, no tolerance (set one: e.g. a few
     /// per cent of the Coulomb level).
     pub const DEFAULT: Self = Self {
         window: 0.1,
@@ -306,7 +307,7 @@ impl<S: Copy + Default> StoredStatus<S> {
 /// switch from the active a to the best b when P_b < ratio P_a (after warm-up, and at most once per window)
 /// T_a    += (e^2 - T_a) / memory                                    per window, the applied mode's tracking
 /// but stay in a when T_a < ratio^2 T_b (both known); a retried primary goes back when T_m < ratio^2 T_primary
-/// retry the primary after `retry` windows in a fallback mode m, unless T_m < ratio^2 T_primary
+/// retry the primary after `retry` windows in a fallback mode m, unless T_m < ratio^2 T_primary (both known)
 /// ```
 ///
 /// The sums run over the window's ticks (`u` the commands issued, `F_c` the
@@ -340,15 +341,17 @@ impl<S: Copy + Default> StoredStatus<S> {
 /// tracked; and a primary retried after `retry` windows in a fallback mode
 /// goes back at the end of its dwell if it tracks worse than the fallback
 /// (or no compensation) did, to the fallback where both did. The first rule
-/// holds for the retry as well: it waits while the fallback tracks clearly
-/// better than the primary had (a retry in mid-run costs a dwell of the
+/// holds for the retry as well: it waits while the applied fallback mode
+/// (the static map or none) tracks clearly better than the primary had (a retry in mid-run costs a dwell of the
 /// primary's worse tracking and its adaptation's transient).
 ///
 /// Limits: one sample a window is a coarse measure (a periodic reference
 /// can alias with the windows); a mode's figure is renewed only while it
 /// is applied, so the applied mode is kept while it tracks better than an
 /// old figure of the other (measured in a worse stretch, it holds the
-/// applied mode longer); in Q16.16 an error below a few mrad squares to
+/// applied mode longer; a primary that tracked worse while it was still
+/// learning is not retried while the fallback keeps tracking better than
+/// that); in Q16.16 an error below a few mrad squares to
 /// 0 (two such modes are equal, and the prediction decides).
 ///
 /// The state and the reason are readable ([`Supervised::status`]).
@@ -901,7 +904,7 @@ mod tests {
             .iter()
             .filter(|m| **m == SupervisorMode::Primary)
             .count();
-        assert!(primary <= 3, "{modes:?}");
+        assert!((1..=3).contains(&primary), "{modes:?}");
     }
 
     #[test]
@@ -932,7 +935,8 @@ mod tests {
         // primary predicts better, because the fallback tracked better),
         // without the retry due at 11 s while the fallback tracks clearly
         // better than the primary did; once it no longer does (from 20 s)
-        // the primary is retried and, predicting better, kept
+        // the prediction's choice of the primary is no longer held back,
+        // and it is kept
         assert!(
             modes[1..20].iter().all(|m| *m == SupervisorMode::Fallback),
             "{modes:?}"

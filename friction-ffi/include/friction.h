@@ -1058,7 +1058,8 @@ typedef struct {
   double warm_up;
   /**
    * Windows in a fallback mode after which the adaptive observer is
-   * tried again (`>= 0`; 0: never).
+   * tried again (`>= 0`; 0: never), unless the fallback tracks clearly
+   * better than the observer did.
    */
   double retry;
   /**

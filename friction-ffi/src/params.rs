@@ -486,7 +486,8 @@ pub struct friction_supervisor_params {
     /// Windows before the first switch (`>= 0`).
     pub warm_up: f64,
     /// Windows in a fallback mode after which the adaptive observer is
-    /// tried again (`>= 0`; 0: never).
+    /// tried again (`>= 0`; 0: never), unless the fallback tracks clearly
+    /// better than the observer did.
     pub retry: f64,
     /// Prediction errors below this (force units) count as equal (`>= 0`).
     pub tolerance: f64,
