@@ -342,8 +342,9 @@ impl<S: Copy + Default> StoredStatus<S> {
 /// goes back at the end of its dwell if it tracks worse than the fallback
 /// (or no compensation) did, to the fallback where both did. The first rule
 /// holds for the retry as well: it waits while the applied fallback mode
-/// (the static map or none) tracks clearly better than the primary had (a retry in mid-run costs a dwell of the
-/// primary's worse tracking and its adaptation's transient).
+/// (the static map or none) tracks clearly better than the primary had (a
+/// retry in mid-run costs a dwell of the primary's worse tracking and its
+/// adaptation's transient).
 ///
 /// Limits: one sample a window is a coarse measure (a periodic reference
 /// can alias with the windows); a mode's figure is renewed only while it
@@ -351,8 +352,8 @@ impl<S: Copy + Default> StoredStatus<S> {
 /// old figure of the other (measured in a worse stretch, it holds the
 /// applied mode longer; a primary that tracked worse while it was still
 /// learning is not retried while the fallback keeps tracking better than
-/// that); in Q16.16 an error below a few mrad squares to
-/// 0 (two such modes are equal, and the prediction decides).
+/// that); in Q16.16 an error below a few mrad squares to 0 (two such modes
+/// are equal, and the prediction decides).
 ///
 /// The state and the reason are readable ([`Supervised::status`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
