@@ -60,7 +60,8 @@ class Model:
         theta-adaptive observer when `adaptive` is a dict of its parameters,
         or the per-parameter adaptive observer under its supervisor when
         `parameter_adaptive` is True or a dict of its settings, among them
-        `exact_step`, True for the exact step `friction servo` takes; a
+        `exact_step`, True for the exact step `friction servo` takes, and
+        `stiffness_rate` (1/s, 0: off) for the stiffness law; a
         `supervisor` dict sets the supervisor, False turns it off)."""
 
 class Observer:
@@ -85,8 +86,8 @@ class Compensator:
         """One tick per recorded sample (open loop): (commands, frictions)."""
     def adapted(self) -> dict[str, float]:
         """The adapted quantities after the last tick (`theta` when adaptive;
-        `fc_pos`, `fc_neg`, `stribeck`, `sigma2`, `load` and, supervised,
-        the `mode` code for the per-parameter law)."""
+        `fc_pos`, `fc_neg`, `stribeck`, `sigma2`, `load`, the `stiffness`
+        factor and, supervised, the `mode` code for the per-parameter law)."""
     @property
     def mode(self) -> Optional[str]:
         """The supervisor's mode after the last tick: "primary", "fallback"

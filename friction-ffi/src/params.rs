@@ -462,8 +462,11 @@ impl From<&friction_parameter_adaptive_params> for ParameterAdaptiveParams {
             speed: p.speed,
             load: p.load,
             load_max: p.load_max,
-            // the fixed-step form the C servo runs has no prediction law
+            // the fixed-step form the C servo runs has neither the
+            // prediction law nor the stiffness law
             prediction_rate: 0.0,
+            stiffness_rate: 0.0,
+            stiffness_box: 10.0,
             exact_step: p.exact_step != 0,
         }
     }

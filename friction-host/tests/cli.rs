@@ -797,6 +797,14 @@ fn servo_bad_key_or_value_exits_2_naming_it() {
             "`amplitude` must be a number >= 0 and at most 1e12",
         ),
         ("adaptation_rate = 1e300", "`adaptation_rate`"),
+        (
+            "stiffness_rate = -1",
+            "`stiffness_rate` must be a number >= 0",
+        ),
+        (
+            "stiffness_rate = 1001",
+            "`stiffness_rate` must be at most the controller rate",
+        ),
     ] {
         let p = servo_params(dir.path(), servo);
         let out = friction(&[

@@ -372,7 +372,7 @@ fn parameter_params(
     table: &[(String, f64)],
 ) -> PyResult<ParameterAdaptiveParams> {
     const KEYS: &str = "rate, derivative_weight, leakage, box_factor, dead_zone, min_speed, \
-                        speed, load, load_max, exact_step";
+                        speed, load, load_max, stiffness_rate, stiffness_box, exact_step";
     let mut p = ParameterAdaptiveParams::new(model, gain);
     for (key, x) in table {
         if key == "exact_step" {
@@ -398,6 +398,8 @@ fn parameter_params(
             "speed" => &mut p.speed,
             "load" => &mut p.load,
             "load_max" => &mut p.load_max,
+            "stiffness_rate" => &mut p.stiffness_rate,
+            "stiffness_box" => &mut p.stiffness_box,
             _ => {
                 return Err(PyTypeError::new_err(format!(
                     "parameter_adaptive: unknown key {key:?} (one of {KEYS})"
@@ -440,19 +442,29 @@ fn supervisor_params(table: &[(String, f64)], fc: f64) -> PyResult<SupervisorPar
     Ok(p)
 }
 
-/// The per-parameter law's estimates without a supervisor (the host's
-/// names less `mode`).
-const ESTIMATE_NAMES: [&str; 5] = ["fc_pos", "fc_neg", "stribeck", "sigma2", "load"];
+/// The per-parameter law's estimates and its stiffness factor, without a
+/// supervisor (the host's names less `mode`).
+const ESTIMATE_NAMES: [&str; 6] = [
+    "fc_pos",
+    "fc_neg",
+    "stribeck",
+    "sigma2",
+    "load",
+    "stiffness",
+];
 
-/// The estimates of a per-parameter state: the nominal values before its
-/// first tick (a `Default` state reads 0 until then).
+/// The estimates of a per-parameter state, then its stiffness factor: the
+/// nominal values (and 1) before its first tick (a `Default` state reads 0
+/// until then).
 fn estimates(law: &ParameterAdaptive<f64>, s: &ParameterAdaptiveState<f64>) -> Vec<f64> {
     let s = if *s == ParameterAdaptiveState::default() {
         law.initial()
     } else {
         *s
     };
-    s.estimates().to_vec()
+    let mut v = s.estimates().to_vec();
+    v.push(s.stiffness());
+    v
 }
 
 /// [`estimates`], then the supervisor's mode code.

@@ -185,7 +185,8 @@ def test_parameter_adaptive_compensator_and_its_supervisor():
     c = m.compensator(parameter_adaptive={"rate": 16.0, "speed": 0.63}, **loop)
     assert c.mode == "primary"
     a = c.adapted()
-    assert set(a) == {"fc_pos", "fc_neg", "stribeck", "sigma2", "load", "mode"}
+    assert set(a) == {"fc_pos", "fc_neg", "stribeck", "sigma2", "load", "stiffness", "mode"}
+    assert a["stiffness"] == 1.0
     assert a["fc_pos"] == a["fc_neg"] == pytest.approx(0.28, rel=1e-9)
     assert a["mode"] == 0.0
     e, modes = closed_loop(c, 20, asymmetry=0.2)
@@ -219,6 +220,18 @@ def test_parameter_adaptive_compensator_and_its_supervisor():
     assert np.max(np.abs(e_exact - e_implicit)) > 0.0
     with pytest.raises(ValueError, match="exact_step"):
         m.compensator(parameter_adaptive={"exact_step": 2}, **loop)
+    # the stiffness law (its learning is the core's test): a setting whose
+    # factor is read and stays in its box; off, it stays 1; a bad rate or
+    # box is named
+    k = m.compensator(parameter_adaptive={"exact_step": True, "stiffness_rate": 100.0,
+                                          "stiffness_box": 4.0, "speed": 0.63}, **loop)
+    closed_loop(k, 10)
+    assert 0.25 <= k.adapted()["stiffness"] <= 4.0
+    assert exact.adapted()["stiffness"] == 1.0
+    with pytest.raises(ValueError, match="stiffness_box"):
+        m.compensator(parameter_adaptive={"stiffness_box": 0.5}, **loop)
+    with pytest.raises(ValueError, match="stiffness_rate"):
+        m.compensator(parameter_adaptive={"stiffness_rate": -1.0}, **loop)
     with pytest.raises(ValueError, match="ratio"):
         m.compensator(parameter_adaptive=True, supervisor={"ratio": 2.0}, **loop)
     with pytest.raises(ValueError, match="two laws"):

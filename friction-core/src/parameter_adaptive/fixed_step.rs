@@ -155,8 +155,8 @@ impl ParameterAdaptiveParams {
     /// Besides [`build`](Self::build)'s checks, rejects what the scalar
     /// cannot carry: the largest force the boxes allow at the velocity
     /// limit (times 4, for sums), each scaled gain and box; a
-    /// `prediction_rate` other than 0 (the prediction-error law is the
-    /// variable form's) and `exact_step` (the step is the type's: see
+    /// `prediction_rate` or `stiffness_rate` other than 0 (the laws that
+    /// learn from measured friction are the variable form's) and `exact_step` (the step is the type's: see
     /// [`build_fixed_step_exact`](Self::build_fixed_step_exact)).
     ///
     /// ```
@@ -223,6 +223,13 @@ impl ParameterAdaptiveParams {
         if self.prediction_rate != 0.0 {
             return Err(ParamError::NotBelow {
                 name: "prediction_rate",
+                limit: "0 in the fixed-step form",
+            });
+        }
+        // so is the stiffness law, which learns from the same samples
+        if self.stiffness_rate != 0.0 {
+            return Err(ParamError::NotBelow {
+                name: "stiffness_rate",
                 limit: "0 in the fixed-step form",
             });
         }

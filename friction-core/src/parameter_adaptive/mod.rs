@@ -65,6 +65,14 @@ pub struct ParameterAdaptiveParams {
     /// learns from the friction the compensator measures (see
     /// [`ParameterAdaptive`]); `prediction_rate h <= 1`.
     pub prediction_rate: f64,
+    /// Rate `>= 0` (1/s) of the stiffness law (0: off), which learns a
+    /// factor on `sigma0` from the friction the compensator measures while
+    /// the bristle crosses over after a reversal (see [`ParameterAdaptive`]);
+    /// `stiffness_rate h <= 1`.
+    pub stiffness_rate: f64,
+    /// Box factor `>= 1` of the stiffness factor: within
+    /// `[1 / stiffness_box, stiffness_box]`.
+    pub stiffness_box: f64,
     /// The bristle's step (see [`ParameterAdaptive`]): `false`, an implicit
     /// Euler step within the sliding level `g^(v) / sigma0`; `true`,
     /// LuGre's own exact step within the level at rest of the side the
@@ -79,8 +87,8 @@ pub struct ParameterAdaptiveParams {
 impl ParameterAdaptiveParams {
     /// Defaults around `model` with observer gain `k`: rate 4 1/s, `w = 1`,
     /// no leakage, box factor 5, no dead zone, no speed threshold,
-    /// reference speed 1, no load term, no prediction-error law, the
-    /// implicit step.
+    /// reference speed 1, no load term, no prediction-error law, no
+    /// stiffness law (its box 10), the implicit step.
     pub const fn new(model: LuGreParams, observer_gain: f64) -> Self {
         Self {
             model,
@@ -95,6 +103,8 @@ impl ParameterAdaptiveParams {
             load: 0.0,
             load_max: 0.0,
             prediction_rate: 0.0,
+            stiffness_rate: 0.0,
+            stiffness_box: 10.0,
             exact_step: false,
         }
     }
@@ -116,6 +126,11 @@ impl ParameterAdaptiveParams {
         non_negative("load", self.load)?;
         non_negative("load_max", self.load_max)?;
         non_negative("prediction_rate", self.prediction_rate)?;
+        non_negative("stiffness_rate", self.stiffness_rate)?;
+        positive("stiffness_box", self.stiffness_box)?;
+        if self.stiffness_box < 1.0 {
+            return Err(ParamError::BelowOne("stiffness_box"));
+        }
         if self.load > self.load_max {
             return Err(ParamError::NotBelow {
                 name: "load",
@@ -180,6 +195,12 @@ impl ParameterAdaptiveParams {
                 limit: "1 / h",
             });
         }
+        if self.stiffness_rate * h > 1.0 {
+            return Err(ParamError::NotBelow {
+                name: "stiffness_rate",
+                limit: "1 / h",
+            });
+        }
         let zero = Estimate {
             gamma_h: S::ZERO,
             gamma_p: S::ZERO,
@@ -231,6 +252,9 @@ impl ParameterAdaptiveParams {
             torque_limit: convert("limit", 4.0 * servo.torque_constant * servo.limit)?,
             signal_limit: S::from_f64(SIGNAL_LIMIT),
             centre: convert("speed", 0.5 * self.speed)?,
+            stiffness_gain: convert_or_zero("stiffness_rate", self.stiffness_rate * h)?,
+            stiffness_low: convert("stiffness_box", 1.0 / self.stiffness_box)?,
+            stiffness_high: convert("stiffness_box", self.stiffness_box)?,
             params: *self,
             period: h,
         })

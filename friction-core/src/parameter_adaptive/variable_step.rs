@@ -26,6 +26,25 @@ pub struct ParameterAdaptiveState<S> {
     external: S,
     started: Flag,
     primed: Flag,
+    /// The stiffness law's state.
+    stiffness: StiffnessState<S>,
+}
+
+/// The stiffness law's state: the factor on `sigma0`, the last two
+/// outputs (the friction the samples are compared with), the normalized
+/// bristle, and the measured and predicted friction at the last reversal.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+struct StiffnessState<S> {
+    factor: S,
+    outputs: [S; 2],
+    zeta: S,
+    measured: S,
+    predicted: S,
+    /// The last sample's measured and predicted friction.
+    last: [S; 2],
+    direction: S,
+    crossing: Flag,
 }
 
 impl<S: Scalar> ParameterAdaptiveState<S> {
@@ -34,6 +53,12 @@ impl<S: Scalar> ParameterAdaptiveState<S> {
     /// ([`ParameterAdaptive::initial`] starts there).
     pub fn estimates(&self) -> [S; PARAMETER_ADAPTIVE_ESTIMATES] {
         self.estimates
+    }
+
+    /// The stiffness factor `κ^` on `sigma0` (1 until the stiffness law
+    /// moves it; 0 in a `Default` state before its first step).
+    pub fn stiffness(&self) -> S {
+        self.stiffness.factor
     }
 }
 
@@ -110,6 +135,15 @@ pub(super) struct Estimate<S> {
 /// is not in the loop: beside another controller, or on a logged run
 /// replayed through [`Compensator::listen`](crate::Compensator::listen).
 ///
+/// A third law, off by default
+/// ([`stiffness_rate`](super::ParameterAdaptiveParams::stiffness_rate)),
+/// learns a factor `κ^` on the bristle's stiffness `sigma0` from the same
+/// samples: the rise of the measured friction after each reversal against
+/// the rise of `F^`. The levels cannot stand in for a wrong stiffness, and
+/// the tracking error cannot tell the two apart (an error left from the
+/// sliding phase is still there at the next reversal); the measured
+/// friction's rise over one crossing can. It is the variable form's only.
+///
 /// Robust modifications, all optional:
 /// - **dead zone**: no adaptation while `|e|` is within `dead_zone` (one or
 ///   two encoder counts: a quantized error that small carries no
@@ -153,6 +187,10 @@ pub struct ParameterAdaptive<S> {
     pub(super) signal_limit: S,
     /// Half the reference speed: the prediction law's centre.
     pub(super) centre: S,
+    /// `stiffness_rate h` (0: no stiffness law).
+    pub(super) stiffness_gain: S,
+    pub(super) stiffness_low: S,
+    pub(super) stiffness_high: S,
     pub(super) params: ParameterAdaptiveParams,
     pub(super) period: f64,
 }
@@ -168,6 +206,10 @@ impl<S: Scalar> ParameterAdaptive<S> {
         ParameterAdaptiveState {
             estimates: self.per.map(|k| k.nominal),
             started: Flag::new(true),
+            stiffness: StiffnessState {
+                factor: S::ONE,
+                ..Default::default()
+            },
             ..Default::default()
         }
     }
@@ -178,6 +220,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
     fn start(&self, state: &mut ParameterAdaptiveState<S>) {
         if !state.started.get() {
             state.estimates = self.per.map(|k| k.nominal);
+            state.stiffness.factor = S::ONE;
             state.started = Flag::new(true);
         }
     }
@@ -204,6 +247,12 @@ impl<S: Scalar> ParameterAdaptive<S> {
         if torque.is_finite() {
             state.external = torque.sat(self.torque_limit);
         }
+    }
+
+    /// The bristle's stiffness `κ^ sigma0`.
+    #[inline]
+    fn sigma0_of(&self, state: &ParameterAdaptiveState<S>) -> S {
+        self.sigma0 * state.stiffness.factor
     }
 
     /// `s(v) = exp(-|v / vs|^delta)`, in `[0, 1]`.
@@ -239,18 +288,20 @@ impl<S: Scalar> ParameterAdaptive<S> {
         let s = self.shape(v);
         let g = self.level(state, s);
         let drive = (v - (self.observer_gain * e).sat(S::VELOCITY_LIMIT)).sat(S::VELOCITY_LIMIT);
+        let sigma0 = self.sigma0_of(state);
         let (z, z_dot, zeta) = if self.exact_step.get() {
             let (z, z_dot) = self.bristle(state, v, drive, g);
-            (z, z_dot, (self.sigma0 * z / g).min(S::ONE).max(-S::ONE))
+            (z, z_dot, (sigma0 * z / g).min(S::ONE).max(-S::ONE))
         } else {
             // implicit Euler: z' = (z + h (v - k e)) / (1 + sigma0 h |v| / g)
-            let z = (state.z + self.h * drive) / (S::ONE + self.sigma0_h * v.abs() / g);
-            let zeta = (self.sigma0 * z / g).min(S::ONE).max(-S::ONE);
+            let sigma0_h = self.sigma0_h * state.stiffness.factor;
+            let z = (state.z + self.h * drive) / (S::ONE + sigma0_h * v.abs() / g);
+            let zeta = (sigma0 * z / g).min(S::ONE).max(-S::ONE);
             // the damping term carries the correction -k e, as Canudas de
             // Wit's observer does: without it the loops with a stiff sigma1
             // lost the damping sigma1 k e gives and did up to 9x worse than none
             let z_dot = (z - state.z) * self.inv_h;
-            (zeta * g / self.sigma0, z_dot, zeta)
+            (zeta * g / sigma0, z_dot, zeta)
         };
         state.z = z;
         // adaptation
@@ -275,7 +326,11 @@ impl<S: Scalar> ParameterAdaptive<S> {
             }
             *x = next.max(k.low).min(k.high);
         }
-        self.force(state, v, z_dot)
+        let force = self.force(state, v, z_dot);
+        let st = &mut state.stiffness;
+        st.zeta = zeta;
+        st.outputs = [force, st.outputs[0]];
+        force
     }
 
     /// The exact step ([`ParameterAdaptiveParams::exact_step`]): LuGre's
@@ -294,13 +349,14 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// plants.
     #[inline]
     fn bristle(&self, state: &ParameterAdaptiveState<S>, v: S, drive: S, g: S) -> (S, S) {
-        let r = g / self.sigma0; // > 0: g is at least the boxes' smallest level
+        let sigma0 = self.sigma0_of(state);
+        let r = g / sigma0; // > 0: g is at least the boxes' smallest level
         let speed = v.abs();
         let a = speed / r;
         let x = a * self.h;
         let z0 = state.z;
         // the level at rest of the side the bristle starts on
-        let start = self.level(state, S::ONE) / self.sigma0;
+        let start = self.level(state, S::ONE) / sigma0;
         let free = if x > S::ONE {
             // the equilibrium u / a, formed without a; beyond the bound
             // only with a correction
@@ -314,7 +370,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
         // within the level at rest of the side the bristle ends on (where
         // the levels differ by direction, the side it started on would let
         // it past its own level by their difference for a tick)
-        let bound = self.level_on(state, free >= S::ZERO, S::ONE) / self.sigma0;
+        let bound = self.level_on(state, free >= S::ZERO, S::ONE) / sigma0;
         let z = free.sat(bound);
         // z / r is within the levels' ratio, which the boxes may make
         // large: bounded, so that the product stays a number in f32
@@ -377,17 +433,21 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// direction. A no-op when the rate is 0, for a sample slower
     /// than `min_speed` (at rest the measured force is whatever holds the
     /// load, not the curve: set `min_speed` above the speeds of reversals)
-    /// or a non-finite one. The [`Compensator`](crate::Compensator)
+    /// or a non-finite one. A finite sample also feeds the stiffness law
+    /// (see [`ParameterAdaptive`]; a no-op at `stiffness_rate` 0). The
+    /// [`Compensator`](crate::Compensator)
     /// calls it through [`Compensation::learn`], in a tick or while it
     /// listens ([`Compensator::listen`](crate::Compensator::listen)), where
     /// the tracking error is another controller's and only this law can learn.
     pub fn learn(&self, state: &mut ParameterAdaptiveState<S>, sample: FrictionSample<S>) {
-        if self.per.iter().all(|k| k.gamma_p == S::ZERO)
-            || !(sample.force.is_finite() && sample.v.is_finite())
-        {
+        if !(sample.force.is_finite() && sample.v.is_finite()) {
             return;
         }
         self.start(state);
+        self.learn_stiffness(state, sample);
+        if self.per.iter().all(|k| k.gamma_p == S::ZERO) {
+            return;
+        }
         let v = sample.v.sat(S::VELOCITY_LIMIT);
         if v.abs() < self.min_speed {
             return;
@@ -425,13 +485,92 @@ impl<S: Scalar> ParameterAdaptive<S> {
         }
     }
 
+    /// The stiffness law: the factor `κ^` on `sigma0` from the rise of the
+    /// measured friction after a reversal against the rise of the estimate,
+    ///
+    /// ```text
+    /// d    = sign v; at a change of d: F0, F0^ = the last sample's force and F^
+    /// u    = ζ d, in [-1, 1]: about -1 at the reversal, 1 once the bristle slides
+    /// ε    = (force - F0) - (F^ - F0^)             F^: the mean of the last two outputs
+    /// ψ    = 0.74 (1 - u^2) (g - sigma1 |v|) / g    the rise's sensitivity to ln κ, over g
+    /// κ^  <- clamp(κ^ (1 + clamp(γκ ε d ψ / g, ±0.1)), [1 / box, box]);  z <- z κ_old / κ^
+    /// ```
+    ///
+    /// with `γκ` the stiffness rate times `h`. LuGre's elastic force after
+    /// a reversal from `-g` rises as `g - 2 g exp(-κ sigma0 x / g)` over the
+    /// travel `x`: its sensitivity to `ln κ` is `g (1 - u) ln(2 / (1 - u))`,
+    /// 0 at both ends, whose peak `0.74 g (1 - u^2)` matches; the damping
+    /// term `sigma1 dz/dt = sigma1 v (1 - u)` takes `sigma1 |v|` from it.
+    ///
+    /// The law runs once per reversal, from the reversal until the bristle
+    /// slides (`u > 0.98`), and only from a bristle deflected the other way
+    /// (`u < -0.5` at the reversal): a stick without a reversal, or a
+    /// wobble within the presliding, starts none. Samples where the damping
+    /// term outweighs the elastic one (`sigma1 |v| > g`: the sensitivity
+    /// changes sign) do not move `κ^`. The references are the last sample
+    /// before the reversal (a friction that flips at once has already
+    /// risen in the first one after it). Differences from them cancel what
+    /// the friction sample carries besides friction and holds over a
+    /// crossing (gravity, an offset of the force). `z` is rescaled so that
+    /// the elastic force does not jump. A no-op at rate 0.
+    fn learn_stiffness(&self, state: &mut ParameterAdaptiveState<S>, sample: FrictionSample<S>) {
+        if self.stiffness_gain == S::ZERO {
+            return;
+        }
+        let lim = self.signal_limit;
+        let v = sample.v.sat(S::VELOCITY_LIMIT);
+        let force = sample.force.sat(lim);
+        let g = self.level(state, S::ONE);
+        let damped = (g - (self.sigma1 * v.abs()).sat(lim)) / g;
+        let st = &mut state.stiffness;
+        let direction = if v > S::ZERO {
+            S::ONE
+        } else if v < S::ZERO {
+            -S::ONE
+        } else {
+            return;
+        };
+        let predicted = S::from_f64(0.5) * (st.outputs[0] + st.outputs[1]);
+        let [last_force, last_predicted] = st.last;
+        st.last = [force, predicted];
+        if direction != st.direction {
+            // the references: the friction before the reversal (a plant
+            // whose friction flips at once has already risen in the first
+            // sample of the new direction)
+            st.direction = direction;
+            st.measured = last_force;
+            st.predicted = last_predicted;
+            // a crossing starts from a bristle deflected the other way (at
+            // least half its sliding level: not a stick-slip wobble)
+            st.crossing = Flag::new(st.zeta * direction < -S::from_f64(REVERSED));
+            return;
+        }
+        let u = st.zeta * direction;
+        if u > S::from_f64(CROSSED) {
+            st.crossing = Flag::new(false);
+        }
+        if !st.crossing.get() || damped < S::ZERO {
+            return;
+        }
+        let error = ((force - st.measured).sat(lim) - (predicted - st.predicted).sat(lim)).sat(lim);
+        let psi = S::from_f64(SENSITIVITY_PEAK) * (S::ONE - u * u) * damped;
+        let step = ((self.stiffness_gain * error).sat(lim) * direction * psi / g)
+            .sat(S::from_f64(STIFFNESS_STEP));
+        let old = st.factor;
+        let factor = (old + old * step)
+            .max(self.stiffness_low)
+            .min(self.stiffness_high);
+        st.factor = factor;
+        state.z = state.z * old / factor;
+    }
+
     /// `F^ = sigma0 z + mu^ |τ| ζ + sigma1 dz/dt + sigma2^ v` from the
     /// state and the step's `dz/dt` (0 when holding).
     #[inline]
     fn force(&self, state: &ParameterAdaptiveState<S>, v: S, z_dot: S) -> S {
         let cap = self.per[0].high.max(self.per[1].high) + self.per[2].high;
         let damping = (self.sigma1 * z_dot).sat(cap);
-        self.sigma0 * state.z + damping + state.estimates[3] * v
+        self.sigma0_of(state) * state.z + damping + state.estimates[3] * v
     }
 }
 
@@ -456,16 +595,22 @@ impl<S: Scalar> Compensation<S> for ParameterAdaptive<S> {
     }
 
     /// The estimates restart at this law's nominal values (the new model is
-    /// the new nominal); the elastic force `sigma0 z` is kept (`z = z_old
-    /// sigma0_old / sigma0`) within the nominal `max(Fc+, Fc-) + Ds + mu
-    /// |τ|`; the last error and the torques are kept (within this law's
-    /// torque limit).
+    /// the new nominal), the stiffness factor at 1; the elastic force
+    /// `κ sigma0 z` is kept (`z = z_old κ_old sigma0_old / sigma0`) within
+    /// the nominal `max(Fc+, Fc-) + Ds + mu |τ|`; the last error and the
+    /// torques are kept (within this law's torque limit).
     fn carry_over(&self, old: &Self, state: &mut Self::State) {
         let torque = state.torque.sat(self.torque_limit);
         let fresh = self.initial();
         let [fc_pos, fc_neg, excess, _, load] = fresh.estimates;
         let level = fc_pos.max(fc_neg) + excess + load * torque.abs();
-        let ratio = old.sigma0.to_f64() / self.sigma0.to_f64();
+        // the old law's stiffness factor is part of its elastic force
+        let factor = if state.started.get() {
+            state.stiffness.factor.to_f64()
+        } else {
+            1.0
+        };
+        let ratio = old.sigma0.to_f64() * factor / self.sigma0.to_f64();
         *state = ParameterAdaptiveState {
             z: carried(state.z, ratio, level / self.sigma0),
             torque,
@@ -476,3 +621,17 @@ impl<S: Scalar> Compensation<S> for ParameterAdaptive<S> {
         };
     }
 }
+
+/// The stiffness law stops once `ζ sign v` passes it: the bristle slides.
+const CROSSED: f64 = 0.98;
+
+/// A crossing starts only where `ζ sign v` is below `-REVERSED` at the
+/// reversal.
+const REVERSED: f64 = 0.5;
+
+/// `0.74`: the peak of `(1 - u) ln(2 / (1 - u))` is `2 / e`, which
+/// `0.74 (1 - u^2)` matches at its own peak.
+const SENSITIVITY_PEAK: f64 = 0.74;
+
+/// The largest relative change of the stiffness factor in one sample.
+const STIFFNESS_STEP: f64 = 0.1;

@@ -79,6 +79,9 @@ pub struct ServoTable {
     pub adaptation_box: Option<f64>,
     /// Adaptation rate `a` (1/s) of the per-parameter law.
     pub parameter_rate: Option<f64>,
+    /// Rate (1/s) of the per-parameter law's stiffness estimate (0: off,
+    /// the default; at most `rate`).
+    pub stiffness_rate: Option<f64>,
     /// Dead zone (rad) of the per-parameter adaptation (default: one
     /// encoder count; 0 with an ideal encoder).
     pub dead_zone: Option<f64>,
@@ -166,6 +169,8 @@ pub struct ServoConfig {
     pub adaptation_box: f64,
     /// `parameter_rate` (1/s).
     pub parameter_rate: f64,
+    /// `stiffness_rate` (1/s).
+    pub stiffness_rate: f64,
     /// `dead_zone` (rad).
     pub dead_zone: f64,
     /// `load_max`.
@@ -218,6 +223,7 @@ impl Default for ServoConfig {
             supervisor_window: 0.1,
             adaptation_box: 5.0,
             parameter_rate: DEFAULT_PARAMETER_RATE,
+            stiffness_rate: 0.0,
             dead_zone: 0.0,
             load_max: 0.0,
             adaptation_load: 0.0,
@@ -376,6 +382,7 @@ impl ServoTable {
             supervisor_window: self.supervisor_window.unwrap_or(d.supervisor_window),
             adaptation_box: self.adaptation_box.unwrap_or(d.adaptation_box),
             parameter_rate: self.parameter_rate.unwrap_or(d.parameter_rate),
+            stiffness_rate: self.stiffness_rate.unwrap_or(d.stiffness_rate),
             dead_zone: 0.0,
             load_max: self.load_max.unwrap_or(match self.gravity {
                 Some([torque, _]) if torque != 0.0 => LOADED_AXIS_LOAD_MAX,
@@ -433,6 +440,7 @@ impl ServoTable {
             ("supervisor_window", c.supervisor_window, true),
             ("adaptation_box", c.adaptation_box, true),
             ("parameter_rate", c.parameter_rate, false),
+            ("stiffness_rate", c.stiffness_rate, false),
             ("load_max", c.load_max, false),
             ("adaptation_load", c.adaptation_load, false),
             ("presliding", c.presliding, true),
@@ -494,6 +502,13 @@ impl ServoTable {
                     c.velocity_observer,
                 ));
             }
+        }
+        if c.stiffness_rate > c.rate {
+            return Err(invalid(
+                "stiffness_rate",
+                "at most the controller rate (a step of at most the whole error per sample)",
+                c.stiffness_rate,
+            ));
         }
         // θ starts at 1, the nominal model
         crate::checks::theta_bounds(c.theta_min, c.theta_max, 1.0, false)

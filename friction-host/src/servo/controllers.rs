@@ -118,6 +118,7 @@ pub fn parameter_adaptation(cfg: &ServoConfig, model: LuGreParams) -> ParameterA
     ParameterAdaptiveParams {
         exact_step: true,
         rate: cfg.parameter_rate,
+        stiffness_rate: cfg.stiffness_rate,
         derivative_weight: cfg.adaptation_derivative,
         leakage: cfg.adaptation_leakage,
         box_factor: cfg.adaptation_box,
@@ -130,7 +131,15 @@ pub fn parameter_adaptation(cfg: &ServoConfig, model: LuGreParams) -> ParameterA
 }
 
 /// The names of the per-parameter rows' adapted quantities.
-pub const PARAMETER_NAMES: [&str; 6] = ["fc_pos", "fc_neg", "stribeck", "sigma2", "load", "mode"];
+pub const PARAMETER_NAMES: [&str; 7] = [
+    "fc_pos",
+    "fc_neg",
+    "stribeck",
+    "sigma2",
+    "load",
+    "stiffness",
+    "mode",
+];
 
 /// The least-squares feed-forward of the `rls` row.
 pub fn least_squares(cfg: &ServoConfig) -> RlsParams {
@@ -235,6 +244,7 @@ fn parameter_controller(
 /// The estimates of a per-parameter state and the supervisor's mode.
 fn with_mode(s: &ParameterAdaptiveState<f64>, mode: f64) -> Vec<f64> {
     let mut v = s.estimates().to_vec();
+    v.push(s.stiffness());
     v.push(mode);
     v
 }

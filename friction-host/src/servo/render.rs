@@ -80,9 +80,10 @@ impl ServoBenchmark {
         }
         let _ = write!(
             s,
-            "; adaptive rows: per-parameter law at {} 1/s (dead zone {} rad), θ law rows `adaptive-theta`{}",
+            "; adaptive rows: per-parameter law at {} 1/s (dead zone {} rad, stiffness law at {} 1/s), θ law rows `adaptive-theta`{}",
             c.parameter_rate,
             c.dead_zone,
+            c.stiffness_rate,
             if c.supervisor {
                 ", each supervised (fallback: the static row of its scale)"
             } else {
