@@ -70,8 +70,8 @@ pub struct ParameterAdaptiveParams {
     /// the bristle crosses over after a reversal (see [`ParameterAdaptive`]);
     /// `stiffness_rate h <= 1`.
     pub stiffness_rate: f64,
-    /// Box factor `>= 1` of the stiffness factor: within
-    /// `[1 / stiffness_box, stiffness_box]`.
+    /// Box factor of the stiffness factor, within `[1, 1000]`: the factor
+    /// stays within `[1 / stiffness_box, stiffness_box]`.
     pub stiffness_box: f64,
     /// The bristle's step (see [`ParameterAdaptive`]): `false`, an implicit
     /// Euler step within the sliding level `g^(v) / sigma0`; `true`,
@@ -130,6 +130,12 @@ impl ParameterAdaptiveParams {
         positive("stiffness_box", self.stiffness_box)?;
         if self.stiffness_box < 1.0 {
             return Err(ParamError::BelowOne("stiffness_box"));
+        }
+        if self.stiffness_box > STIFFNESS_BOX_MAX {
+            return Err(ParamError::NotBelow {
+                name: "stiffness_box",
+                limit: "1000",
+            });
         }
         if self.load > self.load_max {
             return Err(ParamError::NotBelow {
@@ -201,6 +207,26 @@ impl ParameterAdaptiveParams {
                 limit: "1 / h",
             });
         }
+        // the stiffest and softest bristle the law may reach must be
+        // numbers in the scalar (the variable form divides by them)
+        let (stiffness_low, stiffness_high) = if self.stiffness_rate > 0.0 {
+            let b = self.stiffness_box;
+            convert_derived::<S>("stiffness_box", self.model.sigma0 * b)?;
+            convert_derived::<S>("stiffness_box", self.model.sigma0 * h * b)?;
+            convert_derived::<S>("stiffness_box", self.model.sigma0 / b)?;
+            if self.exact_step {
+                convert_derived::<S>(
+                    "stiffness_box",
+                    boxes[0].0.min(boxes[1].0) / (self.model.sigma0 * b),
+                )?;
+            }
+            (
+                convert("stiffness_box", 1.0 / b)?,
+                convert("stiffness_box", b)?,
+            )
+        } else {
+            (S::ONE, S::ONE)
+        };
         let zero = Estimate {
             gamma_h: S::ZERO,
             gamma_p: S::ZERO,
@@ -253,8 +279,8 @@ impl ParameterAdaptiveParams {
             signal_limit: S::from_f64(SIGNAL_LIMIT),
             centre: convert("speed", 0.5 * self.speed)?,
             stiffness_gain: convert_or_zero("stiffness_rate", self.stiffness_rate * h)?,
-            stiffness_low: convert("stiffness_box", 1.0 / self.stiffness_box)?,
-            stiffness_high: convert("stiffness_box", self.stiffness_box)?,
+            stiffness_low,
+            stiffness_high,
             params: *self,
             period: h,
         })
@@ -269,6 +295,10 @@ fn convert_or_zero<S: Scalar>(name: &'static str, x: f64) -> Result<S, ParamErro
         convert(name, x)
     }
 }
+
+/// The largest `stiffness_box`: a bristle 1000x stiffer or softer than
+/// the model's is no model of it.
+const STIFFNESS_BOX_MAX: f64 = 1e3;
 
 /// `sqrt(10)`: the viscous estimate's gain is a tenth of the levels'
 /// (relative to its regressor's size).

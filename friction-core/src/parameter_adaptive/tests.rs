@@ -77,6 +77,16 @@ fn invalid_settings_are_named() {
         },
         ParamError::BelowOne("stiffness_box"),
     );
+    bad(
+        ParameterAdaptiveParams {
+            stiffness_box: 1e30,
+            ..p
+        },
+        ParamError::NotBelow {
+            name: "stiffness_box",
+            limit: "1000",
+        },
+    );
     // a step of more than the whole error per sample (h = 1 ms)
     bad(
         ParameterAdaptiveParams {
@@ -280,11 +290,17 @@ fn the_prediction_law_learns_by_listening_to_another_loop() {
 
 #[test]
 fn hostile_samples_keep_every_estimate_in_its_box() {
+    for exact_step in [false, true] {
+        hostile_samples_with(exact_step);
+    }
+}
+
+fn hostile_samples_with(exact_step: bool) {
     let p = ParameterAdaptiveParams {
         load_max: 0.3,
         prediction_rate: 100.0,
         stiffness_rate: 1000.0,
-        exact_step: true,
+        exact_step,
         ..ParameterAdaptiveParams::new(LuGreParams::OLSSON_1998, 20.0)
     };
     let boxes = p.boxes();

@@ -136,7 +136,8 @@ pub(super) struct Estimate<S> {
 /// replayed through [`Compensator::listen`](crate::Compensator::listen).
 ///
 /// A third law, off by default
-/// ([`stiffness_rate`](super::ParameterAdaptiveParams::stiffness_rate)),
+/// ([`stiffness_rate`](super::ParameterAdaptiveParams::stiffness_rate);
+/// `sigma0` above then reads `κ^ sigma0`, with `κ^` in its box),
 /// learns a factor `κ^` on the bristle's stiffness `sigma0` from the same
 /// samples: the rise of the measured friction after each reversal against
 /// the rise of `F^`. The levels cannot stand in for a wrong stiffness, and
@@ -523,6 +524,9 @@ impl<S: Scalar> ParameterAdaptive<S> {
         let g = self.level(state, S::ONE);
         let damped = (g - (self.sigma1 * v.abs()).sat(lim)) / g;
         let st = &mut state.stiffness;
+        let predicted = S::from_f64(0.5) * (st.outputs[0] + st.outputs[1]);
+        let [last_force, last_predicted] = st.last;
+        st.last = [force, predicted];
         let direction = if v > S::ZERO {
             S::ONE
         } else if v < S::ZERO {
@@ -530,9 +534,6 @@ impl<S: Scalar> ParameterAdaptive<S> {
         } else {
             return;
         };
-        let predicted = S::from_f64(0.5) * (st.outputs[0] + st.outputs[1]);
-        let [last_force, last_predicted] = st.last;
-        st.last = [force, predicted];
         if direction != st.direction {
             // the references: the friction before the reversal (a plant
             // whose friction flips at once has already risen in the first
