@@ -443,15 +443,11 @@ fn supervisor_params(table: &[(String, f64)], fc: f64) -> PyResult<SupervisorPar
 }
 
 /// The per-parameter law's estimates and its stiffness factor, without a
-/// supervisor (the host's names less `mode`).
-const ESTIMATE_NAMES: [&str; 6] = [
-    "fc_pos",
-    "fc_neg",
-    "stribeck",
-    "sigma2",
-    "load",
-    "stiffness",
-];
+/// supervisor: the host's names less the last, `mode`.
+const ESTIMATE_NAMES: &[&str] = match friction_host::servo::PARAMETER_NAMES.split_last() {
+    Some((_, estimates)) => estimates,
+    None => &[],
+};
 
 /// The estimates of a per-parameter state, then its stiffness factor: the
 /// nominal values (and 1) before its first tick (a `Default` state reads 0
@@ -548,7 +544,7 @@ impl Model {
         let value = |e: friction_core::ParamError| PyValueError::new_err(e.to_string());
         let law = p.build::<f64>(&setup.params).map_err(value)?;
         let built = match supervisor {
-            Some(None) => controller_reading(setup, law, &ESTIMATE_NAMES, estimates),
+            Some(None) => controller_reading(setup, law, ESTIMATE_NAMES, estimates),
             Some(Some(table)) => self.supervised(setup, law, &table)?,
             None => self.supervised(setup, law, &[])?,
         };

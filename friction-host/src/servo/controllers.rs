@@ -130,7 +130,9 @@ pub fn parameter_adaptation(cfg: &ServoConfig, model: LuGreParams) -> ParameterA
     }
 }
 
-/// The names of the per-parameter rows' adapted quantities.
+/// The names of the per-parameter rows' adapted quantities: the
+/// estimates, the stiffness factor, then `mode` (last: Python reads the
+/// unsupervised law's as the rest).
 pub const PARAMETER_NAMES: [&str; 7] = [
     "fc_pos",
     "fc_neg",
