@@ -45,6 +45,9 @@ struct StiffnessState<S> {
     last: [S; 2],
     direction: S,
     crossing: Flag,
+    /// The sliding samples' mean `|measured - predicted| / g` (1 until
+    /// they show it).
+    mismatch: S,
 }
 
 impl<S: Scalar> ParameterAdaptiveState<S> {
@@ -209,6 +212,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
             started: Flag::new(true),
             stiffness: StiffnessState {
                 factor: S::ONE,
+                mismatch: S::ONE,
                 ..Default::default()
             },
             ..Default::default()
@@ -222,6 +226,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
         if !state.started.get() {
             state.estimates = self.per.map(|k| k.nominal);
             state.stiffness.factor = S::ONE;
+            state.stiffness.mismatch = S::ONE;
             state.started = Flag::new(true);
         }
     }
@@ -514,6 +519,16 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// the friction sample carries besides friction and holds over a
     /// crossing (gravity, an offset of the force). `z` is rescaled so that
     /// the elastic force does not jump. A no-op at rate 0.
+    ///
+    /// A level error also changes the rise (the plant's bristle saturates
+    /// at its own level), so three gates keep it from being read as a
+    /// stiffness error: the law learns only while the sliding samples
+    /// (`|v|` above half the reference speed) agree with the steady curve,
+    /// `mean |force - g^(v) d - sigma2^ v| / g < 0.1` over about 16 of
+    /// them; a crossing ends once the measured rise exceeds the estimate's
+    /// whole swing `g - F0^ d`; and samples where the bristle moves more
+    /// than a quarter of `g / (κ sigma0)` in a period, which the samples
+    /// cannot resolve, are skipped.
     fn learn_stiffness(&self, state: &mut ParameterAdaptiveState<S>, sample: FrictionSample<S>) {
         if self.stiffness_gain == S::ZERO {
             return;
@@ -523,6 +538,14 @@ impl<S: Scalar> ParameterAdaptive<S> {
         let force = sample.force.sat(lim);
         let g = self.level(state, S::ONE);
         let damped = (g - (self.sigma1 * v.abs()).sat(lim)) / g;
+        // at a sliding speed: the sample against the steady curve at v,
+        // bristle aside, relative to the level
+        let miss = (v.abs() > self.centre).then(|| {
+            let forward = v > S::ZERO;
+            let level = self.level_on(state, forward, self.shape(v));
+            let sliding = if forward { level } else { -level } + (state.estimates[3] * v).sat(lim);
+            ((force - sliding).sat(lim).abs() / g).min(S::ONE)
+        });
         let st = &mut state.stiffness;
         let predicted = S::from_f64(0.5) * (st.outputs[0] + st.outputs[1]);
         let [last_force, last_predicted] = st.last;
@@ -547,10 +570,24 @@ impl<S: Scalar> ParameterAdaptive<S> {
             return;
         }
         let u = st.zeta * direction;
-        if u > S::from_f64(CROSSED) {
+        // a measured rise beyond the estimate's whole swing (to its level
+        // g) is the levels' error, which no stiffness explains
+        let beyond = direction * (force - st.measured) > g - direction * st.predicted;
+        if u > S::from_f64(CROSSED) || beyond {
             st.crossing = Flag::new(false);
         }
-        if !st.crossing.get() || damped < S::ZERO {
+        if let Some(miss) = miss {
+            st.mismatch = st.mismatch + S::from_f64(MISMATCH_BLEND) * (miss - st.mismatch);
+        }
+        // the rise tells the stiffness only where the levels are right:
+        // with a level error, the plant's bristle saturates elsewhere
+        if st.mismatch > S::from_f64(SETTLED) {
+            return;
+        }
+        // a bristle that crosses a good part of its range in one period
+        // rises between the samples, which cannot resolve it
+        let stride = (self.sigma0_h * st.factor * v.abs()).sat(lim);
+        if !st.crossing.get() || damped < S::ZERO || stride > S::from_f64(RESOLVED) * g {
             return;
         }
         let error = ((force - st.measured).sat(lim) - (predicted - st.predicted).sat(lim)).sat(lim);
@@ -629,6 +666,17 @@ const CROSSED: f64 = 0.98;
 /// A crossing starts only where `ζ sign v` is below `-REVERSED` at the
 /// reversal.
 const REVERSED: f64 = 0.5;
+
+/// The stiffness law learns only while the sliding samples' mean
+/// mismatch is below this fraction of the level.
+const SETTLED: f64 = 0.1;
+
+/// The weight of each sliding sample in that mean.
+const MISMATCH_BLEND: f64 = 1.0 / 16.0;
+
+/// The stiffness law learns only where the bristle moves less than this
+/// fraction of its sliding deflection `g / (κ sigma0)` in a period.
+const RESOLVED: f64 = 0.25;
 
 /// `0.74`: the peak of `(1 - u) ln(2 / (1 - u))` is `2 / e`, which
 /// `0.74 (1 - u^2)` matches at its own peak.

@@ -169,7 +169,7 @@ pub struct ServoConfig {
     pub adaptation_box: f64,
     /// `parameter_rate` (1/s).
     pub parameter_rate: f64,
-    /// `stiffness_rate` (1/s).
+    /// `stiffness_rate` (1/s; default a tenth of `rate`).
     pub stiffness_rate: f64,
     /// `dead_zone` (rad).
     pub dead_zone: f64,
@@ -223,7 +223,7 @@ impl Default for ServoConfig {
             supervisor_window: 0.1,
             adaptation_box: 5.0,
             parameter_rate: DEFAULT_PARAMETER_RATE,
-            stiffness_rate: 0.0,
+            stiffness_rate: STIFFNESS_RATE_PER_HZ * 1000.0,
             dead_zone: 0.0,
             load_max: 0.0,
             adaptation_load: 0.0,
@@ -252,6 +252,9 @@ pub const LOADED_AXIS_LOAD_MAX: f64 = 0.3;
 /// each carry one level, so they take a faster rate than θ (whose product
 /// with the whole model reaches every term at once).
 pub const DEFAULT_PARAMETER_RATE: f64 = 16.0;
+/// The default `stiffness_rate` per hertz of `rate`: the stiffness law
+/// takes a tenth of each sample's error.
+pub const STIFFNESS_RATE_PER_HZ: f64 = 0.1;
 /// Default `presliding` (rad): the BAM plant's deflection at break-away.
 pub const DEFAULT_PRESLIDING: f64 = 1e-4;
 /// Default `rls_forgetting`.
@@ -382,7 +385,10 @@ impl ServoTable {
             supervisor_window: self.supervisor_window.unwrap_or(d.supervisor_window),
             adaptation_box: self.adaptation_box.unwrap_or(d.adaptation_box),
             parameter_rate: self.parameter_rate.unwrap_or(d.parameter_rate),
-            stiffness_rate: self.stiffness_rate.unwrap_or(d.stiffness_rate),
+            // a tenth of the rate: a tenth of the error per sample
+            stiffness_rate: self
+                .stiffness_rate
+                .unwrap_or(STIFFNESS_RATE_PER_HZ * self.rate.unwrap_or(d.rate)),
             dead_zone: 0.0,
             load_max: self.load_max.unwrap_or(match self.gravity {
                 Some([torque, _]) if torque != 0.0 => LOADED_AXIS_LOAD_MAX,
