@@ -61,8 +61,8 @@ class Model:
         or the per-parameter adaptive observer under its supervisor when
         `parameter_adaptive` is True or a dict of its settings, among them
         `exact_step`, True for the exact step `friction servo` takes, and
-        `stiffness_rate` (1/s, 0: off) and `stiffness_box` for the
-        stiffness law; a
+        `stiffness_rate` (1/s, default 0: off; `friction servo` takes a
+        tenth of the rate) and `stiffness_box` for the stiffness law; a
         `supervisor` dict sets the supervisor, False turns it off)."""
 
 class Observer:
