@@ -524,7 +524,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// at its own level), so three gates keep it from being read as a
     /// stiffness error: the law learns only while the sliding samples
     /// (`|v|` above half the reference speed) agree with the steady curve,
-    /// `mean |force - g^(v) d - sigma2^ v| / g < 0.1` over about 16 of
+    /// `mean |force - g^(v) d - sigma2^ v| / g < 0.2` over about 16 of
     /// them; a crossing ends once the measured rise exceeds the estimate's
     /// whole swing `g - F0^ d`; and samples where the bristle moves more
     /// than a quarter of `g / (κ sigma0)` in a period, which the samples
@@ -669,7 +669,7 @@ const REVERSED: f64 = 0.5;
 
 /// The stiffness law learns only while the sliding samples' mean
 /// mismatch is below this fraction of the level.
-const SETTLED: f64 = 0.1;
+const SETTLED: f64 = 0.2;
 
 /// The weight of each sliding sample in that mean.
 const MISMATCH_BLEND: f64 = 1.0 / 16.0;
