@@ -45,8 +45,9 @@ struct StiffnessState<S> {
     last: [S; 2],
     direction: S,
     crossing: Flag,
-    /// The sliding samples' mean `|measured - predicted| / g` (1 until
-    /// they show it).
+    /// The sliding samples' mean distance from the steady curve, over
+    /// `g` (each sample's at most 1; 1 until they show it, 0 in a
+    /// `Default` state before its first step).
     mismatch: S,
 }
 
@@ -233,13 +234,15 @@ impl<S: Scalar> ParameterAdaptive<S> {
 
     /// Sets the estimates of `state` (e.g. restored after a power cycle),
     /// each projected onto its box; a non-finite value leaves that estimate
-    /// as it is.
+    /// as it is. The stiffness law waits for the sliding samples to agree
+    /// with the new levels.
     pub fn set_estimates(
         &self,
         state: &mut ParameterAdaptiveState<S>,
         values: [f64; PARAMETER_ADAPTIVE_ESTIMATES],
     ) {
         self.start(state);
+        state.stiffness.mismatch = S::ONE;
         for ((x, v), k) in state.estimates.iter_mut().zip(values).zip(&self.per) {
             if v.is_finite() {
                 *x = S::from_f64(v).max(k.low).min(k.high);
@@ -524,11 +527,14 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// at its own level), so three gates keep it from being read as a
     /// stiffness error: the law learns only while the sliding samples
     /// (`|v|` above half the reference speed) agree with the steady curve,
-    /// `mean |force - g^(v) d - sigma2^ v| / g < 0.2` over about 16 of
-    /// them; a crossing ends once the measured rise exceeds the estimate's
-    /// whole swing `g - F0^ d`; and samples where the bristle moves more
-    /// than a quarter of `g / (κ sigma0)` in a period, which the samples
-    /// cannot resolve, are skipped.
+    /// the mean of `min(|force - g^(v) d - sigma2^ v| / g, 1)` over about
+    /// 16 of them at most 0.2 (`g` the level at rest); a crossing ends
+    /// once the measured rise exceeds the estimate's whole swing
+    /// `g - F0^ d`; and samples where the bristle moves more than a quarter
+    /// of `g / (κ sigma0)` in a period, which the samples cannot resolve,
+    /// are skipped. The first gate compares the sample itself, not a
+    /// difference: a load the sample carries besides friction (gravity not
+    /// given as the external torque) keeps it shut.
     fn learn_stiffness(&self, state: &mut ParameterAdaptiveState<S>, sample: FrictionSample<S>) {
         if self.stiffness_gain == S::ZERO {
             return;
@@ -675,7 +681,8 @@ const SETTLED: f64 = 0.2;
 const MISMATCH_BLEND: f64 = 1.0 / 16.0;
 
 /// The stiffness law learns only where the bristle moves less than this
-/// fraction of its sliding deflection `g / (κ sigma0)` in a period.
+/// fraction of its deflection at the level at rest, `g / (κ sigma0)`, in
+/// a period.
 const RESOLVED: f64 = 0.25;
 
 /// `0.74`: the peak of `(1 - u) ln(2 / (1 - u))` is `2 / e`, which

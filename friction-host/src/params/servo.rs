@@ -199,7 +199,7 @@ impl Default for ServoConfig {
             amplitude: 0.5,
             frequency: 0.2,
             duration: 20.0,
-            rate: 1e3,
+            rate: DEFAULT_RATE,
             plant_rate: 1e5,
             kp: 60.0,
             ki: 200.0,
@@ -223,7 +223,7 @@ impl Default for ServoConfig {
             supervisor_window: 0.1,
             adaptation_box: 5.0,
             parameter_rate: DEFAULT_PARAMETER_RATE,
-            stiffness_rate: STIFFNESS_RATE_PER_HZ * 1000.0,
+            stiffness_rate: STIFFNESS_RATE_PER_HZ * DEFAULT_RATE,
             dead_zone: 0.0,
             load_max: 0.0,
             adaptation_load: 0.0,
@@ -252,6 +252,8 @@ pub const LOADED_AXIS_LOAD_MAX: f64 = 0.3;
 /// each carry one level, so they take a faster rate than θ (whose product
 /// with the whole model reaches every term at once).
 pub const DEFAULT_PARAMETER_RATE: f64 = 16.0;
+/// Default `rate` (Hz): Olsson et al.'s 1 kHz.
+pub const DEFAULT_RATE: f64 = 1e3;
 /// The default `stiffness_rate` per hertz of `rate`: the stiffness law
 /// takes a tenth of each sample's error.
 pub const STIFFNESS_RATE_PER_HZ: f64 = 0.1;
