@@ -215,6 +215,51 @@ fn the_stiffness_law_learns_the_plants_sigma0() {
     }
 }
 
+/// A learnt stiffness factor restored with `set_stiffness` is the one
+/// the law learnt, and the elastic force does not jump; values out of the
+/// box are projected onto it, non-finite ones ignored; with the law off
+/// the factor stays 1.
+#[test]
+fn a_stiffness_factor_is_restored_within_its_box() {
+    let mut nominal = LuGreParams::OLSSON_1998;
+    nominal.sigma0 *= 3.0;
+    let p = ParameterAdaptiveParams {
+        speed: 0.63,
+        rate: 16.0,
+        exact_step: true,
+        stiffness_rate: 100.0,
+        stiffness_box: 4.0,
+        ..ParameterAdaptiveParams::new(nominal, 20.0)
+    };
+    let learnt = run_on_olsson(p, LuGreParams::OLSSON_1998, 20.0);
+    let a = p.build::<f64>(&servo()).unwrap();
+    let mut restored = a.initial();
+    restored.z = 1e-4;
+    let force = a.initial().stiffness() * nominal.sigma0 * restored.z;
+    a.set_stiffness(&mut restored, learnt.stiffness());
+    assert_eq!(restored.stiffness(), learnt.stiffness());
+    assert!(learnt.stiffness() < 0.5, "{}", learnt.stiffness());
+    let after = restored.stiffness() * nominal.sigma0 * restored.z;
+    assert!(
+        (after - force).abs() < 1e-12 * force.abs(),
+        "{force} {after}"
+    );
+    for (value, expected) in [(1e30, 4.0), (-3.0, 0.25), (0.0, 0.25), (f64::NAN, 0.25)] {
+        a.set_stiffness(&mut restored, value);
+        assert_eq!(restored.stiffness(), expected, "{value}");
+        assert!(restored.z.is_finite());
+    }
+    let off = ParameterAdaptiveParams {
+        stiffness_rate: 0.0,
+        ..p
+    }
+    .build::<f64>(&servo())
+    .unwrap();
+    let mut s = ParameterAdaptiveState::default();
+    off.set_stiffness(&mut s, 2.0);
+    assert_eq!(s.stiffness(), 1.0);
+}
+
 /// A level error is not read as a stiffness error: with the levels
 /// 1.5x and 0.5x the plant's, held there (no level law), and the right
 /// `sigma0`, the factor stays at 1 (the sliding samples never agree with

@@ -250,6 +250,24 @@ impl<S: Scalar> ParameterAdaptive<S> {
         }
     }
 
+    /// Sets the stiffness factor `κ^` of `state` (e.g. a learnt one
+    /// restored after a power cycle), projected onto `[1 / stiffness_box,
+    /// stiffness_box]` (1 with the stiffness law off); the bristle is
+    /// rescaled so that the elastic force `κ^ sigma0 z` does not jump. A
+    /// non-finite value is ignored.
+    pub fn set_stiffness(&self, state: &mut ParameterAdaptiveState<S>, factor: f64) {
+        self.start(state);
+        if !factor.is_finite() {
+            return;
+        }
+        let old = state.stiffness.factor;
+        let new = S::from_f64(factor)
+            .max(self.stiffness_low)
+            .min(self.stiffness_high);
+        state.stiffness.factor = new;
+        state.z = state.z * old / new;
+    }
+
     /// Sets the external torque `τ_ext` (gravity, a load) the transmission
     /// carries besides the motor's; a non-finite value is ignored.
     pub fn set_external_torque(&self, state: &mut ParameterAdaptiveState<S>, torque: S) {
