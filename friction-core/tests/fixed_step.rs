@@ -988,9 +988,12 @@ mod fixed_point {
 
     /// GMS's gap: RMS |F_fixed - F_f64| / Fs over the periods where every
     /// element's mode agrees, after checking that on the others the gap is
-    /// within sigma1_i |v| of the flipped elements (plus the bound). (At
+    /// within what the flipped elements themselves differ by (plus the
+    /// bound): their forces' difference and both forms' damping terms,
+    /// `sigma1_i |v|` sticking and `sigma1_i |dF_i/dt| / k_i` slipping (a
+    /// slipping element's `dz_i/dt` is set by `C`, not by `v`). At
     /// velocities of one or two Q16.16 steps an element at its bound can
-    /// flip on several periods in a row; there sigma1_i |v| is tiny.)
+    /// flip on several periods in a row.
     fn gms_gap<const N: usize>(
         p: &GmsParams<N>,
         at: GmsFixedStep<Fixed32, N>,
@@ -1004,20 +1007,31 @@ mod fixed_point {
         );
         let (mut sum, mut n) = (0.0, 0usize);
         let fs = p.curve.fs;
+        // the fixed form's element forces are carried times a power of two
+        let total: f64 = p.elements.iter().map(|e| e.alpha).sum();
+        let scale = at.force_bounds()[0].to_f64() / (p.elements[0].alpha / total * fs);
         for &(v, hold) in program {
             let vq = Fixed32::from_f64(v);
             for _ in 0..hold {
+                let (before_v, before_a) = (sv.force, sa.force);
                 let fv = var.step(&mut sv, vq.to_f64(), h);
                 let fa = at.step(&mut sa, vq).to_f64();
                 prop_assert!(fv.is_finite() && fa.is_finite());
                 let flipped: f64 = (0..N)
                     .filter(|&i| sv.mode[i] != sa.mode[i])
-                    .map(|i| p.elements[i].sigma1 * vq.to_f64().abs())
+                    .map(|i| {
+                        let e = &p.elements[i];
+                        let fa_i = sa.force[i].to_f64() / scale;
+                        let rate_v = (sv.force[i] - before_v[i]).abs() / h;
+                        let rate_a = (sa.force[i] - before_a[i]).to_f64().abs() / (scale * h);
+                        (sv.force[i] - fa_i).abs()
+                            + e.sigma1 * (vq.to_f64().abs() + (rate_v + rate_a) / e.k)
+                    })
                     .sum();
                 if flipped > 0.0 {
                     prop_assert!(
                         (fv - fa).abs() <= flipped + RANDOM_BOUND_GMS * fs,
-                        "gms: a flipped period differs by {} N, sigma1 |v| {flipped} N",
+                        "gms: a flipped period differs by {} N, the flipped elements by {flipped} N",
                         (fv - fa).abs()
                     );
                 } else {
