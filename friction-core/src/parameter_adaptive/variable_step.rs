@@ -546,7 +546,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// stiffness error: the law learns only while the sliding samples
     /// (`|v|` above half the reference speed) agree with the steady curve,
     /// the mean of `min(|force - g^(v) d - sigma2^ v| / g, 1)` over about
-    /// 16 of them at most 0.2 (`g` the level at rest); a crossing ends
+    /// 16 of them at most 0.1 (`g` the level at rest); a crossing ends
     /// once the measured rise exceeds the estimate's whole swing
     /// `g - F0^ d`; and samples where the bristle moves more than a quarter
     /// of `g / (κ sigma0)` in a period, which the samples cannot resolve,
@@ -693,7 +693,7 @@ const REVERSED: f64 = 0.5;
 
 /// The stiffness law learns only while the sliding samples' mean
 /// mismatch is below this fraction of the level.
-const SETTLED: f64 = 0.2;
+const SETTLED: f64 = 0.1;
 
 /// The weight of each sliding sample in that mean.
 const MISMATCH_BLEND: f64 = 1.0 / 16.0;
