@@ -257,15 +257,9 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// non-finite value is ignored.
     pub fn set_stiffness(&self, state: &mut ParameterAdaptiveState<S>, factor: f64) {
         self.start(state);
-        if !factor.is_finite() {
-            return;
+        if factor.is_finite() {
+            self.move_stiffness(state, S::from_f64(factor));
         }
-        let old = state.stiffness.factor;
-        let new = S::from_f64(factor)
-            .max(self.stiffness_low)
-            .min(self.stiffness_high);
-        state.stiffness.factor = new;
-        state.z = state.z * old / new;
     }
 
     /// Sets the external torque `τ_ext` (gravity, a load) the transmission
@@ -618,12 +612,19 @@ impl<S: Scalar> ParameterAdaptive<S> {
         let psi = S::from_f64(SENSITIVITY_PEAK) * (S::ONE - u * u) * damped;
         let step = ((self.stiffness_gain * error).sat(lim) * direction * psi / g)
             .sat(S::from_f64(STIFFNESS_STEP));
-        let old = st.factor;
-        let factor = (old + old * step)
-            .max(self.stiffness_low)
-            .min(self.stiffness_high);
-        st.factor = factor;
-        state.z = state.z * old / factor;
+        let factor = st.factor + st.factor * step;
+        self.move_stiffness(state, factor);
+    }
+
+    /// The stiffness factor set to `factor` projected onto its box, the
+    /// bristle rescaled (`z κ_old / κ^`) so that the elastic force does
+    /// not jump.
+    #[inline]
+    fn move_stiffness(&self, state: &mut ParameterAdaptiveState<S>, factor: S) {
+        let old = state.stiffness.factor;
+        let new = factor.max(self.stiffness_low).min(self.stiffness_high);
+        state.stiffness.factor = new;
+        state.z = state.z * old / new;
     }
 
     /// `F^ = sigma0 z + mu^ |τ| ζ + sigma1 dz/dt + sigma2^ v` from the

@@ -355,13 +355,14 @@ impl ServoTable {
     /// Fills in the defaults and checks every key; `file` names the source.
     pub fn resolve(&self, file: &str) -> Result<ServoConfig, ServoError> {
         let d = ServoConfig::default();
+        let rate = self.rate.unwrap_or(d.rate);
         let mut c = ServoConfig {
             inertia: self.inertia.unwrap_or(d.inertia),
             torque_constant: self.torque_constant.unwrap_or(d.torque_constant),
             amplitude: self.amplitude.unwrap_or(d.amplitude),
             frequency: self.frequency.unwrap_or(d.frequency),
             duration: self.duration.unwrap_or(d.duration),
-            rate: self.rate.unwrap_or(d.rate),
+            rate,
             plant_rate: self.plant_rate.unwrap_or(d.plant_rate),
             kp: self.kp.unwrap_or(d.kp),
             ki: self.ki.unwrap_or(d.ki),
@@ -388,9 +389,7 @@ impl ServoTable {
             adaptation_box: self.adaptation_box.unwrap_or(d.adaptation_box),
             parameter_rate: self.parameter_rate.unwrap_or(d.parameter_rate),
             // a tenth of the rate: a tenth of the error per sample
-            stiffness_rate: self
-                .stiffness_rate
-                .unwrap_or(STIFFNESS_RATE_PER_HZ * self.rate.unwrap_or(d.rate)),
+            stiffness_rate: self.stiffness_rate.unwrap_or(STIFFNESS_RATE_PER_HZ * rate),
             dead_zone: 0.0,
             load_max: self.load_max.unwrap_or(match self.gravity {
                 Some([torque, _]) if torque != 0.0 => LOADED_AXIS_LOAD_MAX,
