@@ -717,6 +717,11 @@ impl<S: Scalar, P: Compensation<S>, F: FrictionModel<S, State = ()>> Compensatio
         state.last[0] = command;
     }
 
+    #[inline]
+    fn set_external_torque(&self, state: &mut Self::State, torque: S) {
+        self.primary.set_external_torque(&mut state.primary, torque);
+    }
+
     /// The window restarts and is not measured: a gap's commands and
     /// velocities are not the compensator's.
     fn skipped(&self, state: &mut Self::State) {

@@ -27,6 +27,9 @@ pub trait Controller: Send {
     fn adapted_names(&self) -> &'static [&'static str] {
         &[]
     }
+    /// Sets the external torque on the axis that the command does not
+    /// include ([`Compensator::set_external_torque`]).
+    fn set_external_torque(&mut self, torque: f64);
     /// Re-tunes the running axis between two ticks: its compensation
     /// becomes `next`'s (an axis built the same way around the new model),
     /// its loop and state carried on ([`Compensator::retune`]). Refused,
@@ -83,6 +86,9 @@ where
     }
     fn adapted_names(&self) -> &'static [&'static str] {
         self.names
+    }
+    fn set_external_torque(&mut self, torque: f64) {
+        self.ctl.set_external_torque(&mut self.state, torque);
     }
     fn retune(&mut self, next: Box<dyn Controller>) -> Result<(), Retune> {
         let next = next

@@ -49,6 +49,14 @@ pub trait Compensation<S: Scalar> {
     #[inline]
     fn commanded(&self, _state: &mut Self::State, _command: S) {}
 
+    /// Told the external torque `τ_ext` on the axis (force units, finite),
+    /// between ticks ([`Compensator::set_external_torque`](super::Compensator::set_external_torque)):
+    /// a compensation whose friction grows with the torque the
+    /// transmission carries reads its load input as `kc u - τ_ext`. The
+    /// default ignores it.
+    #[inline]
+    fn set_external_torque(&self, _state: &mut Self::State, _torque: S) {}
+
     /// Told that a tick was skipped (a non-finite input): the next
     /// [`Compensation::estimate`] comes after a gap. A compensation that
     /// sums evidence over consecutive ticks restarts it here.

@@ -206,6 +206,21 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
         &self.compensation
     }
 
+    /// Sets the external torque `τ_ext` on the axis (force units) for a
+    /// compensation whose friction grows with the torque the transmission
+    /// carries, `kc u - τ_ext` (BAM's `τ_m - τ_e`, Duclusaud, Passault et
+    /// al. 2024): the load's torque on the axis (a pendulum's `-T sin x`),
+    /// less any torque the drive adds beside this compensator's command
+    /// (a gravity feed-forward `kc u_g`: `τ_ext = τ_e - kc u_g`). It holds
+    /// until set again; a non-finite value is ignored, and compensations
+    /// without a load input ignore it.
+    pub fn set_external_torque(&self, state: &mut CompensatorState<S, C::State>, torque: S) {
+        if torque.is_finite() {
+            self.compensation
+                .set_external_torque(&mut state.friction, torque);
+        }
+    }
+
     /// The parameters it was built from.
     pub fn params(&self) -> &CompensatorParams {
         &self.params

@@ -581,6 +581,9 @@ impl<S: Scalar, const EXACT: bool> Compensation<S> for ParameterAdaptiveFixedSte
     fn period(&self) -> Option<f64> {
         Some(self.period)
     }
+    fn set_external_torque(&self, state: &mut Self::State, torque: S) {
+        ParameterAdaptiveFixedStep::set_external_torque(self, state, torque);
+    }
     #[inline]
     fn commanded(&self, state: &mut Self::State, command: S) {
         state.torque = (self.torque_constant * command - state.external).sat(self.torque_limit);

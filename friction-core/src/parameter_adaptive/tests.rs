@@ -675,3 +675,46 @@ fn the_exact_step_bounds_the_bristle_by_the_side_it_ends_on() {
         "{lowest} {highest}"
     );
 }
+
+#[test]
+fn the_compensator_passes_an_external_torque_to_the_load_input_through_the_supervisor() {
+    use crate::{CoulombViscousParams, SupervisorParams};
+    let p = ParameterAdaptiveParams {
+        load_max: 0.2,
+        ..ParameterAdaptiveParams::new(LuGreParams::OLSSON_1998, 20.0)
+    };
+    let primary = p.build::<f64>(&servo()).unwrap();
+    let map = CoulombViscousParams {
+        fc: 0.28,
+        sigma2: 0.0176,
+    }
+    .build()
+    .unwrap();
+    let sup = SupervisorParams::DEFAULT
+        .build(primary, map, &servo())
+        .unwrap();
+    let ctl = servo().build(sup).unwrap();
+    let mut s = CompensatorState::default();
+    let r = Setpoint {
+        x: 1e-3,
+        v: 0.0,
+        a: 0.0,
+    };
+    let kc = servo().torque_constant;
+    // the load input is the command's torque less the external one, from
+    // the tick after it is set; a non-finite torque keeps the last one
+    for (torque, kept) in [
+        (2.0, 2.0),
+        (f64::NAN, 2.0),
+        (-0.5, -0.5),
+        (f64::INFINITY, -0.5),
+    ] {
+        ctl.set_external_torque(&mut s, torque);
+        let tick = ctl.tick(&mut s, 0.0, r);
+        let load = s.friction().primary.torque;
+        assert!(
+            (load - (kc * tick.command - kept)).abs() < 1e-12,
+            "{torque}: {load}"
+        );
+    }
+}

@@ -652,6 +652,9 @@ impl<S: Scalar> Compensation<S> for ParameterAdaptive<S> {
     fn period(&self) -> Option<f64> {
         Some(self.period)
     }
+    fn set_external_torque(&self, state: &mut Self::State, torque: S) {
+        ParameterAdaptive::set_external_torque(self, state, torque);
+    }
     #[inline]
     fn commanded(&self, state: &mut Self::State, command: S) {
         state.torque = (self.torque_constant * command - state.external).sat(self.torque_limit);

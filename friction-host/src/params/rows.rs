@@ -61,6 +61,12 @@ pub fn gravity<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]>, D::E
     row(&value, "`gravity`", "[T, x0]").map(Some)
 }
 
+/// `[servo] gravity_feedforward`: one row `[T, x0]`.
+pub fn gravity_feedforward<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]>, D::Error> {
+    let value = toml::Value::deserialize(d)?;
+    row(&value, "`gravity_feedforward`", "[T, x0]").map(Some)
+}
+
 /// `[servo] ripple`: rows `[amplitude, cycles_per_rad]`.
 pub fn ripple<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Vec<[f64; 2]>>, D::Error> {
     rows(d, "ripple", "[amplitude, cycles_per_rad]").map(Some)
@@ -95,6 +101,8 @@ mod tests {
         assert!(e.contains("`gravity`: 3 elements"), "{e}");
         let e = error("gravity = [0.5, \"up\"]");
         assert!(e.contains("`gravity`: element 2 is a string"), "{e}");
+        let e = error("gravity_feedforward = [0.5]");
+        assert!(e.contains("`gravity_feedforward`: 1 elements"), "{e}");
         let e = error("friction_drift = [[0, 1.0], [1]]");
         assert!(e.contains("point 2: 1 elements"), "{e}");
         let e = error("friction_drift = [[0, 1.0], 3]");

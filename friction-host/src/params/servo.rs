@@ -97,6 +97,11 @@ pub struct ServoTable {
     /// pendulum, zero pointing down).
     #[serde(default, deserialize_with = "super::rows::gravity")]
     pub gravity: Option<[f64; 2]>,
+    /// `[T, x0]`: the gravity the drive knows and feeds forward, a torque
+    /// `T sin(x_ref + x0)` added to every row's command (the plant's
+    /// `gravity` as the drive's model of it).
+    #[serde(default, deserialize_with = "super::rows::gravity_feedforward")]
+    pub gravity_feedforward: Option<[f64; 2]>,
     /// `[[amplitude, cycles_per_rad], ...]`: the plant's friction times
     /// `1 + sum a sin(n x)` (gear mesh).
     #[serde(default, deserialize_with = "super::rows::ripple")]
@@ -181,6 +186,8 @@ pub struct ServoConfig {
     pub asymmetry: f64,
     /// `gravity` `[T, x0]` (`T = 0`: none).
     pub gravity: [f64; 2],
+    /// `gravity_feedforward` `[T, x0]` (`T = 0`: none).
+    pub gravity_feedforward: [f64; 2],
     /// `ripple`.
     pub ripple: Vec<[f64; 2]>,
     /// The BAM plant's friction, if `plant_bam` is given.
@@ -229,6 +236,7 @@ impl Default for ServoConfig {
             adaptation_load: 0.0,
             asymmetry: 0.0,
             gravity: [0.0, 0.0],
+            gravity_feedforward: [0.0, 0.0],
             ripple: Vec::new(),
             plant_bam: None,
             presliding: DEFAULT_PRESLIDING,
@@ -398,6 +406,7 @@ impl ServoTable {
             adaptation_load: self.adaptation_load.unwrap_or(d.adaptation_load),
             asymmetry: self.asymmetry.unwrap_or(d.asymmetry),
             gravity: self.gravity.unwrap_or(d.gravity),
+            gravity_feedforward: self.gravity_feedforward.unwrap_or(d.gravity_feedforward),
             ripple: self.ripple.clone().unwrap_or_default(),
             plant_bam: None,
             presliding: self.presliding.unwrap_or(d.presliding),
@@ -549,6 +558,21 @@ impl ServoTable {
         }
         if !(angle.is_finite() && angle.abs() <= MAX_VALUE) {
             return Err(invalid("gravity", "[T, x0] with a finite x0", angle));
+        }
+        let [torque, angle] = c.gravity_feedforward;
+        if !(0.0..=MAX_VALUE).contains(&torque) {
+            return Err(invalid(
+                "gravity_feedforward",
+                "[T, x0] with T >= 0 and at most 1e12",
+                torque,
+            ));
+        }
+        if !(angle.is_finite() && angle.abs() <= MAX_VALUE) {
+            return Err(invalid(
+                "gravity_feedforward",
+                "[T, x0] with a finite x0",
+                angle,
+            ));
         }
         if c.ripple.len() > MAX_DRIFT_POINTS {
             return Err(invalid(
@@ -860,12 +884,30 @@ impl ServoConfig {
 
     /// The external torque on the plant at position `x` (`gravity`).
     pub fn external_torque(&self, x: f64) -> f64 {
-        let [torque, angle] = self.gravity;
-        if torque == 0.0 {
-            0.0
-        } else {
-            -torque * (x + angle).sin()
-        }
+        pendulum(self.gravity, x)
+    }
+
+    /// The torque the drive feeds forward at the reference position
+    /// `x_ref` (`gravity_feedforward`): its model of `gravity`, cancelled.
+    pub fn gravity_feedforward(&self, x_ref: f64) -> f64 {
+        -pendulum(self.gravity_feedforward, x_ref)
+    }
+
+    /// The external torque `τ_ext` the per-parameter compensator is told
+    /// ([`friction_core::Compensator::set_external_torque`]): the drive's
+    /// model of the gravity at the measured position `x`, less the torque
+    /// fed forward beside the compensator's command.
+    pub fn modelled_external_torque(&self, x: f64, x_ref: f64) -> f64 {
+        pendulum(self.gravity_feedforward, x) - self.gravity_feedforward(x_ref)
+    }
+}
+
+/// A pendulum's torque `-T sin(x + x0)` at `x` for `[T, x0]` (0 when `T = 0`).
+fn pendulum([torque, angle]: [f64; 2], x: f64) -> f64 {
+    if torque == 0.0 {
+        0.0
+    } else {
+        -torque * (x + angle).sin()
     }
 }
 
@@ -1098,6 +1140,19 @@ mod tests {
         assert!((c.friction_factor(0.3, 1.0) - 1.2 * ripple).abs() < 1e-15);
         assert!((c.friction_factor(0.3, -1.0) - 0.8 * ripple).abs() < 1e-15);
         assert!((c.external_torque(0.3) + 3.0 * 0.8f64.sin()).abs() < 1e-15);
+        // the drive's model of it, fed forward at the reference: an exact
+        // model cancels the plant's torque, and the compensator is told
+        // the model at the measured position less the feed-forward
+        let fed = ServoConfig {
+            gravity_feedforward: [3.0, 0.5],
+            ..c.clone()
+        };
+        assert_eq!(fed.gravity_feedforward(0.3), -c.external_torque(0.3));
+        assert_eq!(
+            fed.modelled_external_torque(0.3, 0.3),
+            2.0 * c.external_torque(0.3)
+        );
+        assert_eq!(c.gravity_feedforward(0.3), 0.0);
         assert_eq!(ServoConfig::default().external_torque(1.0), 0.0);
         assert_eq!(ServoConfig::default().friction_factor(1.0, 1.0), 1.0);
     }
@@ -1205,6 +1260,20 @@ mod tests {
                 ..Default::default()
             },
             "`gravity`",
+        );
+        bad(
+            ServoTable {
+                gravity_feedforward: Some([-1.0, 0.0]),
+                ..Default::default()
+            },
+            "`gravity_feedforward`",
+        );
+        bad(
+            ServoTable {
+                gravity_feedforward: Some([1.0, f64::INFINITY]),
+                ..Default::default()
+            },
+            "`gravity_feedforward`",
         );
         bad(
             ServoTable {

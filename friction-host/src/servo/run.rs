@@ -104,13 +104,21 @@ pub(crate) fn run_loop(
             adapted.iter_mut().for_each(|c| c.push(f64::NAN));
             continue;
         }
-        let tick = ctl.tick(axis.measured(), r);
+        let measured = axis.measured();
+        if cfg.gravity_feedforward[0] != 0.0 {
+            ctl.set_external_torque(cfg.modelled_external_torque(measured, r.x));
+        }
+        let tick = ctl.tick(measured, r);
         error.push(axis.position() - r.x);
         friction.push(tick.friction);
         for (column, value) in adapted.iter_mut().zip(ctl.adapted()) {
             column.push(value);
         }
-        plant_scale.push(axis.apply(tick.command, t));
+        // the drive's gravity feed-forward beside the compensator, within
+        // the same limit as the whole command
+        let feedforward = cfg.gravity_feedforward(r.x) / cfg.torque_constant;
+        let command = (tick.command + feedforward).clamp(-cfg.limit, cfg.limit);
+        plant_scale.push(axis.apply(command, t));
         if axis.diverged() {
             stable = false;
         }
