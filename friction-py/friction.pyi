@@ -85,6 +85,11 @@ class Compensator:
         a_ref: npt.NDArray[np.float64],
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
         """One tick per recorded sample (open loop): (commands, frictions)."""
+    def set_external_torque(self, torque: float) -> None:
+        """The external torque on the axis that a per-parameter law's load
+        input reads as `torque_constant * u - torque` from the next tick on
+        (the load's torque less any torque fed beside this axis's command);
+        ValueError if not finite."""
     def adapted(self) -> dict[str, float]:
         """The adapted quantities after the last tick (`theta` when adaptive;
         `fc_pos`, `fc_neg`, `stribeck`, `sigma2`, `load`, the `stiffness`

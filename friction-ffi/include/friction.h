@@ -1685,6 +1685,22 @@ friction_status friction_servo_estimates_f64(friction_servo_f64 *servo,
                                              friction_estimates_f64 *out);
 
 /**
+ * Sets the external torque `tau_ext` on a per-parameter adaptive servo
+ * axis (force units), which its load input reads as `kc u - tau_ext` from
+ * the next tick on (BAM's transmitted torque `tau_m - tau_e`): the load's
+ * torque on the axis (a pendulum's `-T sin x`) less any torque the drive
+ * adds beside this axis's command (a gravity feed-forward). It holds until
+ * set again. NaN or infinite: `FRICTION_INPUT_REJECTED`, state unchanged;
+ * `FRICTION_NOT_SUPPORTED` for other compensations.
+ */
+friction_status friction_servo_set_external_torque_f32(friction_servo_f32 *servo, float torque);
+
+/**
+ * [`friction_servo_set_external_torque_f32`] in `double`.
+ */
+friction_status friction_servo_set_external_torque_f64(friction_servo_f64 *servo, double torque);
+
+/**
  * The per-parameter adaptive servo's supervisor: the applied mode, the
  * switches and windows so far; `FRICTION_NOT_SUPPORTED` for other
  * compensations.

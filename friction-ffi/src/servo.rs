@@ -1114,6 +1114,48 @@ pub extern "C" fn friction_servo_estimates_f64(
     )
 }
 
+fn set_external<O, S>(servo: Option<&mut O>, torque: S) -> friction_status
+where
+    O: slot::Opaque<Value = Stored<S>>,
+    S: Scalar,
+{
+    let Some(servo) = servo else {
+        return friction_status::FRICTION_NULL_POINTER;
+    };
+    match parameter_axis(servo) {
+        Ok(_) if !torque.is_finite() => friction_status::FRICTION_INPUT_REJECTED,
+        Ok(axis) => {
+            each_parameter_axis!(axis, |c, s| c.set_external_torque(s, torque));
+            friction_status::FRICTION_OK
+        }
+        Err(status) => status,
+    }
+}
+
+/// Sets the external torque `tau_ext` on a per-parameter adaptive servo
+/// axis (force units), which its load input reads as `kc u - tau_ext` from
+/// the next tick on (BAM's transmitted torque `tau_m - tau_e`): the load's
+/// torque on the axis (a pendulum's `-T sin x`) less any torque the drive
+/// adds beside this axis's command (a gravity feed-forward). It holds until
+/// set again. NaN or infinite: `FRICTION_INPUT_REJECTED`, state unchanged;
+/// `FRICTION_NOT_SUPPORTED` for other compensations.
+#[no_mangle]
+pub extern "C" fn friction_servo_set_external_torque_f32(
+    servo: Option<&mut friction_servo_f32>,
+    torque: f32,
+) -> friction_status {
+    set_external(servo, torque)
+}
+
+/// [`friction_servo_set_external_torque_f32`] in `double`.
+#[no_mangle]
+pub extern "C" fn friction_servo_set_external_torque_f64(
+    servo: Option<&mut friction_servo_f64>,
+    torque: f64,
+) -> friction_status {
+    set_external(servo, torque)
+}
+
 /// The per-parameter adaptive servo's supervisor: the applied mode, the
 /// switches and windows so far; `FRICTION_NOT_SUPPORTED` for other
 /// compensations.

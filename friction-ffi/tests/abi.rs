@@ -2015,3 +2015,103 @@ fn retune_through_the_abi_is_the_core_bit_for_bit() {
         t.command
     });
 }
+
+/// An external torque set through the ABI reaches the per-parameter law's
+/// load input as the core's does: with a load term (`load_max` 0.05), the
+/// axis told 1.5 N m ticks bit for bit as the core told the same, and not
+/// as an axis told nothing. A non-finite torque is refused, the axis
+/// unchanged; other kinds are not supported.
+#[test]
+fn an_external_torque_reaches_the_load_input_as_the_cores() {
+    let sp = friction_servo_params {
+        torque_constant: 1.02,
+        limit: 10.0,
+        ki: 200.0,
+        kp: 60.0,
+        kd: 1.2,
+        ..servo_params()
+    };
+    let (p, sup, fb) = parameter_abi();
+    let init = |s: &mut friction_servo_f64| {
+        assert_eq!(
+            friction_servo_parameter_adaptive_init_f64(
+                Some(s),
+                Some(&sp),
+                Some(&p),
+                Some(&sup),
+                Some(&fb),
+                None
+            ),
+            FRICTION_OK
+        );
+    };
+    let mut told = friction_servo_f64 {
+        opaque: [0; FRICTION_SERVO_F64_WORDS],
+    };
+    let mut untold = friction_servo_f64 {
+        opaque: [0; FRICTION_SERVO_F64_WORDS],
+    };
+    init(&mut told);
+    init(&mut untold);
+    assert_eq!(
+        friction_servo_set_external_torque_f64(Some(&mut told), 1.5),
+        FRICTION_OK
+    );
+    for bad in [f64::NAN, f64::INFINITY] {
+        let before = told.opaque;
+        assert_eq!(
+            friction_servo_set_external_torque_f64(Some(&mut told), bad),
+            FRICTION_INPUT_REJECTED
+        );
+        assert_eq!(told.opaque, before);
+    }
+    let core = parameter_core::<f64>(&sp);
+    let mut state = Default::default();
+    core.set_external_torque(&mut state, 1.5);
+    let tick = |s: &mut friction_servo_f64, x: f64, r: Setpoint<f64>| {
+        let mut t = friction_tick_f64 {
+            command: 0.0,
+            friction: 0.0,
+        };
+        let rf = friction_setpoint_f64 {
+            x: r.x,
+            v: r.v,
+            a: r.a,
+        };
+        assert_eq!(
+            friction_servo_tick_f64(Some(s), x, rf, Some(&mut t)),
+            FRICTION_OK
+        );
+        t.command
+    };
+    let mut apart = 0;
+    asymmetric_plant(2, |k, x, r| {
+        let command = tick(&mut told, x, r);
+        let want = core.tick(&mut state, x, r);
+        assert_eq!(command.to_bits(), want.command.to_bits(), "tick {k}");
+        if tick(&mut untold, x, r).to_bits() != command.to_bits() {
+            apart += 1;
+        }
+        command
+    });
+    assert!(apart > 1000, "{apart} ticks apart");
+    let mut plain = friction_servo_f64 {
+        opaque: [0; FRICTION_SERVO_F64_WORDS],
+    };
+    assert_eq!(
+        friction_servo_set_external_torque_f64(Some(&mut plain), 1.0),
+        FRICTION_NOT_INITIALISED
+    );
+    assert_eq!(
+        friction_servo_init_f64(Some(&mut plain), Some(&sp), None, 0.0, None, None),
+        FRICTION_OK
+    );
+    assert_eq!(
+        friction_servo_set_external_torque_f64(Some(&mut plain), 1.0),
+        FRICTION_NOT_SUPPORTED
+    );
+    assert_eq!(
+        friction_servo_set_external_torque_f32(None, 1.0),
+        FRICTION_NULL_POINTER
+    );
+}

@@ -295,8 +295,16 @@ macro_rules! observer_calls {
 macro_rules! servo_calls {
     ($ty:ident, $words:expr, $tag:expr, $scalar:ty, $tick:ident, $setpoint:ident,
      $out:ident, $reset:ident, $theta:ident, $estimates:ident, $estimates_ty:ident,
-     $supervisor:ident, $parameter_init:ident, $retune:ident, $parameter_retune:ident) => {
+     $supervisor:ident, $parameter_init:ident, $retune:ident, $parameter_retune:ident,
+     $external:ident) => {
         [
+            Call {
+                name: stringify!($external),
+                bytes: 8 * $words,
+                tag: $tag,
+                run: |b| $external(Some(&mut $ty { opaque: words(b) }), 1.5),
+                writes_only: false,
+            },
             Call {
                 name: stringify!($retune),
                 bytes: 8 * $words,
@@ -599,7 +607,8 @@ fn calls() -> Vec<Call> {
         friction_servo_supervisor_f32,
         friction_servo_parameter_adaptive_init_f32,
         friction_servo_retune_f32,
-        friction_servo_parameter_adaptive_retune_f32
+        friction_servo_parameter_adaptive_retune_f32,
+        friction_servo_set_external_torque_f32
     ));
     all.extend(servo_calls!(
         friction_servo_f64,
@@ -616,7 +625,8 @@ fn calls() -> Vec<Call> {
         friction_servo_supervisor_f64,
         friction_servo_parameter_adaptive_init_f64,
         friction_servo_retune_f64,
-        friction_servo_parameter_adaptive_retune_f64
+        friction_servo_parameter_adaptive_retune_f64,
+        friction_servo_set_external_torque_f64
     ));
     all.extend(commissioning_calls!(
         friction_commissioning_f32,

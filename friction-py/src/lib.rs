@@ -676,6 +676,23 @@ impl Compensator {
         (t.command, t.friction)
     }
 
+    /// set_external_torque(torque): the external torque on the axis (force
+    /// units) that a per-parameter law's load input reads as
+    /// `torque_constant * u - torque` from the next tick on: the load's
+    /// torque on the axis (a pendulum's -T sin x) less any torque the drive
+    /// adds beside this axis's command (a gravity feed-forward). It holds
+    /// until set again; compensations without a load input ignore it. NaN or
+    /// infinite: ValueError, the axis unchanged.
+    fn set_external_torque(&self, torque: f64) -> PyResult<()> {
+        if !torque.is_finite() {
+            return Err(PyValueError::new_err(format!(
+                "set_external_torque: torque must be finite, not {torque}"
+            )));
+        }
+        lock(&self.axis).set_external_torque(torque);
+        Ok(())
+    }
+
     /// run(x, x_ref, v_ref, a_ref) -> (commands, frictions): one tick per
     /// sample of recorded positions (open loop: the commands do not move x).
     fn run<'py>(

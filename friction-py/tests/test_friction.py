@@ -175,6 +175,31 @@ def closed_loop(c, seconds, factor=1.0, asymmetry=0.0):
     return np.array(errors), modes
 
 
+def test_an_external_torque_reaches_the_load_input():
+    """With a load term, an axis told an external torque commands otherwise
+    than one told nothing (its load input is kc u - torque); a non-finite
+    torque is refused."""
+    m = friction.load(PARAMS / "olsson1998-servo.toml")
+    loop = dict(h=1e-3, kp=60.0, ki=200.0, kd=1.2, inertia=0.0023,
+                torque_constant=1.02, limit=10.0, gain=20.0)
+    settings = {"load": 0.05, "load_max": 0.1}
+    told = m.compensator(parameter_adaptive=settings, **loop)
+    untold = m.compensator(parameter_adaptive=settings, **loop)
+    told.set_external_torque(1.5)
+    for bad in (float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="finite"):
+            told.set_external_torque(bad)
+    apart = 0
+    for k in range(200):
+        x, r = 1e-4 * np.sin(0.05 * k), 2e-4 * np.sin(0.05 * k)
+        if told.tick(x, r) != untold.tick(x, r):
+            apart += 1
+    assert apart > 100, apart
+    # a compensation without a load input ignores it
+    plain = m.compensator(**loop)
+    plain.set_external_torque(1.5)
+
+
 def test_parameter_adaptive_compensator_and_its_supervisor():
     """The per-parameter law learns a plant whose Coulomb level differs by
     direction and stays applied; under a supervisor the mode is readable;
