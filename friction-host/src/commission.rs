@@ -171,7 +171,10 @@ pub fn commission(file: &ParamFile, origin: &str, progress: bool) -> Result<Comm
         ) {
             break;
         }
-        drive.apply(tick.command, now);
+        // the drive's gravity feed-forward beside the routine (at the
+        // measured position: the routine has no reference), within the limit
+        let feedforward = cfg.gravity_feedforward(drive.measured()) / cfg.torque_constant;
+        drive.apply((tick.command + feedforward).clamp(-cfg.limit, cfg.limit), now);
     }
     let points: Vec<PlateauPoint> = routine
         .plateau_points(&state)
@@ -365,7 +368,7 @@ impl CommissionRun {
         let r = &self.result;
         let _ = writeln!(
             s,
-            "\n{} plateaus from {:.4} to {:.4} rad/s, fit residual {:.2} % of fc, {:.1} s; {}.\n",
+            "\n{} plateaus from {:.4} to {:.4} rad/s, fit residual {:.2} % of fc (or of fs / 10 if larger), {:.1} s; {}.\n",
             r.plateaus,
             r.speed_range[0],
             r.speed_range[1],

@@ -139,7 +139,8 @@ pub struct Commissioned {
     pub load_torque: f64,
     /// What was measured.
     pub identified: CommissioningIdentified,
-    /// RMS of the curve fit over the plateaus, relative to the mean `fc`.
+    /// RMS of the curve fit over the plateaus, relative to the mean `fc`
+    /// (to a tenth of the static level where `fc` is below it).
     pub residual: f64,
     /// Slowest and fastest measured plateau speed.
     pub speed_range: [f64; 2],
@@ -157,8 +158,9 @@ pub enum CommissionError {
     Aborted(CommissioningAbort),
     /// Fewer than three usable plateaus in a direction.
     TooFewPlateaus,
-    /// The curve fits the plateaus worse than 10 % of `fc` RMS (the
-    /// figure is the relative RMS).
+    /// The curve fits the plateaus worse than 10 % RMS of `fc`, or of a
+    /// tenth of `fs` where `fc` is below it (the figure is the relative
+    /// RMS).
     PoorFit(f64),
     /// The fitted Coulomb level is not positive.
     NoFriction,
@@ -173,6 +175,13 @@ const MAX_RESIDUAL: f64 = 0.1;
 const SIGNIFICANT: f64 = 0.25;
 /// Stribeck excess below this fraction of `fc`: no Stribeck effect.
 const MIN_EXCESS: f64 = 0.02;
+/// A Stribeck fit's Coulomb level is at least this fraction of its static
+/// level: a harmonic drive's curve can be nearly all Stribeck (BAM's
+/// eRob80, a Coulomb level of 1e-4 of it), where a shape with a negative
+/// one can fit best.
+const MIN_COULOMB: f64 = 1e-3;
+/// The residual's scale is at least this fraction of the static level.
+const RESIDUAL_SCALE: f64 = 0.1;
 /// A plateau whose mean distance per block differs from the reference's by
 /// more than this fraction did not keep up with it.
 const TRACKED: f64 = 0.25;
@@ -284,7 +293,10 @@ fn fit_curve<S: Scalar>(
     if !(fc > 0.0 && fc.is_finite()) {
         return Err(CommissionError::NoFriction);
     }
-    let residual = libm::sqrt(sse / n as f64) / fc;
+    // relative to the Coulomb level, or to the static one's tenth where
+    // the curve is nearly all Stribeck
+    let scale = fc.max(RESIDUAL_SCALE * (fc + 0.5 * (ds_pos + ds_neg)));
+    let residual = libm::sqrt(sse / n as f64) / scale;
     if residual.is_nan() || residual > MAX_RESIDUAL {
         return Err(CommissionError::PoorFit(residual));
     }
@@ -430,8 +442,9 @@ fn stribeck_shape(v: f64, vs: f64, delta: f64) -> f64 {
 }
 
 /// Least squares for the coefficients with shape `g`, with or without the
-/// Stribeck excesses and the viscous term; `None` if singular or if an
-/// excess comes out negative.
+/// Stribeck excesses and the viscous term; `None` if singular, if an
+/// excess comes out negative, or (with them) if the mean Coulomb level
+/// comes out below [`MIN_COULOMB`] of the static level.
 fn linear(
     points: &[Point],
     g: impl Fn(f64) -> f64,
@@ -468,6 +481,10 @@ fn linear(
     }
     let c = solve(a, b)?;
     if stribeck && (c[2] < 0.0 || c[3] < 0.0) {
+        return None;
+    }
+    let coulomb = 0.5 * (c[0] + c[1]);
+    if stribeck && coulomb < MIN_COULOMB * (coulomb + 0.5 * (c[2] + c[3])) {
         return None;
     }
     let sse = points

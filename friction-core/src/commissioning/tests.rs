@@ -419,3 +419,34 @@ fn settings_are_checked_by_name() {
         assert!(std::format!("{e:?}").contains(name), "{name}: {e:?}");
     }
 }
+
+/// A curve that is nearly all Stribeck, as a harmonic drive's (BAM's
+/// eRob80: a Coulomb level of 1e-4 of the static one, the Stribeck
+/// velocity within the plateaus' speeds): commissioned, with the static
+/// level and the viscous coefficient within 5 % and a small positive
+/// Coulomb level. The best Stribeck shape by least squares alone has a
+/// negative Coulomb level here, and the fit was refused (`NoFriction`).
+#[test]
+fn commissions_a_curve_that_is_nearly_all_stribeck() {
+    let plant = LuGreParams {
+        curve: StribeckParams {
+            fc: 4.2e-5,
+            fs: 0.42,
+            vs: 0.4,
+            exponent: 3.0,
+        },
+        sigma0: 4200.0,
+        sigma1: 1.5,
+        sigma2: 0.03,
+        vd: None,
+    };
+    let p = CommissioningParams::new(olsson_servo(), 1.0, 2.0);
+    let routine = p.build::<f64>().unwrap();
+    let (state, _) = commission(&routine, &plant, EXACT);
+    let r = routine.result(&state);
+    println!("{r:#?}");
+    let m = r.unwrap().model;
+    assert!(relative(m.curve.fs, plant.curve.fs).abs() <= 0.05, "{m:?}");
+    assert!(relative(m.sigma2, plant.sigma2).abs() <= 0.05, "{m:?}");
+    assert!(m.curve.fc > 0.0 && m.curve.fc <= 0.1 * m.curve.fs, "{m:?}");
+}
