@@ -27,5 +27,6 @@ trap 'rm -f "$out/trace.log"' EXIT
 timeout "$limit" qemu-system-arm -machine mps2-an385 -nographic \
   -semihosting-config enable=on,target=native -singlestep \
   -d exec,nochain -D "$out/trace.log" -kernel "$elf"
-# steps per case: a sweep period, one step, one step, a sweep period
-python3 cost/profile.py "$nm" "$elf" "$out/trace.log" 64,1,1,64 "${1:-12}" "${2:-src/models/}"
+# steps per case: a sweep period, one step, one step, a sweep period, then
+# the per-parameter servo's ticks: stress 82, sweep 600, 598 and 599
+python3 cost/profile.py "$nm" "$elf" "$out/trace.log" 64,1,1,64,1,1,1,1 "${1:-12}" "${2:-src/models/}"

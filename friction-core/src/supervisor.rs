@@ -55,7 +55,7 @@ impl SupervisorMode {
 /// The fewest controller periods an evidence window may span: a window's
 /// close, spread over the ticks from it on (close, square, blend, track,
 /// judge, choose), ends before the next one closes.
-pub const MIN_WINDOW_TICKS: u32 = 6;
+pub const MIN_WINDOW_TICKS: u32 = 7;
 
 /// Design-time parameters of the supervisor, in `f64`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -233,6 +233,9 @@ pub struct SupervisedState<T, S> {
     tracked: [u8; 3],
     /// The tracking error at the last close.
     error_sample: S,
+    /// The measured velocity's change across the last closed window, until
+    /// its momentum is formed ([`Stage::Force`]).
+    velocity_change: S,
     /// The modes the applied one tracked better and worse than, a bit per
     /// mode (see [`Supervised`]'s `judge_modes`).
     beaten: u8,
@@ -419,7 +422,7 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
     /// them ([`Self::square_errors`]), blend them in
     /// ([`Self::blend_errors`], [`Self::track_modes`]), judge the tracking
     /// ([`Self::judge_modes`]) and choose the mode ([`Self::choose_mode`]).
-    // The window's work is spread over six ticks: it runs inside the
+    // The window's work is spread over seven ticks: it runs inside the
     // control tick, and its cost is the tick's worst case.
     fn close_window<T>(&self, state: &mut SupervisedState<T, S>, v: S, e: S) {
         let sums = state.sums;
@@ -436,21 +439,30 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
         }
         // the window's ends count half: the sum of the friction samples
         // `kc (u[k-1] + u[k-2]) / 2 - J (v[k] - v[k-1]) / h` over its ticks
-        let half = S::from_f64(0.5);
-        let mut ends = [S::ZERO; 3];
-        for ((end, sum), (l, b)) in ends.iter_mut().zip(sums).zip(last.into_iter().zip(before)) {
-            *end = sum - half * (l - b);
-        }
-        let [commands, primary, fallback] = ends;
-        let force = self.torque_constant.times(commands) - self.momentum.times(v - start_velocity);
-        state.pending = [force - primary, force - fallback, force];
+        // halved by a shift in fixed point (`Kernels::half`): the same bits
+        let end = |sum: S, l: S, b: S| sum - (l - b).half();
+        let ([c, p, f], [lc, lp, lf], [bc, bp, bf]) = (sums, last, before);
+        state.pending = [end(c, lc, bc), end(p, lp, bp), end(f, lf, bf)];
+        state.velocity_change = v - start_velocity;
         state.error_sample = e;
+        state.stage = Stage::Force as u8;
+    }
+
+    /// The closed window's measured friction, `kc sum u - J dv / h`, and
+    /// the candidates' summed prediction errors against it (a stage of its
+    /// own: its two products would add to the close's tick).
+    fn form_force<T>(&self, state: &mut SupervisedState<T, S>) {
+        let [commands, primary, fallback] = state.pending;
+        let force =
+            self.torque_constant.times(commands) - self.momentum.times(state.velocity_change);
+        state.pending = [force - primary, force - fallback, force];
         state.stage = Stage::Square as u8;
     }
 
     /// The closed window's next stage.
     fn next_stage<T>(&self, state: &mut SupervisedState<T, S>) {
         match Stage::of_code(state.stage) {
+            Stage::Force => self.form_force(state),
             Stage::Square => self.square_errors(state),
             Stage::Blend => self.blend_errors(state),
             Stage::Track => self.track_modes(state),
@@ -641,6 +653,7 @@ enum Stage {
     Track = 3,
     Judge = 4,
     Choose = 5,
+    Force = 6,
 }
 
 impl Stage {
@@ -651,6 +664,7 @@ impl Stage {
             3 => Stage::Track,
             4 => Stage::Judge,
             5 => Stage::Choose,
+            6 => Stage::Force,
             _ => Stage::Idle,
         }
     }
@@ -979,15 +993,15 @@ mod tests {
         let run = simulate(&measuring_servo(), |_| 1.0, 207, &[]);
         // the window of ticks 0..100 (the first after a start, not
         // measured) closes at tick 100, the window of ticks 100..200 at
-        // tick 200; its errors are squared at 201, blended (the first:
-        // taken as they are) at 202 and the window counted at the choice,
-        // at 205
-        assert_eq!(run[201].0.errors, [0.0; 3]);
-        assert_ne!(run[202].0.errors, [0.0; 3]);
-        assert_eq!(run[204].0.windows, 0);
-        let status = run[205].0;
+        // tick 200; its force is formed at 201, its errors squared at 202,
+        // blended (the first: taken as they are) at 203 and the window
+        // counted at the choice, at 206
+        assert_eq!(run[202].0.errors, [0.0; 3]);
+        assert_ne!(run[203].0.errors, [0.0; 3]);
+        assert_eq!(run[205].0.windows, 0);
+        let status = run[206].0;
         assert_eq!(status.windows, 1);
-        assert_eq!(status.errors, run[202].0.errors);
+        assert_eq!(status.errors, run[203].0.errors);
         // the plant's mean friction over ticks 100..200 (its impulse after
         // tick 199 less that after tick 99, over 0.1 s)
         assert_measures(status.errors[0], (run[199].1 - run[99].1) / 0.1);
@@ -1002,11 +1016,11 @@ mod tests {
         let run = simulate(&measuring_servo(), |_| 1.0, 500, &[150]);
         // the window of ticks 100..150 is cut at the gap; the window that
         // restarts at tick 151 closes at 251, not measured; the next, of
-        // ticks 251..351, closes at 351 (blended at 353, counted at 356)
+        // ticks 251..351, closes at 351 (blended at 354, counted at 357)
         assert_eq!(run[149].0.windows, 0);
-        assert_eq!(run[352].0.errors, [0.0; 3]);
-        assert_eq!(run[355].0.windows, 0);
-        let status = run[356].0;
+        assert_eq!(run[353].0.errors, [0.0; 3]);
+        assert_eq!(run[356].0.windows, 0);
+        let status = run[357].0;
         assert_eq!(status.windows, 1);
         assert_measures(status.errors[2], (run[350].1 - run[250].1) / 0.1);
     }
@@ -1040,12 +1054,12 @@ mod tests {
             },
             ParamError::NotFinite("warm_up"),
         );
-        // five ticks at 1 kHz: the close would not end before the next
+        // six ticks at 1 kHz: the close would not end before the next
         bad(
-            SupervisorParams { window: 5e-3, ..d },
+            SupervisorParams { window: 6e-3, ..d },
             ParamError::OutOfRange("window"),
         );
-        assert!(SupervisorParams { window: 6e-3, ..d }
+        assert!(SupervisorParams { window: 7e-3, ..d }
             .build::<f64, _, _>(crate::NoCompensation, map(0.28), &servo())
             .is_ok());
     }

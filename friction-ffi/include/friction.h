@@ -66,7 +66,7 @@
  * Words (8 bytes each) of a `float` servo object, room for the largest
  * value it holds (a compile-time check keeps it so).
  */
-#define FRICTION_SERVO_F32_WORDS 91
+#define FRICTION_SERVO_F32_WORDS 92
 
 /**
  * Words (8 bytes each) of a `double` servo object.
@@ -1040,7 +1040,7 @@ typedef struct {
  */
 typedef struct {
   /**
-   * Evidence window `> 0` (s), at least six controller periods.
+   * Evidence window `> 0` (s), at least seven controller periods.
    */
   double window;
   /**

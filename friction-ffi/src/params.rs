@@ -479,7 +479,7 @@ impl From<&friction_parameter_adaptive_params> for ParameterAdaptiveParams {
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct friction_supervisor_params {
-    /// Evidence window `> 0` (s), at least six controller periods.
+    /// Evidence window `> 0` (s), at least seven controller periods.
     pub window: f64,
     /// Memory of the mean-square prediction errors, in windows (`>= 1`).
     pub memory: f64,

@@ -20,7 +20,7 @@ use friction_core::{
 
 /// Words (8 bytes each) of a `float` servo object, room for the largest
 /// value it holds (a compile-time check keeps it so).
-pub const FRICTION_SERVO_F32_WORDS: usize = 91;
+pub const FRICTION_SERVO_F32_WORDS: usize = 92;
 /// Words (8 bytes each) of a `double` servo object.
 pub const FRICTION_SERVO_F64_WORDS: usize = 165;
 

@@ -174,7 +174,10 @@ pub fn commission(file: &ParamFile, origin: &str, progress: bool) -> Result<Comm
         // the drive's gravity feed-forward beside the routine (at the
         // measured position: the routine has no reference), within the limit
         let feedforward = cfg.gravity_feedforward(drive.measured()) / cfg.torque_constant;
-        drive.apply((tick.command + feedforward).clamp(-cfg.limit, cfg.limit), now);
+        drive.apply(
+            (tick.command + feedforward).clamp(-cfg.limit, cfg.limit),
+            now,
+        );
     }
     let points: Vec<PlateauPoint> = routine
         .plateau_points(&state)

@@ -167,6 +167,13 @@ impl Kernels for Fixed32 {
     }
 
     #[inline]
+    fn half(self) -> Self {
+        // (x 2^15 + 2^15) >> 16, the product with 0.5, without overflow
+        let bits = self.to_bits();
+        Self::from_bits((bits >> 1) + (bits & 1))
+    }
+
+    #[inline]
     fn mul_bounded(self, b: Self) -> Self {
         Self::from_bits(wrapping_product(self.to_bits(), b.to_bits()))
     }

@@ -221,6 +221,18 @@ pub(crate) mod sealed {
             }
         }
 
+        /// `self / 2`, as `self * 0.5`: fixed point overrides it with a
+        /// shift that rounds as its product does (half up), the same bits
+        /// for a fraction of a product's cost on a core without a 64-bit
+        /// multiply.
+        #[inline]
+        fn half(self) -> Self
+        where
+            Self: Scalar,
+        {
+            self * Self::from_f64(0.5)
+        }
+
         /// `self 2^exp` for a power of two derived from
         /// [`Kernels::force_scale`] (`exp` in -31..=31), skipped like
         /// [`Kernels::rescale`] where forces are never scaled. Fixed point

@@ -617,7 +617,7 @@ impl ServoTable {
         if (c.supervisor_window * c.rate).round() < f64::from(friction_core::MIN_WINDOW_TICKS) {
             return Err(invalid(
                 "supervisor_window",
-                "at least six controller periods",
+                "at least seven controller periods",
                 c.supervisor_window,
             ));
         }
@@ -1303,13 +1303,13 @@ mod tests {
             },
             "`dead_zone`",
         );
-        // five periods at the default 1 kHz: the supervisor needs six
+        // six periods at the default 1 kHz: the supervisor needs seven
         bad(
             ServoTable {
-                supervisor_window: Some(0.005),
+                supervisor_window: Some(0.006),
                 ..Default::default()
             },
-            "at least six controller periods",
+            "at least seven controller periods",
         );
         bad(
             ServoTable {
