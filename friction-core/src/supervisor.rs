@@ -53,8 +53,8 @@ impl SupervisorMode {
 }
 
 /// The fewest controller periods an evidence window may span: a window's
-/// close, spread over the ticks from it on (close, square, blend, track,
-/// judge, choose), ends before the next one closes.
+/// close, spread over the ticks from it on (close, force, square, blend,
+/// track, judge, choose), ends before the next one closes.
 pub const MIN_WINDOW_TICKS: u32 = 7;
 
 /// Design-time parameters of the supervisor, in `f64`.
@@ -187,7 +187,7 @@ pub struct SupervisorStatus<S> {
     /// Switches so far.
     pub switches: u32,
     /// Completed evidence windows (each counted when its evidence has
-    /// chosen the mode, five ticks after it closed).
+    /// chosen the mode, six ticks after it closed).
     pub windows: u32,
     /// Windows since the last switch (counted as `windows`).
     pub since_switch: u32,
@@ -222,8 +222,10 @@ pub struct SupervisedState<T, S> {
     /// start, a skipped tick or a swap is not measured (its first
     /// velocity and commands are not the window's).
     measuring: Flag,
-    /// The last closed window's errors `[primary, fallback, off]` (summed,
-    /// then squared means), until blended in.
+    /// The last closed window's sums `[commands, primary, fallback]` (their
+    /// ends counted half) until its force is formed, then its errors
+    /// `[primary, fallback, off]` (summed, then squared means), until
+    /// blended in.
     pending: [S; 3],
     /// A [`Stage`]'s code.
     stage: u8,
@@ -417,11 +419,13 @@ impl<P, F, S: Scalar> Supervised<P, F, S> {
     }
 
     /// Ends a window at measured velocity `v` and tracking error `e` (the
-    /// tick after its last): its summed prediction errors and `e` wait in
-    /// `pending` and `error_sample` for the next five ticks, which square
-    /// them ([`Self::square_errors`]), blend them in
-    /// ([`Self::blend_errors`], [`Self::track_modes`]), judge the tracking
-    /// ([`Self::judge_modes`]) and choose the mode ([`Self::choose_mode`]).
+    /// tick after its last): its sums, the velocity's change and `e` wait
+    /// in `pending`, `velocity_change` and `error_sample` for the next six
+    /// ticks, which form the measured force and the prediction errors
+    /// ([`Self::form_force`]), square them ([`Self::square_errors`]), blend
+    /// them in ([`Self::blend_errors`], [`Self::track_modes`]), judge the
+    /// tracking ([`Self::judge_modes`]) and choose the mode
+    /// ([`Self::choose_mode`]).
     // The window's work is spread over seven ticks: it runs inside the
     // control tick, and its cost is the tick's worst case.
     fn close_window<T>(&self, state: &mut SupervisedState<T, S>, v: S, e: S) {

@@ -1134,7 +1134,7 @@ typedef struct {
   uint32_t switches;
   /**
    * Completed evidence windows (each counted when its evidence has
-   * chosen the mode, five ticks after it closed).
+   * chosen the mode, six ticks after it closed).
    */
   uint32_t windows;
   /**

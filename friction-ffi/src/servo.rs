@@ -753,7 +753,7 @@ pub struct friction_supervisor_status {
     /// Switches so far.
     pub switches: u32,
     /// Completed evidence windows (each counted when its evidence has
-    /// chosen the mode, five ticks after it closed).
+    /// chosen the mode, six ticks after it closed).
     pub windows: u32,
     /// Windows since the last switch (counted as `windows`).
     pub since_switch: u32,

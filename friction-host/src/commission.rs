@@ -267,10 +267,13 @@ pub fn compare(
 /// levels at no load (`fc` and `fs` less `mu` times the plateaus' mean
 /// transmitted torque, at least a tenth of their value) and `mu` as the
 /// nominal load coefficient, its bound at least `2 mu`; otherwise the
-/// commissioned model and the file's settings.
+/// commissioned model and the file's settings. With a gravity feed-forward
+/// the routine's commands carry no gravity, so a `mu` per unit of them is
+/// not the one the law reads (its load input then includes the modelled
+/// gravity): it is not carried over.
 pub fn adaptive_start(cfg: &ServoConfig, c: &Commissioned) -> (LuGreParams, ServoConfig) {
     let mut settings = cfg.clone();
-    if !c.identified.load {
+    if !c.identified.load || cfg.gravity_feedforward[0] != 0.0 {
         return (c.model, settings);
     }
     let shift = c.load * c.load_torque;

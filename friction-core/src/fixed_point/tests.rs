@@ -482,3 +482,27 @@ fn exp_neg_is_within_3e5_absolute_everywhere() {
     assert_eq!(Fixed32::from_bits(-5).exp_neg(), Fixed32::ONE);
     assert_eq!(Fixed32::MAX.exp_neg(), Fixed32::ZERO);
 }
+
+#[test]
+fn half_is_the_product_with_one_half_bit_for_bit() {
+    let half = Fixed32::from_f64(0.5);
+    let mut next = crate::test_rng::xorshift64(0x9e37_79b9_7f4a_7c15);
+    let edges = [
+        i32::MIN,
+        i32::MIN + 1,
+        -3,
+        -2,
+        -1,
+        0,
+        1,
+        2,
+        3,
+        i32::MAX - 1,
+        i32::MAX,
+    ];
+    let random = (0..100_000).map(|_| next() as i32);
+    for bits in edges.into_iter().chain(random) {
+        let x = Fixed32::from_bits(bits);
+        assert_eq!(x.half().to_bits(), (x * half).to_bits(), "{bits}");
+    }
+}
