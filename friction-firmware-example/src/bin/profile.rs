@@ -30,8 +30,8 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::hprintln;
 use friction_core::{
-    CompensatorState, ElastoPlasticParams, Fixed32, FixedStepModel, ParameterAdaptiveFixedStepState,
-    ParameterAdaptiveServo, Scalar, Setpoint, SupervisedState,
+    CompensatorState, ElastoPlasticParams, Fixed32, FixedStepModel,
+    ParameterAdaptiveFixedStepState, ParameterAdaptiveServo, Scalar, Setpoint, SupervisedState,
 };
 
 #[path = "../setup.rs"]
@@ -88,12 +88,26 @@ fn q(x: f32) -> Fixed32 {
 fn servo_sweep(k: usize) -> Input {
     let x = 1e-3 * libm::sinf((k % 64) as f32 * 0.1963);
     let v = sweep_velocity(k) as f32;
-    (q(x), Setpoint { x: q(x + 1e-5), v: q(v), a: q(0.0) })
+    (
+        q(x),
+        Setpoint {
+            x: q(x + 1e-5),
+            v: q(v),
+            a: q(0.0),
+        },
+    )
 }
 
 fn servo_stress(k: usize) -> Input {
     let v = stress_velocity(k) as f32;
-    (q(1e-3 * v), Setpoint { x: q(0.0), v: q(v), a: q(0.0) })
+    (
+        q(1e-3 * v),
+        Setpoint {
+            x: q(0.0),
+            v: q(v),
+            a: q(0.0),
+        },
+    )
 }
 
 fn parameter_servo() -> Servo {
@@ -101,7 +115,9 @@ fn parameter_servo() -> Servo {
     let law = parameter_adaptation()
         .build_fixed_step::<Fixed32>(&p)
         .unwrap_or_else(|_| fail("per-parameter law"));
-    let map = fallback().build::<Fixed32>().unwrap_or_else(|_| fail("fallback"));
+    let map = fallback()
+        .build::<Fixed32>()
+        .unwrap_or_else(|_| fail("fallback"));
     let supervised = supervisor()
         .build(law, map, &p)
         .unwrap_or_else(|_| fail("supervisor"));
