@@ -460,7 +460,7 @@ impl<S: Scalar, const EXACT: bool> ParameterAdaptiveFixedStep<S, EXACT> {
             // the unrolled update for the M0's worst tick; not on a
             // hard-float ARM target, where the tick is inlined into the C
             // ABI's dispatch and the unrolled form made every kind's tick
-            // there dearer (the LuGre tick 295.3 -> 297.2, past its 1.10x)
+            // there dearer, past the ABI's budget (the cost guide)
             if !cfg!(target_abi = "eabihf") && self.leakage_h.is_zero() {
                 self.adapt(state, signal, zeta, s, v);
                 return self.force(state, v, dw);
