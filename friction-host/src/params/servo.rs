@@ -548,31 +548,17 @@ impl ServoTable {
                 c.asymmetry,
             ));
         }
-        let [torque, angle] = c.gravity;
-        if !(0.0..=MAX_VALUE).contains(&torque) {
-            return Err(invalid(
-                "gravity",
-                "[T, x0] with T >= 0 and at most 1e12",
-                torque,
-            ));
-        }
-        if !(angle.is_finite() && angle.abs() <= MAX_VALUE) {
-            return Err(invalid("gravity", "[T, x0] with a finite x0", angle));
-        }
-        let [torque, angle] = c.gravity_feedforward;
-        if !(0.0..=MAX_VALUE).contains(&torque) {
-            return Err(invalid(
-                "gravity_feedforward",
-                "[T, x0] with T >= 0 and at most 1e12",
-                torque,
-            ));
-        }
-        if !(angle.is_finite() && angle.abs() <= MAX_VALUE) {
-            return Err(invalid(
-                "gravity_feedforward",
-                "[T, x0] with a finite x0",
-                angle,
-            ));
+        // the plant's pendulum and the drive's model of it, checked alike
+        for (key, [torque, angle]) in [
+            ("gravity", c.gravity),
+            ("gravity_feedforward", c.gravity_feedforward),
+        ] {
+            if !(0.0..=MAX_VALUE).contains(&torque) {
+                return Err(invalid(key, "[T, x0] with T >= 0 and at most 1e12", torque));
+            }
+            if !(angle.is_finite() && angle.abs() <= MAX_VALUE) {
+                return Err(invalid(key, "[T, x0] with a finite x0", angle));
+            }
         }
         if c.ripple.len() > MAX_DRIFT_POINTS {
             return Err(invalid(
