@@ -542,9 +542,10 @@ typedef struct {
    */
   uint32_t plateaus;
   /**
-   * RMS of the curve fit over the plateaus, relative to the mean `fc`
-   * (also written alone when the result is refused as
-   * `FRICTION_POOR_FIT`).
+   * RMS of the curve fit over the plateaus, relative to the friction:
+   * the largest of the mean `fc`, a tenth of the static level and the
+   * curve's lowest at the plateaus' speeds (also written alone when the
+   * result is refused as `FRICTION_POOR_FIT`).
    */
   double residual;
   /**

@@ -228,9 +228,10 @@ pub struct friction_commissioned {
     pub identified_damping: i32,
     /// Plateaus fitted.
     pub plateaus: u32,
-    /// RMS of the curve fit over the plateaus, relative to the mean `fc`
-    /// (also written alone when the result is refused as
-    /// `FRICTION_POOR_FIT`).
+    /// RMS of the curve fit over the plateaus, relative to the friction:
+    /// the largest of the mean `fc`, a tenth of the static level and the
+    /// curve's lowest at the plateaus' speeds (also written alone when the
+    /// result is refused as `FRICTION_POOR_FIT`).
     pub residual: f64,
     /// Slowest and fastest fitted plateau speed.
     pub speed_range: [f64; 2],

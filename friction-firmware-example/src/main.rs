@@ -335,7 +335,7 @@ fn parameters_hold(r: &Commissioned) -> bool {
         );
     }
     defmt::info!(
-        "commissioned: identified {}, fit residual {=f64} % of fc, speeds {=f64} to {=f64} rad/s, {=u8} plateaus fitted, break-away {=f64} / {=f64} N m",
+        "commissioned: identified {}, fit residual {=f64} % of the friction, speeds {=f64} to {=f64} rad/s, {=u8} plateaus fitted, break-away {=f64} / {=f64} N m",
         id,
         100.0 * r.residual,
         r.speed_range[0],

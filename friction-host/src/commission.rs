@@ -374,7 +374,7 @@ impl CommissionRun {
         let r = &self.result;
         let _ = writeln!(
             s,
-            "\n{} plateaus from {:.4} to {:.4} rad/s, fit residual {:.2} % of fc (or of fs / 10 if larger), {:.1} s; {}.\n",
+            "\n{} plateaus from {:.4} to {:.4} rad/s, fit residual {:.2} % of the friction (the largest of fc, fs / 10 and the curve at the plateaus), {:.1} s; {}.\n",
             r.plateaus,
             r.speed_range[0],
             r.speed_range[1],

@@ -1012,7 +1012,7 @@ impl Commissioning {
                 E::Aborted(why) => format!("commissioning aborted: {}", abort_name(why)),
                 E::TooFewPlateaus => "too few steady plateaus in a direction".to_string(),
                 E::PoorFit(residual) => {
-                    format!("poor fit: residual {residual:.3} of fc (at most 0.1)")
+                    format!("poor fit: residual {residual:.3} of the friction (at most 0.1)")
                 }
                 E::NoFriction => "no positive Coulomb level".to_string(),
                 E::Invalid(e) => format!("the fitted model does not build: {e}"),

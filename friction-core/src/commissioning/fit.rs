@@ -139,8 +139,9 @@ pub struct Commissioned {
     pub load_torque: f64,
     /// What was measured.
     pub identified: CommissioningIdentified,
-    /// RMS of the curve fit over the plateaus, relative to the mean `fc`
-    /// (to a tenth of the static level where `fc` is below it).
+    /// RMS of the curve fit over the plateaus, relative to the mean `fc`,
+    /// to a tenth of the static level or to the lowest friction the curve
+    /// has at the plateaus' speeds, whichever is largest.
     pub residual: f64,
     /// Slowest and fastest measured plateau speed.
     pub speed_range: [f64; 2],
@@ -158,8 +159,9 @@ pub enum CommissionError {
     Aborted(CommissioningAbort),
     /// Fewer than three usable plateaus in a direction.
     TooFewPlateaus,
-    /// The curve fits the plateaus worse than 10 % RMS of `fc`, or of a
-    /// tenth of `fs` where `fc` is below it (the figure is the relative
+    /// The curve fits the plateaus worse than 10 % RMS of `fc`, of a
+    /// tenth of `fs` or of the curve's lowest friction at the plateaus'
+    /// speeds, whichever is largest (the figure is the relative
     /// RMS).
     PoorFit(f64),
     /// The fitted Coulomb level is not positive.
@@ -293,9 +295,18 @@ fn fit_curve<S: Scalar>(
     if !(fc > 0.0 && fc.is_finite()) {
         return Err(CommissionError::NoFriction);
     }
-    // relative to the Coulomb level, or to the static one's tenth where
-    // the curve is nearly all Stribeck
-    let scale = fc.max(RESIDUAL_SCALE * (fc + 0.5 * (ds_pos + ds_neg)));
+    // relative to the Coulomb level, to the static one's tenth where the
+    // curve is nearly all Stribeck, or to the lowest friction the curve has
+    // at the plateaus' speeds where that is larger: where the plateaus lie
+    // on the Stribeck branch, the Coulomb level is an extrapolation beyond
+    // the fastest of them that the data hardly fix, and a good fit must not
+    // be refused for where that extrapolation lands
+    let ds = 0.5 * (ds_pos + ds_neg);
+    let lowest = points.iter().fold(f64::INFINITY, |m, p| {
+        let v = libm::fabs(p.v);
+        m.min(fc + ds * stribeck_shape(v, vs, delta) + sigma2 * v)
+    });
+    let scale = fc.max(RESIDUAL_SCALE * (fc + ds)).max(lowest);
     let residual = libm::sqrt(sse / n as f64) / scale;
     if residual.is_nan() || residual > MAX_RESIDUAL {
         return Err(CommissionError::PoorFit(residual));
