@@ -3,7 +3,9 @@
 //! with the transmitted torque) on a pendulum, 12-bit encoder. On an axis
 //! with `gravity` the load coefficient is learnt by default
 //! (`LOADED_AXIS_LOAD_MAX`); without it the wrong-Stribeck row `adaptive-50`
-//! missed issue 32's actuator target (0.56x).
+//! missed issue 32's actuator target (0.56x). The target holds at the
+//! file's own 4096 counts, with the backward difference: with a finer
+//! encoder these rows miss it (docs/guide/servo.md, "Actuator plants").
 
 use friction_host::params::servo::LOADED_AXIS_LOAD_MAX;
 use friction_host::params::ParamFile;
