@@ -1,5 +1,6 @@
-//! Model-free adaptive feed-forward: Coulomb + viscous friction fitted online
-//! by recursive least squares with forgetting (Ljung & Söderström 1983; as
+//! Model-free adaptive feed-forward: Coulomb + viscous friction (and
+//! optionally a constant offset) fitted online by recursive least squares
+//! with forgetting (Ljung & Söderström 1983; as
 //! friction identification: Canudas de Wit & Lischinsky 1997): see
 //! [`RlsFeedForward`].
 
@@ -30,6 +31,9 @@ pub struct RlsParams {
     /// Initial viscous coefficient (force per speed unit), with
     /// `|coefficient v_ref| <= F_max`.
     pub initial_viscous: f64,
+    /// Also fit a constant force offset `w2` (starting at 0): a Coulomb
+    /// level per direction, `w0 ± w2`.
+    pub offset: bool,
 }
 
 impl RlsParams {
@@ -78,7 +82,8 @@ impl RlsParams {
 
     /// Defaults for a motion of peak speed `speed_scale` and friction below
     /// `max_force`: `λ = 0.999` (about a second of memory at 1 kHz),
-    /// `v_min = speed_scale / 50`, `p0 = 10`, `p_max = 100`, starting from 0.
+    /// `v_min = speed_scale / 50`, `p0 = 10`, `p_max = 100`, starting from 0,
+    /// no offset.
     pub fn new(speed_scale: f64, max_force: f64) -> Self {
         Self {
             forgetting: 0.999,
@@ -89,6 +94,7 @@ impl RlsParams {
             max_force,
             initial_coulomb: 0.0,
             initial_viscous: 0.0,
+            offset: false,
         }
     }
 
@@ -120,7 +126,13 @@ impl RlsParams {
             initial: [
                 S::from_f64(self.initial_coulomb),
                 S::from_f64(self.initial_viscous * self.speed_scale),
+                S::ZERO,
             ],
+            initial_offset_covariance: if self.offset {
+                convert("initial_covariance", self.initial_covariance)?
+            } else {
+                S::ZERO
+            },
             params: *self,
         })
     }
@@ -134,9 +146,10 @@ pub struct RlsState<S> {
     /// `false` until the first update: the weights are the built initial
     /// ones and `P = p0 I` (a byte: `crate::bits`).
     primed: Flag,
-    w: [S; 2],
-    /// `P` as `(p00, p01, p11)`.
-    p: [S; 3],
+    /// `(Coulomb level, viscous weight, offset)`.
+    w: [S; 3],
+    /// `P` (symmetric) as `(p00, p01, p02, p11, p12, p22)`.
+    p: [S; 6],
     updates: u32,
 }
 
@@ -150,31 +163,39 @@ impl<S: Scalar> RlsState<S> {
 /// The built least-squares feed-forward: a [`Compensation`] that learns from
 /// the compensator's [`FrictionSample`]s.
 ///
-/// Model-free adaptive feed-forward: Coulomb + viscous friction fitted online
-/// by recursive least squares with forgetting (Ljung & Söderström 1983; as
-/// friction identification: Canudas de Wit & Lischinsky 1997).
+/// Model-free adaptive feed-forward: Coulomb + viscous friction, and with
+/// [`RlsParams::offset`] a constant force offset, fitted online by recursive
+/// least squares with forgetting (Ljung & Söderström 1983; as friction
+/// identification: Canudas de Wit & Lischinsky 1997).
 ///
 /// The compensator measures the friction residual over the last two periods
 /// ([`FrictionSample`]: command force minus inertia times the measured
 /// acceleration). Each sample above a minimum speed updates the weights `w`
-/// of the regressors `φ = (sign v, v / v_ref)`:
+/// of the regressors `φ = (sign v, v / v_ref, 1)`:
 ///
 /// ```text
 /// K = P φ / (λ + φᵀ P φ)
 /// w = w + K (y - φᵀ w)
 /// P = (P - K φᵀ P) / λ,   then scaled down to trace(P) <= p_max
-/// F^ = sat(F_max, max(w0, 0) sign(v) + w1 v / v_ref)  on the measured velocity
+/// F^ = sat(F_max, max(w0 + w2 sign v, 0) sign v + w1 v / v_ref)  on the measured velocity (0 at rest)
 /// ```
 ///
-/// so `w0` estimates the Coulomb level and `w1 / v_ref` the viscous
-/// coefficient. `v_ref` (the speed scale, e.g. the largest speed of the
-/// motion) makes both regressors of order one, so that `P` is dimensionless
-/// and one `p0` suits both. Forgetting `λ < 1` follows drift with a memory
-/// of about `1 / (1 - λ)` samples; a too small `λ` follows the noise of a
-/// quantized acceleration. Samples below `v_min` are skipped (at rest the
-/// sign regressor is meaningless and the residual is stiction), and nothing
-/// is forgotten without a sample, so a standstill cannot wind `P` up; the
-/// trace bound holds it bounded in any case, and `|w| <= F_max`.
+/// so `w0` estimates the Coulomb level, `w1 / v_ref` the viscous
+/// coefficient and `w2` the offset. Without the offset its covariance
+/// starts (and stays) at 0, so `w2` stays 0: the fit is Coulomb + viscous
+/// alone. With it the fit is the model offline identification fits (a
+/// constant load such as an axis' cable or tilt), the same as a Coulomb
+/// level per direction, `w0 + w2` forward and `w0 - w2` backward; on a
+/// swinging joint it takes the part of gravity that correlates with the
+/// direction for an offset. `v_ref` (the speed scale, e.g. the largest
+/// speed of the motion) makes the regressors of order one, so that `P` is
+/// dimensionless and one `p0` suits them all. Forgetting `λ < 1` follows
+/// drift with a memory of about `1 / (1 - λ)` samples; a too small `λ`
+/// follows the noise of a quantized acceleration. Samples below `v_min` are
+/// skipped (at rest the sign regressor is meaningless and the residual is
+/// stiction), and nothing is forgotten without a sample, so a standstill
+/// cannot wind `P` up; the trace bound holds it bounded in any case, and
+/// `|w| <= F_max`.
 ///
 /// `P` starts at `p0 I` and `w` at 0 (or the given initial weights): the
 /// first samples move `w` fast, by about `p0 / (1 + p0)` of each residual.
@@ -186,9 +207,11 @@ pub struct RlsFeedForward<S> {
     min_speed: S,
     inv_speed_scale: S,
     initial_covariance: S,
+    /// `p0` with the offset, 0 without.
+    initial_offset_covariance: S,
     max_covariance: S,
     max_force: S,
-    initial: [S; 2],
+    initial: [S; 3],
     params: RlsParams,
 }
 
@@ -200,17 +223,24 @@ impl<S: Scalar> RlsFeedForward<S> {
 
     /// The fitted `(Coulomb level, viscous coefficient)` of `state`.
     pub fn coefficients(&self, state: &RlsState<S>) -> (f64, f64) {
-        let w = self.weights(state);
-        (w[0].to_f64(), w[1].to_f64() * self.inv_speed_scale.to_f64())
+        let [w0, w1, _] = self.weights(state);
+        (w0.to_f64(), w1.to_f64() * self.inv_speed_scale.to_f64())
+    }
+
+    /// The fitted force offset of `state` (0 without
+    /// [`RlsParams::offset`]).
+    pub fn offset(&self, state: &RlsState<S>) -> f64 {
+        let [_, _, w2] = self.weights(state);
+        w2.to_f64()
     }
 
     /// The trace of the covariance `P`.
     pub fn covariance_trace(&self, state: &RlsState<S>) -> S {
-        let p = self.covariance(state);
-        p[0] + p[2]
+        let [p00, _, _, p11, _, p22] = self.covariance(state);
+        p00 + p11 + p22
     }
 
-    fn weights(&self, state: &RlsState<S>) -> [S; 2] {
+    fn weights(&self, state: &RlsState<S>) -> [S; 3] {
         if state.primed.get() {
             state.w
         } else {
@@ -218,37 +248,51 @@ impl<S: Scalar> RlsFeedForward<S> {
         }
     }
 
-    fn covariance(&self, state: &RlsState<S>) -> [S; 3] {
+    fn covariance(&self, state: &RlsState<S>) -> [S; 6] {
+        let p0 = self.initial_covariance;
         if state.primed.get() {
             state.p
         } else {
-            [self.initial_covariance, S::ZERO, self.initial_covariance]
+            [
+                p0,
+                S::ZERO,
+                S::ZERO,
+                p0,
+                S::ZERO,
+                self.initial_offset_covariance,
+            ]
         }
     }
 
-    /// The regressor `(sign v, v / v_ref)`, the second within the scalar's
-    /// velocity limit.
+    /// The regressor `(sign v, v / v_ref, 1)`, the second within the
+    /// scalar's velocity limit.
     #[inline]
-    fn regressor(&self, v: S) -> [S; 2] {
-        [v.sign(), (v * self.inv_speed_scale).sat(S::VELOCITY_LIMIT)]
+    fn regressor(&self, v: S) -> [S; 3] {
+        [
+            v.sign(),
+            (v * self.inv_speed_scale).sat(S::VELOCITY_LIMIT),
+            S::ONE,
+        ]
     }
 
-    /// The estimate `max(w0, 0) sign(v) + w1 v / v_ref` within `±F_max`.
+    /// The estimate `max(w0 + w2 sign v, 0) sign v + w1 v / v_ref` within
+    /// `±F_max`, 0 at rest but for the viscous term.
     ///
-    /// A Coulomb level is never negative: a fit that makes `w0 < 0` has
+    /// A Coulomb level is never negative: a fit that makes one negative has
     /// taken a load that changes sign with the direction (gravity on a
     /// swinging joint) for friction, and fed forward it would push along
-    /// the motion. The fit itself keeps `w0` (the least squares stay
+    /// the motion. The fit itself keeps it (the least squares stay
     /// unbiased); only the feed-forward drops it.
     #[inline]
     pub fn force(&self, state: &RlsState<S>, v: S) -> S {
         if !v.is_finite() {
             return S::ZERO;
         }
-        let w = self.weights(state);
-        let phi = self.regressor(v.sat(S::VELOCITY_LIMIT));
-        let viscous = (w[1] * phi[1]).sat(self.max_force);
-        (w[0].max(S::ZERO) * phi[0] + viscous).sat(self.max_force)
+        let [w0, w1, w2] = self.weights(state);
+        let [sign, speed, _] = self.regressor(v.sat(S::VELOCITY_LIMIT));
+        let level = (w0 + w2 * sign).max(S::ZERO);
+        let viscous = (w1 * speed).sat(self.max_force);
+        (level * sign + viscous).sat(self.max_force)
     }
 
     /// One least-squares update from a sample: skipped below the minimum
@@ -260,49 +304,63 @@ impl<S: Scalar> RlsFeedForward<S> {
         }
         let y = y.sat(self.max_force + self.max_force + self.max_force + self.max_force);
         let w = self.weights(state);
-        let [p00, p01, p11] = self.covariance(state);
+        let [p00, p01, p02, p11, p12, p22] = self.covariance(state);
         let phi = self.regressor(v);
+        let [f0, f1, f2] = phi;
         // P φ and φᵀ P φ (P symmetric)
-        let a0 = p00 * phi[0] + p01 * phi[1];
-        let a1 = p01 * phi[0] + p11 * phi[1];
-        let denom = self.forgetting + phi[0] * a0 + phi[1] * a1;
-        let (k0, k1) = (a0 / denom, a1 / denom);
-        let err = y - (w[0] * phi[0] + w[1] * phi[1]);
-        let w0 = (w[0] + k0 * err).sat(self.max_force);
-        let w1 = (w[1] + k1 * err).sat(self.max_force);
+        let a0 = p00 * f0 + p01 * f1 + p02 * f2;
+        let a1 = p01 * f0 + p11 * f1 + p12 * f2;
+        let a2 = p02 * f0 + p12 * f1 + p22 * f2;
+        let denom = self.forgetting + f0 * a0 + f1 * a1 + f2 * a2;
+        let (k0, k1, k2) = (a0 / denom, a1 / denom, a2 / denom);
+        let [w0, w1, w2] = w;
+        // without the offset p02 = p12 = p22 = 0, so k2 = 0 and w2 stays 0
+        let err = y - (w0 * f0 + w1 * f1 + w2 * f2);
+        let w = [
+            (w0 + k0 * err).sat(self.max_force),
+            (w1 + k1 * err).sat(self.max_force),
+            (w2 + k2 * err).sat(self.max_force),
+        ];
         // P - K (P φ)ᵀ, over λ
-        let mut q00 = ((p00 - k0 * a0) * self.inv_forgetting).max(S::ZERO);
-        let mut q11 = ((p11 - k1 * a1) * self.inv_forgetting).max(S::ZERO);
-        let mut q01 = (p01 - k0 * a1) * self.inv_forgetting;
-        // keep P positive semi-definite against rounding: q01^2 <= q00 q11
-        let det = q00 * q11;
-        if q01 * q01 > det {
-            q01 = if q01 == S::ZERO { q01 } else { det / q01 };
-        }
+        let lambda = self.inv_forgetting;
+        let q00 = ((p00 - k0 * a0) * lambda).max(S::ZERO);
+        let q11 = ((p11 - k1 * a1) * lambda).max(S::ZERO);
+        let q22 = ((p22 - k2 * a2) * lambda).max(S::ZERO);
+        // keep P positive semi-definite against rounding: q_ij^2 <= q_ii q_jj
+        let q01 = within_geometric_mean((p01 - k0 * a1) * lambda, q00, q11);
+        let q02 = within_geometric_mean((p02 - k0 * a2) * lambda, q00, q22);
+        let q12 = within_geometric_mean((p12 - k1 * a2) * lambda, q11, q22);
+        let mut q = [q00, q01, q02, q11, q12, q22];
         // trace bound
-        let trace = q00 + q11;
+        let trace = q00 + q11 + q22;
         if trace > self.max_covariance {
             let shrink = self.max_covariance / trace;
-            q00 = q00 * shrink;
-            q11 = q11 * shrink;
-            q01 = q01 * shrink;
+            q = q.map(|x| x * shrink);
         }
-        if !(w0.is_finite()
-            && w1.is_finite()
-            && q00.is_finite()
-            && q01.is_finite()
-            && q11.is_finite())
-        {
+        if !(w.iter().all(|x| x.is_finite()) && q.iter().all(|x| x.is_finite())) {
             return;
         }
-        state.w = [w0, w1];
-        state.p = [q00, q01, q11];
+        state.w = w;
+        state.p = q;
         state.primed = Flag::new(true);
         state.updates = state.updates.saturating_add(1);
     }
 }
 
-/// The feed-forward `F^ = max(w0, 0) sign(v) + w1 v / v_ref` on the measured velocity,
+/// `q` with `q^2 <= a b` (for `a, b >= 0`): an off-diagonal covariance
+/// bounded by its diagonal, as a positive semi-definite matrix's are.
+#[inline]
+fn within_geometric_mean<S: Scalar>(q: S, a: S, b: S) -> S {
+    let det = a * b;
+    if q * q > det && q != S::ZERO {
+        det / q
+    } else {
+        q
+    }
+}
+
+/// The feed-forward `F^ = max(w0 + w2 sign v, 0) sign v + w1 v / v_ref` on the measured
+/// velocity,
 /// learning from every sample the compensator measures.
 impl<S: Scalar> Compensation<S> for RlsFeedForward<S> {
     type State = RlsState<S>;

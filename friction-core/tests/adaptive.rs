@@ -307,9 +307,10 @@ proptest! {
     #[test]
     fn rls_stays_bounded(
         forgetting in prop_oneof![Just(1.0), 0.5..1.0f64, Just(1e-9)],
+        offset in any::<bool>(),
         samples in prop::collection::vec((hostile(), hostile()), 1..300),
     ) {
-        let p = RlsParams { forgetting, ..RlsParams::new(0.63, 10.0) };
+        let p = RlsParams { forgetting, offset, ..RlsParams::new(0.63, 10.0) };
         let rls = p.build::<f64>().unwrap();
         let rls32 = p.build::<f32>().unwrap();
         let mut s = RlsState::default();
@@ -319,6 +320,7 @@ proptest! {
             rls32.update(&mut s32, FrictionSample { force: force as f32, v: v as f32 });
             let (fc, viscous) = rls.coefficients(&s);
             prop_assert!(fc.abs() <= 10.0 && (viscous * 0.63).abs() <= 10.0 * (1.0 + 1e-12));
+            prop_assert!(rls.offset(&s).abs() <= 10.0 && (offset || rls.offset(&s) == 0.0));
             let trace = rls.covariance_trace(&s);
             prop_assert!(trace.is_finite() && (0.0..=100.0 * (1.0 + 1e-12)).contains(&trace), "{trace}");
             prop_assert!(rls.force(&s, v).abs() <= 10.0);
@@ -368,11 +370,17 @@ fn rls_covariance_stays_bounded_over_a_million_standstill_ticks() {
 /// drops: it never pushes along the motion with a Coulomb level.
 #[test]
 fn rls_feeds_forward_no_negative_coulomb_level() {
-    fn check<S: Scalar>() {
-        let rls = RlsParams::new(0.63, 10.0).build::<S>().unwrap();
+    fn check<S: Scalar>(offset: bool) {
+        let rls = RlsParams {
+            offset,
+            ..RlsParams::new(0.63, 10.0)
+        }
+        .build::<S>()
+        .unwrap();
         let mut s = RlsState::default();
+        // two speeds per direction: the offset's fit needs three regressors
         for k in 0..400 {
-            let v = if k % 2 == 0 { 0.5 } else { -0.3 };
+            let v = [0.5, -0.3, 0.2, -0.6][k % 4];
             rls.update(
                 &mut s,
                 FrictionSample {
@@ -381,6 +389,7 @@ fn rls_feeds_forward_no_negative_coulomb_level() {
                 },
             );
         }
+        assert!(rls.offset(&s).abs() < 0.01, "{}", rls.offset(&s));
         let (fc, viscous) = rls.coefficients(&s);
         assert!(
             (fc.to_f64() + 0.4).abs() < 0.01,
@@ -399,6 +408,56 @@ fn rls_feeds_forward_no_negative_coulomb_level() {
                 "v {v}: {f} is the viscous term alone"
             );
         }
+    }
+    for offset in [false, true] {
+        check::<f64>(offset);
+        check::<f32>(offset);
+        #[cfg(feature = "fixed")]
+        check::<friction_core::Fixed32>(offset);
+    }
+}
+
+/// With the offset the fit finds a Coulomb level per direction (a friction
+/// with a constant load on it) and feeds each forward in its direction;
+/// without it the offset stays exactly 0.
+#[test]
+fn rls_with_an_offset_fits_a_level_per_direction() {
+    fn check<S: Scalar>() {
+        let fit = |offset: bool| {
+            let rls = RlsParams {
+                offset,
+                ..RlsParams::new(0.63, 10.0)
+            }
+            .build::<S>()
+            .unwrap();
+            let mut s = RlsState::default();
+            for k in 0..800 {
+                let v = [0.5, -0.3, 0.2, -0.6][k % 4];
+                let force = 0.3 * f64::signum(v) + 0.1 * v - 0.05;
+                rls.update(
+                    &mut s,
+                    FrictionSample {
+                        force: S::from_f64(force),
+                        v: S::from_f64(v),
+                    },
+                );
+            }
+            (rls, s)
+        };
+        let (rls, s) = fit(true);
+        let (fc, viscous) = rls.coefficients(&s);
+        let offset = rls.offset(&s);
+        assert!((fc - 0.3).abs() < 0.01, "{fc}");
+        assert!((viscous - 0.1).abs() < 0.01, "{viscous}");
+        assert!((offset + 0.05).abs() < 0.01, "{offset}");
+        for v in [0.5, -0.3, 0.1, -0.05] {
+            let f = rls.force(&s, S::from_f64(v)).to_f64();
+            let expected = 0.3 * f64::signum(v) + 0.1 * v - 0.05;
+            assert!((f - expected).abs() < 0.01, "v {v}: {f} against {expected}");
+        }
+        assert_eq!(rls.force(&s, S::ZERO).to_f64(), 0.0);
+        let (rls, s) = fit(false);
+        assert_eq!(rls.offset(&s), 0.0);
     }
     check::<f64>();
     check::<f32>();

@@ -84,7 +84,7 @@ enum Command {
     /// Each sample's position and command go through the compensator as a
     /// drive would run it beside its own controller: the per-parameter
     /// estimator (prediction-error law) and the least-squares feed-forward
-    /// learn from the friction it measures. Writes DIR/estimates.csv (the
+    /// (with a force offset) learn from the friction it measures. Writes DIR/estimates.csv (the
     /// estimates over time), DIR/estimates.svg and DIR/report.md, with the
     /// offline IDIM-LS fit of the same run and, with --validate, each model's
     /// force prediction error on a second run.

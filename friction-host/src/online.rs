@@ -94,8 +94,8 @@ pub struct Trace {
     pub t: Vec<f64>,
     /// Per-parameter estimates `[Fc+, Fc-, Fs - Fc, sigma2, mu]`.
     pub adaptive: Vec<[f64; 5]>,
-    /// Least-squares Coulomb level and viscous coefficient.
-    pub rls: Vec<[f64; 2]>,
+    /// Least-squares estimates `[Fc+, Fc-, sigma2]`.
+    pub rls: Vec<[f64; 3]>,
 }
 
 /// The final figures of one estimator as a Coulomb-viscous law with an
@@ -205,6 +205,8 @@ pub fn replay(o: &Options, run: &Run) -> Result<(Trace, (f64, f64))> {
         min_speed,
         initial_coulomb: o.coulomb,
         initial_viscous: o.viscous,
+        // the offline fit's model: Coulomb, viscous and an offset
+        offset: true,
         ..RlsParams::new(speed, 4.0 * o.columns.force_gain.abs() * servo.limit)
     };
     let rls = servo
@@ -224,7 +226,10 @@ pub fn replay(o: &Options, run: &Run) -> Result<(Trace, (f64, f64))> {
         trace.t.push(t);
         trace.adaptive.push(sa.friction().estimates());
         let (coulomb, viscous) = rls.compensation().coefficients(sr.friction());
-        trace.rls.push([coulomb, viscous]);
+        let offset = rls.compensation().offset(sr.friction());
+        trace
+            .rls
+            .push([coulomb + offset, coulomb - offset, viscous]);
     }
     Ok((trace, (speed, min_speed)))
 }
@@ -329,9 +334,9 @@ pub fn run(o: &Options) -> Result<Outcome> {
     };
     let r = trace.rls.last().copied().unwrap_or_default();
     let rls = Final {
-        coulomb: r[0],
-        viscous: r[1],
-        offset: 0.0,
+        coulomb: 0.5 * (r[0] + r[1]),
+        viscous: r[2],
+        offset: 0.5 * (r[0] - r[1]),
     };
     // the offline yardstick: IDIM-LS on the same run
     let conditioning = Conditioning::default();
@@ -405,6 +410,7 @@ fn write_outputs(o: &Options, out: &Outcome) -> Result<()> {
         col(&|k| tr.adaptive[k][3]),
         col(&|k| tr.rls[k][0]),
         col(&|k| tr.rls[k][1]),
+        col(&|k| tr.rls[k][2]),
     ];
     let refs: Vec<&[f64]> = columns.iter().map(|c| c.as_slice()).collect();
     io::write_columns(
@@ -415,7 +421,8 @@ fn write_outputs(o: &Options, out: &Outcome) -> Result<()> {
             "adaptive_fc_neg",
             "adaptive_stribeck",
             "adaptive_sigma2",
-            "rls_fc",
+            "rls_fc_pos",
+            "rls_fc_neg",
             "rls_sigma2",
         ],
         &refs,
@@ -448,12 +455,12 @@ fn estimates_plot(path: &Path, out: &Outcome) -> Result<()> {
             points: pts(&|k| tr.adaptive[k][3] * speed),
         },
         Series {
-            label: "rls Fc",
-            points: pts(&|k| tr.rls[k][0]),
+            label: "rls (Fc+ + Fc-)/2",
+            points: pts(&|k| 0.5 * (tr.rls[k][0] + tr.rls[k][1])),
         },
         Series {
             label: "rls sigma2 x speed",
-            points: pts(&|k| tr.rls[k][1] * speed),
+            points: pts(&|k| tr.rls[k][2] * speed),
         },
         Series {
             label: "offline IDIM-LS Fc",

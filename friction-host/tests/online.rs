@@ -52,12 +52,13 @@ fn emps_online_estimates_meet_the_offline_fit() {
         assert!((mass - 95.1089).abs() < 0.01 * 95.1089, "{mass}");
         let pc = |x: f64, r: f64| online::percent(x, r).abs();
         eprintln!(
-            "start {a}x/{b}x: adaptive Fc {:+.2} % sigma2 {:+.2} % offset {:.3}; rls Fc {:+.2} % sigma2 {:+.2} %",
+            "start {a}x/{b}x: adaptive Fc {:+.2} % sigma2 {:+.2} % offset {:.3}; rls Fc {:+.2} % sigma2 {:+.2} % offset {:.3}",
             online::percent(out.adaptive.coulomb, off.coulomb),
             online::percent(out.adaptive.viscous, off.viscous),
             out.adaptive.offset,
             online::percent(out.rls.coulomb, off.coulomb),
             online::percent(out.rls.viscous, off.viscous),
+            out.rls.offset,
         );
         // least squares: the target met from every start
         assert!(pc(out.rls.coulomb, off.coulomb) < 10.0, "{:?}", out.rls);
@@ -76,11 +77,9 @@ fn emps_online_estimates_meet_the_offline_fit() {
             out.adaptive
         );
         // the offset shows as the difference of the levels per direction
-        assert!(
-            (out.adaptive.offset - off.offset).abs() < 0.5,
-            "{:?}",
-            out.adaptive
-        );
+        for f in [out.adaptive, out.rls] {
+            assert!((f.offset - off.offset).abs() < 0.5, "{f:?}");
+        }
         let [offline, adaptive, rls] = out.validation.unwrap();
         eprintln!(
             "  validation RMS: offline {:.3}, adaptive {:.3} ({:.3}x), rls {:.3} ({:.3}x)",
@@ -91,8 +90,7 @@ fn emps_online_estimates_meet_the_offline_fit() {
             rls.rms / offline.rms
         );
         assert!(adaptive.rms < 1.2 * offline.rms);
-        // least squares has no offset term: 1.22x measured, over the target
-        assert!(rls.rms < 1.25 * offline.rms);
+        assert!(rls.rms < 1.2 * offline.rms);
         for name in ["estimates.csv", "estimates.svg", "report.md"] {
             assert!(dir.path().join(name).exists(), "{name}");
         }

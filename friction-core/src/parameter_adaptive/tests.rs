@@ -373,6 +373,67 @@ fn the_prediction_law_learns_by_listening_to_another_loop() {
     }
 }
 
+/// The prediction-error law, listening beside a PD loop, on a plant with
+/// a Stribeck excess (`vs` 0.1 rad/s, seen by the samples between the
+/// speed threshold and a few `vs`) and a load term, friction growing with
+/// the torque the transmission carries (`mu |kc u|`; an axis heavy enough
+/// that the torque varies with the acceleration, not with the friction
+/// alone): from 1.5x and 0.5x nominal values each of the levels per
+/// direction, the excess, the viscous and the load coefficient ends within
+/// 5 % of the plant's.
+#[test]
+fn the_prediction_law_learns_the_stribeck_excess_and_the_load_term() {
+    let (fc_pos, fc_neg, excess, sigma2, mu, vs) = (0.30, 0.24, 0.15, 0.02, 0.1, 0.1);
+    let loop_ = CompensatorParams {
+        inertia: 0.2,
+        ..servo()
+    };
+    let (j, kc) = (loop_.inertia, loop_.torque_constant);
+    for factor in [1.5, 0.5] {
+        let mut nominal = LuGreParams::OLSSON_1998;
+        nominal.curve.fc = 0.27 * factor;
+        nominal.curve.fs = (0.27 + excess) * factor;
+        nominal.curve.vs = vs;
+        nominal.sigma2 = sigma2 * factor;
+        let p = ParameterAdaptiveParams {
+            rate: 0.0,
+            prediction_rate: 20.0,
+            speed: 1.5,
+            min_speed: 0.02,
+            load: mu * factor,
+            load_max: 1.0,
+            ..ParameterAdaptiveParams::new(nominal, 0.0)
+        };
+        let listener = loop_.build(p.build::<f64>(&loop_).unwrap()).unwrap();
+        let mut s = CompensatorState::default();
+        let (mut x, mut v) = (0.0f64, 0.0f64);
+        let hp = 1e-5;
+        let (w1, w2) = (
+            2.0 * core::f64::consts::PI * 0.2,
+            2.0 * core::f64::consts::PI * 0.7,
+        );
+        for k in 0..240_000 {
+            let t = k as f64 * 1e-3;
+            let r = 0.5 * libm::sin(w1 * t) + 0.1 * libm::sin(w2 * t);
+            let rv = 0.5 * w1 * libm::cos(w1 * t) + 0.1 * w2 * libm::cos(w2 * t);
+            let u = (700.0 * (r - x) + 35.0 * (rv - v)).clamp(-10.0, 10.0);
+            listener.listen(&mut s, x, Setpoint::default(), u);
+            for _ in 0..100 {
+                let level = if v >= 0.0 { fc_pos } else { fc_neg };
+                let stribeck = excess * libm::exp(-(v / vs) * (v / vs));
+                let load = mu * (kc * u).abs();
+                let f = (level + stribeck + load) * libm::tanh(v / 1e-3) + sigma2 * v;
+                v += hp * (kc * u - f) / j;
+                x += hp * v;
+            }
+        }
+        let th = s.friction().estimates();
+        for (i, want) in [(0, fc_pos), (1, fc_neg), (2, excess), (3, sigma2), (4, mu)] {
+            assert!((th[i] - want).abs() < 0.05 * want, "{factor}: {i} {th:?}");
+        }
+    }
+}
+
 #[test]
 fn hostile_samples_keep_every_estimate_in_its_box() {
     for exact_step in [false, true] {

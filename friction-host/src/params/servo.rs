@@ -70,6 +70,9 @@ pub struct ServoTable {
     /// Minimum speed (rad/s) of a least-squares update (default: the
     /// reference's peak speed / 50).
     pub rls_min_speed: Option<f64>,
+    /// Whether the least-squares feed-forward also fits a constant force
+    /// offset, a Coulomb level per direction (default false).
+    pub rls_offset: Option<bool>,
     /// Whether the adaptive rows are supervised (default true).
     pub supervisor: Option<bool>,
     /// The supervisor's evidence window (s, at least four controller
@@ -166,6 +169,8 @@ pub struct ServoConfig {
     pub rls_forgetting: f64,
     /// `rls_min_speed` (rad/s).
     pub rls_min_speed: f64,
+    /// `rls_offset`.
+    pub rls_offset: bool,
     /// `supervisor`.
     pub supervisor: bool,
     /// `supervisor_window` (s).
@@ -226,6 +231,7 @@ impl Default for ServoConfig {
             theta_max: 5.0,
             rls_forgetting: DEFAULT_RLS_FORGETTING,
             rls_min_speed: 0.0,
+            rls_offset: false,
             supervisor: true,
             supervisor_window: 0.1,
             adaptation_box: 5.0,
@@ -392,6 +398,7 @@ impl ServoTable {
             theta_max: self.theta_max.unwrap_or(d.theta_max),
             rls_forgetting: self.rls_forgetting.unwrap_or(d.rls_forgetting),
             rls_min_speed: 0.0,
+            rls_offset: self.rls_offset.unwrap_or(d.rls_offset),
             supervisor: self.supervisor.unwrap_or(d.supervisor),
             supervisor_window: self.supervisor_window.unwrap_or(d.supervisor_window),
             adaptation_box: self.adaptation_box.unwrap_or(d.adaptation_box),

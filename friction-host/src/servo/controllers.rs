@@ -148,6 +148,7 @@ pub fn least_squares(cfg: &ServoConfig) -> RlsParams {
     RlsParams {
         forgetting: cfg.rls_forgetting,
         min_speed: cfg.rls_min_speed,
+        offset: cfg.rls_offset,
         ..RlsParams::new(cfg.peak_speed(), cfg.torque_constant * cfg.limit)
     }
 }
