@@ -1,8 +1,7 @@
 //! Model-free adaptive feed-forward: Coulomb + viscous friction (and
 //! optionally a constant offset) fitted online by recursive least squares
-//! with forgetting (Ljung & Söderström 1983; as
-//! friction identification: Canudas de Wit & Lischinsky 1997): see
-//! [`RlsFeedForward`].
+//! with forgetting (Ljung & Söderström 1983; as friction identification:
+//! Canudas de Wit & Lischinsky 1997): see [`RlsFeedForward`].
 
 use crate::bits::Flag;
 use crate::compensator::{Compensation, FrictionSample};
@@ -144,7 +143,8 @@ impl RlsParams {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RlsState<S> {
     /// `false` until the first update: the weights are the built initial
-    /// ones and `P = p0 I` (a byte: `crate::bits`).
+    /// ones and `P = p0 I`, its offset's entry 0 without the offset (a
+    /// byte: `crate::bits`).
     primed: Flag,
     /// `(Coulomb level, viscous weight, offset)`.
     w: [S; 3],
@@ -197,8 +197,9 @@ impl<S: Scalar> RlsState<S> {
 /// cannot wind `P` up; the trace bound holds it bounded in any case, and
 /// `|w| <= F_max`.
 ///
-/// `P` starts at `p0 I` and `w` at 0 (or the given initial weights): the
-/// first samples move `w` fast, by about `p0 / (1 + p0)` of each residual.
+/// `P` starts at `p0 I` (its offset's entry 0 without the offset) and `w`
+/// at 0 (or the given initial weights): the first samples move `w` fast,
+/// by about `p0 / (1 + p0)` of each residual.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RlsFeedForward<S> {
@@ -359,9 +360,9 @@ fn within_geometric_mean<S: Scalar>(q: S, a: S, b: S) -> S {
     }
 }
 
-/// The feed-forward `F^ = max(w0 + w2 sign v, 0) sign v + w1 v / v_ref` on the measured
-/// velocity,
-/// learning from every sample the compensator measures.
+/// The feed-forward `F^ = max(w0 + w2 sign v, 0) sign v + w1 v / v_ref` on
+/// the measured velocity, learning from every sample the compensator
+/// measures.
 impl<S: Scalar> Compensation<S> for RlsFeedForward<S> {
     type State = RlsState<S>;
     const LEARNS: bool = true;
