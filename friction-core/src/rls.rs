@@ -195,7 +195,9 @@ impl<S: Scalar> RlsState<S> {
 /// skipped (at rest the sign regressor is meaningless and the residual is
 /// stiction), and nothing is forgotten without a sample, so a standstill
 /// cannot wind `P` up; the trace bound holds it bounded in any case, and
-/// `|w| <= F_max`.
+/// `|w| <= F_max`. An update whose denominator `λ + φᵀPφ` falls below
+/// `λ / 2` (a `P` rounding has left indefinite) restarts `P` at its
+/// initial value and keeps `w`.
 ///
 /// `P` starts at `p0 I` (its offset's entry 0 without the offset) and `w`
 /// at 0 (or the given initial weights): the first samples move `w` fast,
@@ -277,7 +279,7 @@ impl<S: Scalar> RlsFeedForward<S> {
     }
 
     /// The estimate `max(w0 + w2 sign v, 0) sign v + w1 v / v_ref` within
-    /// `±F_max`, 0 at rest but for the viscous term.
+    /// `±F_max` (0 at rest).
     ///
     /// A Coulomb level is never negative: a fit that makes one negative has
     /// taken a load that changes sign with the direction (gravity on a
@@ -313,6 +315,16 @@ impl<S: Scalar> RlsFeedForward<S> {
         let a1 = p01 * f0 + p11 * f1 + p12 * f2;
         let a2 = p02 * f0 + p12 * f1 + p22 * f2;
         let denom = self.forgetting + f0 * a0 + f1 * a1 + f2 * a2;
+        if denom < S::from_f64(0.5) * self.forgetting {
+            // φᵀ P φ < -λ / 2: rounding has left P indefinite (the pairwise
+            // bound below holds a 2x2 P semi-definite, not a 3x3 one; with
+            // the offset, motion in one direction makes sign v and 1 the
+            // same regressor): start the covariance afresh, keep the weights
+            state.p = self.covariance(&RlsState::default());
+            state.w = w;
+            state.primed = Flag::new(true);
+            return;
+        }
         let (k0, k1, k2) = (a0 / denom, a1 / denom, a2 / denom);
         let [w0, w1, w2] = w;
         // without the offset p02 = p12 = p22 = 0, so k2 = 0 and w2 stays 0
@@ -323,14 +335,14 @@ impl<S: Scalar> RlsFeedForward<S> {
             (w2 + k2 * err).sat(self.max_force),
         ];
         // P - K (P φ)ᵀ, over λ
-        let lambda = self.inv_forgetting;
-        let q00 = ((p00 - k0 * a0) * lambda).max(S::ZERO);
-        let q11 = ((p11 - k1 * a1) * lambda).max(S::ZERO);
-        let q22 = ((p22 - k2 * a2) * lambda).max(S::ZERO);
-        // keep P positive semi-definite against rounding: q_ij^2 <= q_ii q_jj
-        let q01 = within_geometric_mean((p01 - k0 * a1) * lambda, q00, q11);
-        let q02 = within_geometric_mean((p02 - k0 * a2) * lambda, q00, q22);
-        let q12 = within_geometric_mean((p12 - k1 * a2) * lambda, q11, q22);
+        let over = self.inv_forgetting;
+        let q00 = ((p00 - k0 * a0) * over).max(S::ZERO);
+        let q11 = ((p11 - k1 * a1) * over).max(S::ZERO);
+        let q22 = ((p22 - k2 * a2) * over).max(S::ZERO);
+        // against rounding: q_ij^2 <= q_ii q_jj, as a semi-definite P's are
+        let q01 = within_geometric_mean((p01 - k0 * a1) * over, q00, q11);
+        let q02 = within_geometric_mean((p02 - k0 * a2) * over, q00, q22);
+        let q12 = within_geometric_mean((p12 - k1 * a2) * over, q11, q22);
         let mut q = [q00, q01, q02, q11, q12, q22];
         // trace bound
         let trace = q00 + q11 + q22;

@@ -582,3 +582,55 @@ fn the_fixed_point_servo_tracks_like_f32() {
     assert!(fixed < 0.1 * none, "fixed {fixed} vs none {none}");
     assert!(fixed < float + 5e-5, "fixed {fixed} vs f32 {float}");
 }
+
+/// With the offset, long stretches of motion in one direction make `sign v`
+/// and `1` the same regressor, and the covariance grows along their
+/// difference up to the trace bound. On noisy data of a fixed plant the
+/// feed-forward stays near it, in every scalar, with slow and fast
+/// forgetting.
+#[test]
+fn rls_with_an_offset_survives_one_direction_stretches() {
+    fn check<S: Scalar>(forgetting: f64, max_covariance: f64) {
+        let rls = RlsParams {
+            forgetting,
+            max_covariance,
+            offset: true,
+            ..RlsParams::new(0.63, 10.0)
+        }
+        .build::<S>()
+        .unwrap();
+        let mut s = RlsState::default();
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut uniform = || {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut worst = 0.0f64;
+        for k in 0..100_000 {
+            let direction = if (k / 3000) % 2 == 0 { 1.0 } else { -1.0 };
+            let v = direction * (0.02 + uniform());
+            let truth = 0.3 * direction + 0.1 * v + 0.05;
+            let force = truth + 0.1 * (uniform() - 0.5);
+            rls.update(
+                &mut s,
+                FrictionSample {
+                    force: S::from_f64(force),
+                    v: S::from_f64(v),
+                },
+            );
+            if k > 1000 {
+                let error = rls.force(&s, S::from_f64(v)).to_f64() - truth;
+                worst = worst.max(error.abs());
+            }
+        }
+        assert!(worst < 0.5, "{forgetting} {max_covariance}: {worst}");
+    }
+    for (forgetting, max_covariance) in [(0.999, 100.0), (0.7, 1000.0), (0.5, 5000.0)] {
+        check::<f64>(forgetting, max_covariance);
+        check::<f32>(forgetting, max_covariance);
+        #[cfg(feature = "fixed")]
+        check::<friction_core::Fixed32>(forgetting, max_covariance);
+    }
+}

@@ -26,6 +26,8 @@ pub struct ParameterAdaptiveState<S> {
     external: S,
     started: Flag,
     primed: Flag,
+    /// The prediction law's centre `c`: the mean speed of its samples.
+    centre: S,
     /// The stiffness law's state.
     stiffness: StiffnessState<S>,
 }
@@ -190,7 +192,8 @@ pub struct ParameterAdaptive<S> {
     pub(super) torque_constant: S,
     pub(super) torque_limit: S,
     pub(super) signal_limit: S,
-    /// Half the reference speed: the prediction law's centre.
+    /// Half the reference speed: the prediction law's first centre, and
+    /// the stiffness law's sliding speed.
     pub(super) centre: S,
     /// `stiffness_rate h` (0: no stiffness law).
     pub(super) stiffness_gain: S,
@@ -211,6 +214,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
         ParameterAdaptiveState {
             estimates: self.per.map(|k| k.nominal),
             started: Flag::new(true),
+            centre: self.centre,
             stiffness: StiffnessState {
                 factor: S::ONE,
                 mismatch: S::ONE,
@@ -226,6 +230,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
     fn start(&self, state: &mut ParameterAdaptiveState<S>) {
         if !state.started.get() {
             state.estimates = self.per.map(|k| k.nominal);
+            state.centre = self.centre;
             state.stiffness.factor = S::ONE;
             state.stiffness.mismatch = S::ONE;
             state.started = Flag::new(true);
@@ -441,6 +446,7 @@ impl<S: Scalar> ParameterAdaptive<S> {
     ///
     /// ```text
     /// ε       = force - φᵀ θ^
+    /// c      <- c + γp0 (|v| - c)                    the samples' mean speed
     /// Δsigma2 = γp3 (v - c sign v) ε                the viscous term centred at c
     /// ΔFc±    = γp φ± ε - c |φ±| Δsigma2             each level as the friction at c
     /// ΔDs, Δmu = γp φ ε,  then projection onto the boxes
@@ -448,11 +454,14 @@ impl<S: Scalar> ParameterAdaptive<S> {
     ///
     /// with `γp` the prediction rate times `h` over each regressor's size
     /// squared (1 for the levels, the reference speed for `sigma2`, a
-    /// quarter of the largest command torque for `mu`) and `c` half the
-    /// reference speed: in one direction `sign v` and `v` are nearly
-    /// collinear, and a plain gradient on them crawls along their shared
-    /// direction. A no-op when the rate is 0, for a sample slower
-    /// than `min_speed` (at rest the measured force is whatever holds the
+    /// quarter of the largest command torque for `mu`) and `c` the samples'
+    /// mean speed over the levels' memory (from half the reference speed):
+    /// in one direction `sign v` and `v` are nearly collinear, and a plain
+    /// gradient on them crawls along their shared direction; centred at the
+    /// samples' mean speed the two regressors are uncorrelated where both
+    /// directions move at that mean speed. A no-op when the rate is 0, for
+    /// a sample slower than `min_speed` (at rest the measured force is
+    /// whatever holds the
     /// load, not the curve: set `min_speed` above the speeds of reversals)
     /// or a non-finite one. A finite sample also feeds the stiffness law
     /// (see [`ParameterAdaptive`]; a no-op at `stiffness_rate` 0). The
@@ -492,13 +501,15 @@ impl<S: Scalar> ParameterAdaptive<S> {
         let lim = self.signal_limit;
         // centred at c (see above): the viscous step first, then each
         // level's, less what the viscous step moved the friction at c
-        let viscous = ((self.per[3].gamma_p * error).sat(lim) * (v - self.centre * sign)).sat(lim);
+        let centre = state.centre + self.per[0].gamma_p * (v.abs() - state.centre);
+        state.centre = centre;
+        let viscous = ((self.per[3].gamma_p * error).sat(lim) * (v - centre * sign)).sat(lim);
         let mut step = [S::ZERO; PARAMETER_ADAPTIVE_ESTIMATES];
         for ((d, p), k) in step.iter_mut().zip(phi).zip(&self.per) {
             *d = ((k.gamma_p * error).sat(lim) * p).sat(lim);
         }
         step[3] = viscous;
-        let shift = (self.centre * viscous).sat(lim);
+        let shift = (centre * viscous).sat(lim);
         step[0] = step[0] - phi[0] * shift;
         step[1] = step[1] + phi[1] * shift;
         for ((x, d), k) in state.estimates.iter_mut().zip(step).zip(&self.per) {
