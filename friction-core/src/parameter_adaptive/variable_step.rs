@@ -461,9 +461,8 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// samples' mean speed the two regressors are uncorrelated where both
     /// directions move at that mean speed. A no-op when the rate is 0, for
     /// a sample slower than `min_speed` (at rest the measured force is
-    /// whatever holds the
-    /// load, not the curve: set `min_speed` above the speeds of reversals)
-    /// or a non-finite one. A finite sample also feeds the stiffness law
+    /// whatever holds the load, not the curve: set `min_speed` above the
+    /// speeds of reversals) or a non-finite one. A finite sample also feeds the stiffness law
     /// (see [`ParameterAdaptive`]; a no-op at `stiffness_rate` 0). The
     /// [`Compensator`](crate::Compensator)
     /// calls it through [`Compensation::learn`], in a tick or while it
