@@ -20,7 +20,8 @@ pub struct RlsParams {
     pub speed_scale: f64,
     /// Initial covariance `p0 > 0` (dimensionless).
     pub initial_covariance: f64,
-    /// Bound `p_max >= p0` on the trace of the covariance.
+    /// Bound `p_max >= p0` on the trace of the covariance; the scalar must
+    /// hold twice it (three times with the offset), or the build refuses it.
     pub max_covariance: f64,
     /// Bound `F_max > 0` on each weight and on the estimate (force units).
     pub max_force: f64,
@@ -114,6 +115,10 @@ impl RlsParams {
     /// ```
     pub fn build<S: Scalar>(&self) -> Result<RlsFeedForward<S>, ParamError> {
         self.validate()?;
+        // the trace sums the diagonal's entries (three with the offset), each
+        // up to the bound: the sum must be a number of S as well
+        let entries = if self.offset { 3.0 } else { 2.0 };
+        convert::<S>("max_covariance", entries * self.max_covariance)?;
         Ok(RlsFeedForward {
             inv_forgetting: convert("forgetting", 1.0 / self.forgetting)?,
             min_speed: convert("min_speed", self.min_speed)?,

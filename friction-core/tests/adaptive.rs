@@ -634,3 +634,22 @@ fn rls_with_an_offset_survives_one_direction_stretches() {
         check::<friction_core::Fixed32>(forgetting, max_covariance);
     }
 }
+
+/// A covariance bound whose trace (two diagonal entries, three with the
+/// offset) Q16.16 cannot hold is refused when built, naming it; the
+/// floating-point forms take it.
+#[cfg(feature = "fixed")]
+#[test]
+fn rls_refuses_a_covariance_bound_its_scalar_cannot_sum() {
+    let p = |max_covariance: f64, offset: bool| RlsParams {
+        max_covariance,
+        offset,
+        ..RlsParams::new(0.63, 10.0)
+    };
+    let refused = Some(ParamError::NotRepresentable("max_covariance"));
+    assert_eq!(p(12_000.0, true).build::<Fixed32>().err(), refused);
+    assert!(p(12_000.0, false).build::<Fixed32>().is_ok());
+    assert_eq!(p(20_000.0, false).build::<Fixed32>().err(), refused);
+    assert!(p(10_000.0, true).build::<Fixed32>().is_ok());
+    assert!(p(1e6, true).build::<f32>().is_ok());
+}
