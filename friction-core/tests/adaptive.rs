@@ -364,6 +364,34 @@ fn rls_covariance_stays_bounded_over_a_million_standstill_ticks() {
     assert!(after <= p.max_covariance);
 }
 
+/// The least squares (with or without the offset) fed `samples` samples of
+/// `plant(v)` at two speeds per direction (the offset's fit needs three
+/// regressors).
+fn rls_fit_at_four_speeds<S: Scalar>(
+    offset: bool,
+    samples: usize,
+    plant: impl Fn(f64) -> f64,
+) -> (RlsFeedForward<S>, RlsState<S>) {
+    let rls = RlsParams {
+        offset,
+        ..RlsParams::new(0.63, 10.0)
+    }
+    .build::<S>()
+    .unwrap();
+    let mut s = RlsState::default();
+    for k in 0..samples {
+        let v = [0.5, -0.3, 0.2, -0.6][k % 4];
+        rls.update(
+            &mut s,
+            FrictionSample {
+                force: S::from_f64(plant(v)),
+                v: S::from_f64(v),
+            },
+        );
+    }
+    (rls, s)
+}
+
 /// Samples of a "friction" that pushes along the motion (a load that
 /// changes sign with the direction, as gravity does on a swinging joint)
 /// fit a negative Coulomb weight, which the fit keeps and the feed-forward
@@ -371,24 +399,8 @@ fn rls_covariance_stays_bounded_over_a_million_standstill_ticks() {
 #[test]
 fn rls_feeds_forward_no_negative_coulomb_level() {
     fn check<S: Scalar>(offset: bool) {
-        let rls = RlsParams {
-            offset,
-            ..RlsParams::new(0.63, 10.0)
-        }
-        .build::<S>()
-        .unwrap();
-        let mut s = RlsState::default();
-        // two speeds per direction: the offset's fit needs three regressors
-        for k in 0..400 {
-            let v = [0.5, -0.3, 0.2, -0.6][k % 4];
-            rls.update(
-                &mut s,
-                FrictionSample {
-                    force: S::from_f64(-0.4 * f64::signum(v) + 0.1 * v),
-                    v: S::from_f64(v),
-                },
-            );
-        }
+        let (rls, s) =
+            rls_fit_at_four_speeds::<S>(offset, 400, |v| -0.4 * f64::signum(v) + 0.1 * v);
         assert!(rls.offset(&s).abs() < 0.01, "{}", rls.offset(&s));
         let (fc, viscous) = rls.coefficients(&s);
         assert!(
@@ -424,25 +436,7 @@ fn rls_feeds_forward_no_negative_coulomb_level() {
 fn rls_with_an_offset_fits_a_level_per_direction() {
     fn check<S: Scalar>() {
         let fit = |offset: bool| {
-            let rls = RlsParams {
-                offset,
-                ..RlsParams::new(0.63, 10.0)
-            }
-            .build::<S>()
-            .unwrap();
-            let mut s = RlsState::default();
-            for k in 0..800 {
-                let v = [0.5, -0.3, 0.2, -0.6][k % 4];
-                let force = 0.3 * f64::signum(v) + 0.1 * v - 0.05;
-                rls.update(
-                    &mut s,
-                    FrictionSample {
-                        force: S::from_f64(force),
-                        v: S::from_f64(v),
-                    },
-                );
-            }
-            (rls, s)
+            rls_fit_at_four_speeds::<S>(offset, 800, |v| 0.3 * f64::signum(v) + 0.1 * v - 0.05)
         };
         let (rls, s) = fit(true);
         let (fc, viscous) = rls.coefficients(&s);

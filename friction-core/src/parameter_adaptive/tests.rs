@@ -321,6 +321,40 @@ fn coulomb_levels_converge_to_the_plant_levels() {
     }
 }
 
+/// The estimates of the per-parameter law `p` after listening for
+/// `ticks` (1 kHz) beside another controller, a PD loop `(kp, kd)` that
+/// knows nothing of friction, tracking a two-sine reference on `plant`'s
+/// inertia with friction `friction(v, u)` (100 substeps per tick).
+fn listen_beside_a_pd_loop(
+    plant: CompensatorParams,
+    p: ParameterAdaptiveParams,
+    (kp, kd): (f64, f64),
+    ticks: usize,
+    friction: impl Fn(f64, f64) -> f64,
+) -> [f64; PARAMETER_ADAPTIVE_ESTIMATES] {
+    let (j, kc) = (plant.inertia, plant.torque_constant);
+    let listener = plant.build(p.build::<f64>(&plant).unwrap()).unwrap();
+    let mut s = CompensatorState::default();
+    let (mut x, mut v) = (0.0f64, 0.0f64);
+    let hp = 1e-5;
+    let (w1, w2) = (
+        2.0 * core::f64::consts::PI * 0.2,
+        2.0 * core::f64::consts::PI * 0.7,
+    );
+    for k in 0..ticks {
+        let t = k as f64 * 1e-3;
+        let r = 0.5 * libm::sin(w1 * t) + 0.1 * libm::sin(w2 * t);
+        let rv = 0.5 * w1 * libm::cos(w1 * t) + 0.1 * w2 * libm::cos(w2 * t);
+        let u = (kp * (r - x) + kd * (rv - v)).clamp(-10.0, 10.0);
+        listener.listen(&mut s, x, Setpoint::default(), u);
+        for _ in 0..100 {
+            v += hp * (kc * u - friction(v, u)) / j;
+            x += hp * v;
+        }
+    }
+    s.friction().estimates()
+}
+
 /// The prediction-error law alone, listening beside another
 /// controller (a PD loop that knows nothing of friction) on a plant
 /// whose Coulomb level differs by direction: from 1.5x and 0.5x nominal
@@ -330,7 +364,6 @@ fn coulomb_levels_converge_to_the_plant_levels() {
 #[test]
 fn the_prediction_law_learns_by_listening_to_another_loop() {
     let (fc_pos, fc_neg, sigma2) = (0.33, 0.25, 0.018);
-    let j = 0.0023;
     for factor in [1.5, 0.5] {
         let mut nominal = LuGreParams::OLSSON_1998;
         nominal.curve.fc = 0.29 * factor;
@@ -344,29 +377,10 @@ fn the_prediction_law_learns_by_listening_to_another_loop() {
             min_speed: 0.03,
             ..ParameterAdaptiveParams::new(nominal, 0.0)
         };
-        let listener = servo().build(p.build::<f64>(&servo()).unwrap()).unwrap();
-        let mut s = CompensatorState::default();
-        let (mut x, mut v) = (0.0f64, 0.0f64);
-        let hp = 1e-5;
-        let (w1, w2) = (
-            2.0 * core::f64::consts::PI * 0.2,
-            2.0 * core::f64::consts::PI * 0.7,
-        );
-        for k in 0..120_000 {
-            let t = k as f64 * 1e-3;
-            let r = 0.5 * libm::sin(w1 * t) + 0.1 * libm::sin(w2 * t);
-            let rv = 0.5 * w1 * libm::cos(w1 * t) + 0.1 * w2 * libm::cos(w2 * t);
-            // the other controller: PD, no friction compensation
-            let u = (8.0 * (r - x) + 0.4 * (rv - v)).clamp(-10.0, 10.0);
-            listener.listen(&mut s, x, Setpoint::default(), u);
-            for _ in 0..100 {
-                let level = if v >= 0.0 { fc_pos } else { fc_neg };
-                let f = level * libm::tanh(v / 1e-3) + sigma2 * v;
-                v += hp * (1.02 * u - f) / j;
-                x += hp * v;
-            }
-        }
-        let th = s.friction().estimates();
+        let th = listen_beside_a_pd_loop(servo(), p, (8.0, 0.4), 120_000, |v, _| {
+            let level = if v >= 0.0 { fc_pos } else { fc_neg };
+            level * libm::tanh(v / 1e-3) + sigma2 * v
+        });
         for (i, want) in [(0, fc_pos), (1, fc_neg), (3, sigma2)] {
             assert!((th[i] - want).abs() < 0.05 * want, "{factor}: {i} {th:?}");
         }
@@ -388,7 +402,7 @@ fn the_prediction_law_learns_the_stribeck_excess_and_the_load_term() {
         inertia: 0.2,
         ..servo()
     };
-    let (j, kc) = (loop_.inertia, loop_.torque_constant);
+    let kc = loop_.torque_constant;
     for factor in [1.5, 0.5] {
         let mut nominal = LuGreParams::OLSSON_1998;
         nominal.curve.fc = 0.27 * factor;
@@ -404,30 +418,12 @@ fn the_prediction_law_learns_the_stribeck_excess_and_the_load_term() {
             load_max: 1.0,
             ..ParameterAdaptiveParams::new(nominal, 0.0)
         };
-        let listener = loop_.build(p.build::<f64>(&loop_).unwrap()).unwrap();
-        let mut s = CompensatorState::default();
-        let (mut x, mut v) = (0.0f64, 0.0f64);
-        let hp = 1e-5;
-        let (w1, w2) = (
-            2.0 * core::f64::consts::PI * 0.2,
-            2.0 * core::f64::consts::PI * 0.7,
-        );
-        for k in 0..240_000 {
-            let t = k as f64 * 1e-3;
-            let r = 0.5 * libm::sin(w1 * t) + 0.1 * libm::sin(w2 * t);
-            let rv = 0.5 * w1 * libm::cos(w1 * t) + 0.1 * w2 * libm::cos(w2 * t);
-            let u = (700.0 * (r - x) + 35.0 * (rv - v)).clamp(-10.0, 10.0);
-            listener.listen(&mut s, x, Setpoint::default(), u);
-            for _ in 0..100 {
-                let level = if v >= 0.0 { fc_pos } else { fc_neg };
-                let stribeck = excess * libm::exp(-(v / vs) * (v / vs));
-                let load = mu * (kc * u).abs();
-                let f = (level + stribeck + load) * libm::tanh(v / 1e-3) + sigma2 * v;
-                v += hp * (kc * u - f) / j;
-                x += hp * v;
-            }
-        }
-        let th = s.friction().estimates();
+        let th = listen_beside_a_pd_loop(loop_, p, (700.0, 35.0), 240_000, |v, u| {
+            let level = if v >= 0.0 { fc_pos } else { fc_neg };
+            let stribeck = excess * libm::exp(-(v / vs) * (v / vs));
+            let load = mu * (kc * u).abs();
+            (level + stribeck + load) * libm::tanh(v / 1e-3) + sigma2 * v
+        });
         for (i, want) in [(0, fc_pos), (1, fc_neg), (2, excess), (3, sigma2), (4, mu)] {
             assert!((th[i] - want).abs() < 0.05 * want, "{factor}: {i} {th:?}");
         }
