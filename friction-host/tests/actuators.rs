@@ -2,10 +2,12 @@
 //! BAM's MX-106 (Duclusaud, Passault et al. 2024, m4: friction that grows
 //! with the transmitted torque) on a pendulum, 12-bit encoder. On an axis
 //! with `gravity` the load coefficient is learnt by default
-//! (`LOADED_AXIS_LOAD_MAX`); without it the wrong-Stribeck row `adaptive-50`
-//! missed issue 32's actuator target (0.56x). The target holds at the
-//! file's own 4096 counts, with the backward difference: with a finer
-//! encoder these rows miss it (docs/guide/servo.md, "Actuator plants").
+//! (`LOADED_AXIS_LOAD_MAX`). Issue 32's actuator target (0.3x the better of
+//! `static` and `observer`) lies below what the frictionless plant tracks
+//! here (its gravity is not fed forward): it holds only with the backward
+//! difference at the file's 4096 counts, whose count-by-count flips take up
+//! gravity, not with the default velocity observer nor with a finer
+//! encoder (docs/guide/servo.md, "Actuator plants").
 
 use friction_host::params::servo::LOADED_AXIS_LOAD_MAX;
 use friction_host::params::ParamFile;
@@ -49,16 +51,54 @@ fn rms_half_edited(
         .collect()
 }
 
+fn mx106() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../params/actuators/mx106-pendulum.toml")
+}
+
+/// With the defaults (the velocity observer at 50 Hz on this encoder) the
+/// per-parameter rows beat both fixed compensations and `rls` beats
+/// `static`; the 0.3x target is out of reach without a gravity model.
+#[test]
+fn the_per_parameter_rows_beat_fixed_compensation_on_a_loaded_12_bit_actuator() {
+    let path = mx106();
+    let file = ParamFile::load(&path).unwrap();
+    let cfg = file.servo.resolve(&path.display().to_string()).unwrap();
+    assert_eq!(cfg.velocity_observer, 50.0);
+    let rows = [
+        "nofriction",
+        "static",
+        "observer",
+        "adaptive+50",
+        "adaptive-50",
+        "rls",
+    ];
+    let rms = rms_half(&path, "", &rows);
+    let better = rms[1].min(rms[2]);
+    for (row, value) in rows[3..5].iter().zip(&rms[3..5]) {
+        assert!(
+            *value < better,
+            "{row}: {:.3}x the better of static and observer",
+            value / better
+        );
+    }
+    assert!(rms[5] < rms[1], "rls {} against static {}", rms[5], rms[1]);
+    // the target asks for less than a frictionless plant's error
+    assert!(0.3 * better < rms[0], "{better} against {}", rms[0]);
+}
+
+/// With the backward difference (`velocity_observer = 0`) the rows meet
+/// issue 32's 0.3x, and the load coefficient is what brings `adaptive-50`
+/// under it.
 #[test]
 fn the_load_coefficient_is_learnt_by_default_on_a_loaded_actuator() {
-    let path =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../params/actuators/mx106-pendulum.toml");
+    let path = mx106();
     let file = ParamFile::load(&path).unwrap();
     let cfg = file.servo.resolve(&path.display().to_string()).unwrap();
     assert_eq!(cfg.load_max, LOADED_AXIS_LOAD_MAX);
 
+    let backward = "velocity_observer = 0\n";
     let rows = ["static", "observer", "adaptive+50", "adaptive-50", "rls"];
-    let rms = rms_half(&path, "", &rows);
+    let rms = rms_half(&path, backward, &rows);
     let better = rms[0].min(rms[1]);
     for (row, value) in rows[2..4].iter().zip(&rms[2..4]) {
         assert!(
@@ -71,7 +111,7 @@ fn the_load_coefficient_is_learnt_by_default_on_a_loaded_actuator() {
 
     // the same rows without the load term: the load coefficient is what
     // brings adaptive-50 under the target
-    let unloaded = rms_half(&path, "load_max = 0\n", &rows[2..4]);
+    let unloaded = rms_half(&path, &format!("{backward}load_max = 0\n"), &rows[2..4]);
     assert!(
         unloaded[1] > 2.0 * rms[3],
         "adaptive-50 without the load term {} against {}",

@@ -271,6 +271,12 @@ pub const DEFAULT_RATE: f64 = 1e3;
 /// The default `stiffness_rate` per hertz of `rate`: the stiffness law
 /// takes a tenth of each sample's error.
 pub const STIFFNESS_RATE_PER_HZ: f64 = 0.1;
+/// The default `velocity_observer` per hertz of `rate` on a coarse encoder
+/// (one that moves less than one count per period at the reference's peak
+/// speed, where the backward difference reads 0 or a whole count): a
+/// twentieth of the rate. Elsewhere the default is 0, the backward
+/// difference.
+pub const COARSE_ENCODER_OBSERVER_PER_HZ: f64 = 0.05;
 /// Default `presliding` (rad): the BAM plant's deflection at break-away.
 pub const DEFAULT_PRESLIDING: f64 = 1e-4;
 /// Default `rls_forgetting`.
@@ -418,6 +424,11 @@ impl ServoTable {
             plant_bam: None,
             presliding: self.presliding.unwrap_or(d.presliding),
         };
+        // a coarse encoder's velocity from the observer unless a velocity
+        // key says otherwise
+        if self.velocity_observer.is_none() && c.velocity_filter == 0.0 && c.coarse_encoder() {
+            c.velocity_observer = COARSE_ENCODER_OBSERVER_PER_HZ * c.rate;
+        }
         if let Some(name) = &self.plant_bam {
             let bam = read_bam(file, name)?;
             if self.torque_constant.is_none() {
@@ -814,23 +825,40 @@ impl ServoConfig {
             .then(|| self.encoder_counts * self.amplitude * self.frequency / self.rate)
     }
 
-    /// With the backward difference on an encoder that moves less than one
-    /// count per period at the peak speed (it then reads 0 or a whole count
-    /// on every tick, so a Stribeck curve and the adaptation see no speed
-    /// in between): a note that says so and names the velocity observer.
+    /// Whether the encoder moves less than one count per period at the
+    /// reference's peak speed (and the reference moves at all): the
+    /// backward difference then reads 0 or a whole count on every tick, so
+    /// a Stribeck curve and the adaptation see no speed in between.
+    pub fn coarse_encoder(&self) -> bool {
+        self.counts_per_period()
+            .is_some_and(|counts| counts > 0.0 && counts < 1.0)
+    }
+
+    /// On a coarse encoder ([`coarse_encoder`](Self::coarse_encoder)): a
+    /// note that says which velocity the controllers use, the observer by
+    /// default or the backward difference when `velocity_observer = 0` was
+    /// set, and what the other choice does.
     pub fn coarse_encoder_note(&self) -> Option<String> {
-        let counts = self.counts_per_period()?;
-        let moving = counts > 0.0;
-        let backward_difference = self.velocity_observer == 0.0 && self.velocity_filter == 0.0;
-        (moving && counts < 1.0 && backward_difference).then(|| {
+        if !self.coarse_encoder() || self.velocity_filter != 0.0 {
+            return None;
+        }
+        let counts = crate::checks::short(self.counts_per_period()?);
+        let guide = "docs/guide/servo.md, \"A 12-bit encoder\"";
+        Some(if self.velocity_observer == 0.0 {
             format!(
-                "the encoder moves {} counts per period at the peak speed, so the \
+                "the encoder moves {counts} counts per period at the peak speed, so the \
                  measured velocity is 0 or a whole count per period on every tick; \
-                 try `velocity_observer = {}` (a twentieth of the rate), which estimates \
-                 the speed between counts, and compare both on your axis: on a loaded \
-                 axis (gravity) it can be worse (docs/guide/servo.md, \"A 12-bit encoder\")",
-                crate::checks::short(counts),
-                self.rate / 20.0
+                 `velocity_observer = {}` (a twentieth of the rate, the default here) \
+                 estimates the speed between counts ({guide})",
+                self.rate * COARSE_ENCODER_OBSERVER_PER_HZ
+            )
+        } else {
+            format!(
+                "the encoder moves {counts} counts per period at the peak speed: the \
+                 velocity comes from the velocity observer at {} Hz; `velocity_observer \
+                 = 0` gives the backward difference, whose count-by-count flips can help \
+                 a stick-slip-prone or gravity-loaded axis ({guide})",
+                crate::checks::short(self.velocity_observer)
             )
         })
     }
@@ -909,23 +937,26 @@ mod tests {
     use super::*;
     use crate::params::ParamFile;
 
-    /// The coarse-encoder note: only with the backward difference on an
-    /// encoder that moves less than one count per period at the peak speed
-    /// (amplitude 0.5, 0.2 Hz, 1 kHz: `counts x 1e-4` counts per period).
+    /// A coarse encoder (less than one count per period at the peak speed;
+    /// amplitude 0.5, 0.2 Hz, 1 kHz: `counts x 1e-4` counts per period)
+    /// gets the velocity observer at a twentieth of the rate by default and
+    /// a note either way; a velocity key the file sets wins.
     #[test]
-    fn a_coarse_encoder_with_the_backward_difference_gets_a_note() {
+    fn a_coarse_encoder_gets_the_velocity_observer_and_a_note() {
         let at = |counts: f64| ServoTable {
             encoder_counts: Some(counts),
             ..ServoTable::default()
         };
-        for (counts, noted) in [
+        for (counts, coarse) in [
             (0.0, false),
             (4096.0, true),
             (9999.0, true),
             (10_000.0, false),
         ] {
             let c = at(counts).resolve("p.toml").unwrap();
-            assert_eq!(c.coarse_encoder_note().is_some(), noted, "{counts} counts");
+            assert_eq!(c.coarse_encoder_note().is_some(), coarse, "{counts} counts");
+            let observer = if coarse { 50.0 } else { 0.0 };
+            assert_eq!(c.velocity_observer, observer, "{counts} counts");
         }
         let note = at(4096.0)
             .resolve("p.toml")
@@ -933,15 +964,40 @@ mod tests {
             .coarse_encoder_note()
             .unwrap();
         assert!(
-            note.contains("0.4096 counts") && note.contains("velocity_observer = 50"),
+            note.contains("0.4096 counts")
+                && note.contains("observer at 50 Hz")
+                && note.contains("`velocity_observer = 0`"),
             "{note}"
         );
-        // a still reference moves no counts: nothing to say
+        // the backward difference when the file asks for it, the note naming
+        // the observer
+        let set = |velocity_observer| ServoTable {
+            velocity_observer: Some(velocity_observer),
+            ..at(4096.0)
+        };
+        let c = set(0.0).resolve("p.toml").unwrap();
+        assert_eq!(c.velocity_observer, 0.0);
+        let note = c.coarse_encoder_note().unwrap();
+        assert!(note.contains("velocity_observer = 50"), "{note}");
+        let c = set(30.0).resolve("p.toml").unwrap();
+        assert_eq!(c.velocity_observer, 30.0);
+        assert!(c
+            .coarse_encoder_note()
+            .unwrap()
+            .contains("observer at 30 Hz"));
+        // the rule follows the rate
+        let fast = ServoTable {
+            rate: Some(2000.0),
+            ..at(4096.0)
+        };
+        assert_eq!(fast.resolve("p.toml").unwrap().velocity_observer, 100.0);
+        // a still reference moves no counts: the backward difference, no note
         let still = ServoTable {
             amplitude: Some(0.0),
             ..at(4096.0)
         };
-        assert_eq!(still.resolve("p.toml").unwrap().coarse_encoder_note(), None);
+        let c = still.resolve("p.toml").unwrap();
+        assert_eq!((c.velocity_observer, c.coarse_encoder_note()), (0.0, None));
         let slow = ServoTable {
             amplitude: Some(1e-6),
             ..at(4096.0)
@@ -952,18 +1008,13 @@ mod tests {
             .coarse_encoder_note()
             .unwrap();
         assert!(note.contains("8.192e-7 counts"), "{note}");
-        for table in [
-            ServoTable {
-                velocity_observer: Some(50.0),
-                ..at(4096.0)
-            },
-            ServoTable {
-                velocity_filter: Some(100.0),
-                ..at(4096.0)
-            },
-        ] {
-            assert_eq!(table.resolve("p.toml").unwrap().coarse_encoder_note(), None);
-        }
+        // a velocity filter is a velocity choice of its own
+        let filtered = ServoTable {
+            velocity_filter: Some(100.0),
+            ..at(4096.0)
+        };
+        let c = filtered.resolve("p.toml").unwrap();
+        assert_eq!((c.velocity_observer, c.coarse_encoder_note()), (0.0, None));
     }
 
     /// `load_max` defaults to `LOADED_AXIS_LOAD_MAX` on an axis with
