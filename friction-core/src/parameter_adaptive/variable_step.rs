@@ -418,9 +418,40 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// [`level`](Self::level) on the forward side (`Fc+^`) or the backward one.
     #[inline]
     fn level_on(&self, state: &ParameterAdaptiveState<S>, forward: bool, s: S) -> S {
-        let th = &state.estimates;
+        self.level_of(&state.estimates, state.torque, forward, s)
+    }
+
+    /// The level `Fc± + (Fs - Fc) s + mu |τ|` of the estimates `th` on
+    /// one side at transmitted torque `torque`, at least the smallest
+    /// Coulomb level of the boxes.
+    #[inline]
+    fn level_of(
+        &self,
+        th: &[S; PARAMETER_ADAPTIVE_ESTIMATES],
+        torque: S,
+        forward: bool,
+        s: S,
+    ) -> S {
         let coulomb = if forward { th[0] } else { th[1] };
-        (coulomb + th[2] * s + th[4] * state.torque.abs()).max(self.per[0].low.min(self.per[1].low))
+        (coulomb + th[2] * s + th[4] * torque.abs()).max(self.per[0].low.min(self.per[1].low))
+    }
+
+    /// How far a sliding sample's `force` at speed `v` (shape `s`) lies
+    /// from the steady curve `g(v) sign v + sigma2 v` of the estimates
+    /// `th`, over the level `g` (at most 1).
+    #[inline]
+    fn miss_from(
+        &self,
+        th: &[S; PARAMETER_ADAPTIVE_ESTIMATES],
+        torque: S,
+        (force, v, s): (S, S, S),
+        g: S,
+    ) -> S {
+        let lim = self.signal_limit;
+        let forward = v > S::ZERO;
+        let level = self.level_of(th, torque, forward, s);
+        let sliding = if forward { level } else { -level } + (th[3] * v).sat(lim);
+        ((force - sliding).sat(lim).abs() / g).min(S::ONE)
     }
 
     /// The regressors `φ` at normalized bristle `ζ`, shape `s` and speed `v`.
@@ -550,7 +581,10 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// stiffness error: the law learns only while the sliding samples
     /// (`|v|` above half the reference speed) agree with the steady curve,
     /// the mean of `min(|force - g^(v) d - sigma2^ v| / g, 1)` over about
-    /// 16 of them at most 0.1 (`g` the level at rest); a crossing ends
+    /// 16 of them at most 0.1 (`g` the level at rest), or with the nominal
+    /// curve's the same mean at most 0.02 (the levels are known right,
+    /// though the tracking law's estimates may have taken up a stiffness
+    /// error: a nominal bristle too soft drags them off); a crossing ends
     /// once the measured rise exceeds the estimate's whole swing
     /// `g - F0^ d`; and samples where the bristle moves more than a quarter
     /// of `g / (κ sigma0)` in a period, which the samples cannot resolve,
@@ -567,12 +601,15 @@ impl<S: Scalar> ParameterAdaptive<S> {
         let g = self.level(state, S::ONE);
         let damped = (g - (self.sigma1 * v.abs()).sat(lim)) / g;
         // at a sliding speed: the sample against the steady curve at v,
-        // bristle aside, relative to the level
+        // bristle aside, relative to the level: the estimates' curve, or
+        // the nominal one held to a fifth of the threshold
         let miss = (v.abs() > self.centre).then(|| {
-            let forward = v > S::ZERO;
-            let level = self.level_on(state, forward, self.shape(v));
-            let sliding = if forward { level } else { -level } + (state.estimates[3] * v).sat(lim);
-            ((force - sliding).sat(lim).abs() / g).min(S::ONE)
+            let sample = (force, v, self.shape(v));
+            let own = self.miss_from(&state.estimates, state.torque, sample, g);
+            let nominal = self.per.map(|k| k.nominal);
+            let at_rest = self.level_of(&nominal, state.torque, v > S::ZERO, S::ONE);
+            let theirs = self.miss_from(&nominal, state.torque, sample, at_rest);
+            own.min(theirs * S::from_f64(SETTLED / NOMINAL_SETTLED))
         });
         let st = &mut state.stiffness;
         let predicted = S::from_f64(0.5) * (st.outputs[0] + st.outputs[1]);
@@ -708,6 +745,11 @@ const REVERSED: f64 = 0.5;
 /// The stiffness law learns only while the sliding samples' mean
 /// mismatch is below this fraction of the level.
 const SETTLED: f64 = 0.1;
+
+/// The stricter bound on the nominal curve's mean mismatch, which opens
+/// the gate as well: the levels are known right though the tracking law's
+/// estimates have taken up a stiffness error.
+const NOMINAL_SETTLED: f64 = 0.02;
 
 /// The weight of each sliding sample in that mean.
 const MISMATCH_BLEND: f64 = 1.0 / 16.0;
