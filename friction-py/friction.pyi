@@ -55,6 +55,7 @@ class Model:
         velocity_filter: Optional[float] = None,
         parameter_adaptive: Union[bool, dict, None] = None,
         supervisor: Union[bool, dict, None] = None,
+        velocity_observer: Optional[float] = None,
     ) -> "Compensator":
         """The compensated servo tick around the model's observer (or the
         theta-adaptive observer when `adaptive` is a dict of its parameters,
@@ -63,7 +64,12 @@ class Model:
         `exact_step`, True for the exact step `friction servo` takes, and
         `stiffness_rate` (1/s, default 0: off; `friction servo` takes a
         tenth of the rate) and `stiffness_box` for the stiffness law; a
-        `supervisor` dict sets the supervisor, False turns it off)."""
+        `supervisor` dict sets the supervisor, False turns it off).
+        `velocity_observer` (Hz, below half of 1/h, not with
+        `velocity_filter`) estimates the velocity with an observer driven
+        by the command and the friction estimate instead of the backward
+        difference, for an encoder that moves less than one count per
+        period."""
 
 class Observer:
     """A model's observer at a fixed period: positions in, friction estimate out."""

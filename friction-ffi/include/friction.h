@@ -1562,6 +1562,30 @@ friction_status friction_servo_reset_f32(friction_servo_f32 *servo);
 friction_status friction_servo_reset_f64(friction_servo_f64 *servo);
 
 /**
+ * Estimates the axis's velocity with an observer of bandwidth
+ * `bandwidth_hz` (Hz, above 0 and below half the sample rate; the loop's
+ * inertia above 0) instead of the backward difference: an alpha-beta-gamma
+ * tracker driven by the command and the friction estimate, for an encoder
+ * that moves less than one count per period at the axis's speed, where
+ * the backward difference reads 0 or a whole count on every tick
+ * (`friction_core::Compensator::with_velocity_observer`). Every kind of
+ * compensation; the axis's state restarts as [`friction_servo_reset_f32`]
+ * puts it, its parameters kept. A refusal (`FRICTION_NOT_POSITIVE`,
+ * `FRICTION_NOT_FINITE` or `FRICTION_NOT_BELOW`, the error naming
+ * `velocity_observer` or `inertia`) leaves the axis as it was.
+ */
+friction_status friction_servo_velocity_observer_f32(friction_servo_f32 *servo,
+                                                     double bandwidth_hz,
+                                                     friction_error *error);
+
+/**
+ * [`friction_servo_velocity_observer_f32`] in `double`.
+ */
+friction_status friction_servo_velocity_observer_f64(friction_servo_f64 *servo,
+                                                     double bandwidth_hz,
+                                                     friction_error *error);
+
+/**
  * The adaptive servo's current `theta` (the learnt scale of the model's
  * friction); `FRICTION_NOT_SUPPORTED` for other compensations.
  */

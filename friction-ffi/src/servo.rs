@@ -399,6 +399,38 @@ where
     )
 }
 
+fn velocity_observer<O, S>(
+    servo: Option<&mut O>,
+    bandwidth_hz: f64,
+    error: Option<&mut friction_error>,
+) -> friction_status
+where
+    O: slot::Opaque<Value = Stored<S>>,
+    S: Scalar,
+{
+    let Some(servo) = servo else {
+        return report(
+            error,
+            Refusal::new(friction_status::FRICTION_NULL_POINTER, "servo"),
+        );
+    };
+    let (kind, servo) = slot::get_kind(servo);
+    let refusal = each_servo!(
+        kind,
+        servo,
+        |c, s| match c.with_velocity_observer(bandwidth_hz) {
+            Ok(next) => {
+                *c = next;
+                *s = CompensatorState::default();
+                Refusal::OK
+            }
+            Err(e) => Refusal::param(e),
+        },
+        Refusal::new(friction_status::FRICTION_NOT_INITIALISED, "servo")
+    );
+    report(error, refusal)
+}
+
 fn read_theta<O, S>(servo: Option<&mut O>, out: Option<&mut S>) -> friction_status
 where
     O: slot::Opaque<Value = Stored<S>>,
@@ -643,6 +675,36 @@ pub extern "C" fn friction_servo_reset_f64(
     servo: Option<&mut friction_servo_f64>,
 ) -> friction_status {
     reset(servo)
+}
+
+/// Estimates the axis's velocity with an observer of bandwidth
+/// `bandwidth_hz` (Hz, above 0 and below half the sample rate; the loop's
+/// inertia above 0) instead of the backward difference: an alpha-beta-gamma
+/// tracker driven by the command and the friction estimate, for an encoder
+/// that moves less than one count per period at the axis's speed, where
+/// the backward difference reads 0 or a whole count on every tick
+/// (`friction_core::Compensator::with_velocity_observer`). Every kind of
+/// compensation; the axis's state restarts as [`friction_servo_reset_f32`]
+/// puts it, its parameters kept. A refusal (`FRICTION_NOT_POSITIVE`,
+/// `FRICTION_NOT_FINITE` or `FRICTION_NOT_BELOW`, the error naming
+/// `velocity_observer` or `inertia`) leaves the axis as it was.
+#[no_mangle]
+pub extern "C" fn friction_servo_velocity_observer_f32(
+    servo: Option<&mut friction_servo_f32>,
+    bandwidth_hz: f64,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    velocity_observer(servo, bandwidth_hz, error)
+}
+
+/// [`friction_servo_velocity_observer_f32`] in `double`.
+#[no_mangle]
+pub extern "C" fn friction_servo_velocity_observer_f64(
+    servo: Option<&mut friction_servo_f64>,
+    bandwidth_hz: f64,
+    error: Option<&mut friction_error>,
+) -> friction_status {
+    velocity_observer(servo, bandwidth_hz, error)
 }
 
 /// The adaptive servo's current `theta` (the learnt scale of the model's

@@ -2115,3 +2115,128 @@ fn an_external_torque_reaches_the_load_input_as_the_cores() {
         FRICTION_NULL_POINTER
     );
 }
+
+/// The velocity observer switched on through the ABI is the core's
+/// `with_velocity_observer`, bit for bit, on a 12-bit encoder's positions;
+/// refusals (a bandwidth at half the rate, NaN, a loop without inertia,
+/// NULL, a never-initialised object) are named and leave the axis as it
+/// was.
+#[test]
+fn the_velocity_observer_through_the_abi_is_the_cores() {
+    let olsson = LuGreParams::OLSSON_1998;
+    let sp = servo_params();
+    let mut m = model_f64();
+    assert_eq!(
+        friction_lugre_init_f64(Some(&mut m), Some(&olsson_abi()), sp.h, None),
+        FRICTION_OK
+    );
+    let mut s = friction_servo_f64 {
+        opaque: [0; FRICTION_SERVO_F64_WORDS],
+    };
+    assert_eq!(
+        friction_servo_init_f64(Some(&mut s), Some(&sp), Some(&m), 200.0, None, None),
+        FRICTION_OK
+    );
+    let mut err = no_error();
+    assert_eq!(
+        friction_servo_velocity_observer_f64(Some(&mut s), 50.0, Some(&mut err)),
+        FRICTION_OK
+    );
+    let core = core_servo_params(&sp)
+        .build(FixedPeriod(
+            Observer::new(olsson.build_fixed_step::<f64>(sp.h).unwrap(), 200.0).unwrap(),
+        ))
+        .unwrap()
+        .with_velocity_observer(50.0)
+        .unwrap();
+    let mut state = Default::default();
+    let count = 2.0 * std::f64::consts::PI / 4096.0;
+    let tick = |s: &mut friction_servo_f64, x: f64, r: Setpoint<f64>| {
+        let mut t = friction_tick_f64 {
+            command: 0.0,
+            friction: 0.0,
+        };
+        let r = friction_setpoint_f64 {
+            x: r.x,
+            v: r.v,
+            a: r.a,
+        };
+        assert_eq!(
+            friction_servo_tick_f64(Some(s), x, r, Some(&mut t)),
+            FRICTION_OK
+        );
+        t
+    };
+    let at = |k: usize| {
+        let w = 2.0 * std::f64::consts::PI;
+        let t = k as f64 * 1e-3;
+        let r = Setpoint {
+            x: 0.1 * (w * t).sin(),
+            v: 0.1 * w * (w * t).cos(),
+            a: -0.1 * w * w * (w * t).sin(),
+        };
+        // a 12-bit encoder's reading of a position that lags the reference
+        ((r.x - 2e-3 * (w * t).cos()) / count).round() * count
+    };
+    let mut changed = false;
+    for k in 0..runs(2000) {
+        let x = at(k);
+        let r = Setpoint {
+            x: 0.1 * (2.0 * std::f64::consts::PI * k as f64 * 1e-3).sin(),
+            v: 0.0,
+            a: 0.0,
+        };
+        let t = tick(&mut s, x, r);
+        let want = core.tick(&mut state, x, r);
+        assert_eq!(
+            (t.command.to_bits(), t.friction.to_bits()),
+            (want.command.to_bits(), want.friction.to_bits()),
+            "tick {k}"
+        );
+        changed |= t.command != 0.0;
+    }
+    assert!(changed);
+    // refusals name the parameter and leave the axis as it was
+    for (bandwidth, status, named) in [
+        (500.0, FRICTION_NOT_BELOW, "velocity_observer"),
+        (f64::NAN, FRICTION_NOT_FINITE, "velocity_observer"),
+        (-1.0, FRICTION_NOT_POSITIVE, "velocity_observer"),
+    ] {
+        let mut copy = friction_servo_f64 { opaque: s.opaque };
+        let mut err = no_error();
+        assert_eq!(
+            friction_servo_velocity_observer_f64(Some(&mut copy), bandwidth, Some(&mut err)),
+            status
+        );
+        assert_eq!(name(&err), named);
+        let (x, r) = (at(5000), Setpoint::default());
+        let mut original = friction_servo_f64 { opaque: s.opaque };
+        let (a, b) = (tick(&mut copy, x, r), tick(&mut original, x, r));
+        assert_eq!(a.command.to_bits(), b.command.to_bits());
+    }
+    let mut still = friction_servo_f64 {
+        opaque: [0; FRICTION_SERVO_F64_WORDS],
+    };
+    let massless = friction_servo_params { inertia: 0.0, ..sp };
+    assert_eq!(
+        friction_servo_init_f64(Some(&mut still), Some(&massless), None, 0.0, None, None),
+        FRICTION_OK
+    );
+    let mut err = no_error();
+    assert_eq!(
+        friction_servo_velocity_observer_f64(Some(&mut still), 50.0, Some(&mut err)),
+        FRICTION_NOT_POSITIVE
+    );
+    assert_eq!(name(&err), "inertia");
+    assert_eq!(
+        friction_servo_velocity_observer_f32(None, 50.0, Some(&mut err)),
+        FRICTION_NULL_POINTER
+    );
+    let mut never = friction_servo_f32 {
+        opaque: [0; FRICTION_SERVO_F32_WORDS],
+    };
+    assert_eq!(
+        friction_servo_velocity_observer_f32(Some(&mut never), 50.0, None),
+        FRICTION_NOT_INITIALISED
+    );
+}

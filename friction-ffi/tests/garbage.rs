@@ -296,8 +296,15 @@ macro_rules! servo_calls {
     ($ty:ident, $words:expr, $tag:expr, $scalar:ty, $tick:ident, $setpoint:ident,
      $out:ident, $reset:ident, $theta:ident, $estimates:ident, $estimates_ty:ident,
      $supervisor:ident, $parameter_init:ident, $retune:ident, $parameter_retune:ident,
-     $external:ident) => {
+     $external:ident, $velocity_observer:ident) => {
         [
+            Call {
+                name: stringify!($velocity_observer),
+                bytes: 8 * $words,
+                tag: $tag,
+                run: |b| $velocity_observer(Some(&mut $ty { opaque: words(b) }), 50.0, None),
+                writes_only: false,
+            },
             Call {
                 name: stringify!($external),
                 bytes: 8 * $words,
@@ -608,7 +615,8 @@ fn calls() -> Vec<Call> {
         friction_servo_parameter_adaptive_init_f32,
         friction_servo_retune_f32,
         friction_servo_parameter_adaptive_retune_f32,
-        friction_servo_set_external_torque_f32
+        friction_servo_set_external_torque_f32,
+        friction_servo_velocity_observer_f32
     ));
     all.extend(servo_calls!(
         friction_servo_f64,
@@ -626,7 +634,8 @@ fn calls() -> Vec<Call> {
         friction_servo_parameter_adaptive_init_f64,
         friction_servo_retune_f64,
         friction_servo_parameter_adaptive_retune_f64,
-        friction_servo_set_external_torque_f64
+        friction_servo_set_external_torque_f64,
+        friction_servo_velocity_observer_f64
     ));
     all.extend(commissioning_calls!(
         friction_commissioning_f32,

@@ -225,7 +225,7 @@ impl Model {
 
     /// compensator(h, kp, kd, inertia, ki=0, torque_constant=1, limit=1e3,
     /// gain=200, adaptive=None, velocity_filter=None, parameter_adaptive=None,
-    /// supervisor=None) -> Compensator.
+    /// supervisor=None, velocity_observer=None) -> Compensator.
     ///
     /// The servo tick of `friction servo`: PID with acceleration
     /// feed-forward around the model's observer (gain `gain`, 1/s), or the
@@ -241,8 +241,13 @@ impl Model {
     /// runs under its supervisor (fallback: the Coulomb + viscous
     /// feed-forward of the model's levels) unless `supervisor=False`; a dict
     /// sets the supervisor's `window`, `memory`, `ratio`, `warm_up`, `retry`,
-    /// `tolerance` (default 1 % of the Coulomb level).
-    #[pyo3(signature = (h, kp, kd, inertia, ki = 0.0, torque_constant = 1.0, limit = 1e3, gain = 200.0, adaptive = None, velocity_filter = None, parameter_adaptive = None, supervisor = None))]
+    /// `tolerance` (default 1 % of the Coulomb level). `velocity_observer`
+    /// (Hz, below half the rate `1/h`; not with `velocity_filter`) estimates
+    /// the velocity with an observer driven by the command and the friction
+    /// estimate instead of the backward difference: for an encoder that
+    /// moves less than one count per period (`friction servo` takes a
+    /// twentieth of the rate there by default).
+    #[pyo3(signature = (h, kp, kd, inertia, ki = 0.0, torque_constant = 1.0, limit = 1e3, gain = 200.0, adaptive = None, velocity_filter = None, parameter_adaptive = None, supervisor = None, velocity_observer = None))]
     #[allow(clippy::too_many_arguments)]
     fn compensator(
         &self,
@@ -258,6 +263,7 @@ impl Model {
         velocity_filter: Option<f64>,
         parameter_adaptive: Option<&Bound<'_, PyAny>>,
         supervisor: Option<&Bound<'_, PyAny>>,
+        velocity_observer: Option<f64>,
     ) -> PyResult<Compensator> {
         let params = CompensatorParams {
             h,
@@ -282,10 +288,15 @@ impl Model {
                 )));
             }
         }
+        if velocity_observer.is_some() && velocity_filter.is_some() {
+            return Err(PyValueError::new_err(
+                "velocity_observer: not with velocity_filter (one velocity estimate)",
+            ));
+        }
         let setup = Loop {
             params,
             velocity_filter,
-            velocity_observer: None,
+            velocity_observer,
         };
         let axis = self.axis(&setup, gain, adaptive, parameter_adaptive, supervisor)?;
         Ok(Compensator { axis, setup })

@@ -152,18 +152,21 @@ def test_compensator_tick_and_adaptation():
         m.compensator(h=1e-3, kp=1.0, kd=-1.0, inertia=0.0)
 
 
-def closed_loop(c, seconds, factor=1.0, asymmetry=0.0):
+def closed_loop(c, seconds, factor=1.0, asymmetry=0.0, counts=None):
     """Olsson's loop (J = 0.0023, kc = 1.02) on a Coulomb + viscous plant
     whose Coulomb level is `factor` times 0.28 N m, `1 + asymmetry` times
     forward and `1 - asymmetry` times backward, tracking 0.5 sin(2 pi 0.2 t)
-    rad; returns the tracking errors and the modes after each second."""
+    rad, the position read by an encoder of `counts` per turn (None:
+    exact); returns the tracking errors and the modes after each second."""
     x = v = 0.0
     w = 2 * np.pi * 0.2
+    count = 2 * np.pi / counts if counts else None
     errors, modes = [], []
     for k in range(int(seconds * 1000)):
         t = k * 1e-3
         r = 0.5 * np.sin(w * t)
-        u, _ = c.tick(x, r, 0.5 * w * np.cos(w * t), -0.5 * w * w * np.sin(w * t))
+        measured = round(x / count) * count if count else x
+        u, _ = c.tick(measured, r, 0.5 * w * np.cos(w * t), -0.5 * w * w * np.sin(w * t))
         for _ in range(10):
             side = 1 + asymmetry if v >= 0 else 1 - asymmetry
             f = factor * side * 0.28 * np.tanh(v / 1e-3) + 0.0176 * v
@@ -173,6 +176,26 @@ def closed_loop(c, seconds, factor=1.0, asymmetry=0.0):
         if k % 1000 == 999:
             modes.append(c.mode)
     return np.array(errors), modes
+
+
+def test_a_velocity_observer_serves_a_12_bit_encoder():
+    """On a 4096-count encoder (0.41 counts per period at the reference's
+    peak speed) the per-parameter compensator with the velocity observer
+    at 50 Hz tracks better than with the backward difference; the observer
+    is refused beside a velocity filter and at half the rate."""
+    m = friction.load(PARAMS / "olsson1998-servo.toml")
+    loop = dict(h=1e-3, kp=60.0, ki=200.0, kd=1.2, inertia=0.0023,
+                torque_constant=1.02, limit=10.0, gain=20.0, parameter_adaptive=True)
+    rms = {}
+    for observer in (None, 50.0):
+        c = m.compensator(velocity_observer=observer, **loop)
+        e, _ = closed_loop(c, 10.0, counts=4096)
+        rms[observer] = np.sqrt(np.mean(e[len(e) // 2:] ** 2))
+    assert rms[50.0] < rms[None], rms
+    with pytest.raises(ValueError, match="velocity_observer: not with velocity_filter"):
+        m.compensator(velocity_observer=50.0, velocity_filter=100.0, **loop)
+    with pytest.raises(ValueError, match="velocity_observer"):
+        m.compensator(velocity_observer=500.0, **loop)
 
 
 def test_an_external_torque_reaches_the_load_input():

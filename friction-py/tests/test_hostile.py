@@ -159,7 +159,7 @@ def c_model(**changes):
     return run
 
 
-def c_servo(adaptive=None, **changes):
+def c_servo(adaptive=None, velocity_observer=None, **changes):
     def run(lib):
         model, servo, err = (ctypes.create_string_buffer(OBJECT_BYTES),
                              ctypes.create_string_buffer(OBJECT_BYTES), Error())
@@ -175,6 +175,9 @@ def c_servo(adaptive=None, **changes):
             a = ctypes.byref(AdaptiveParams(**d))
         status = lib.friction_servo_init_f64(servo, ctypes.byref(loop), model,
                                              ctypes.c_double(200.0), a, ctypes.byref(err))
+        if status == 0 and velocity_observer is not None:
+            status = lib.friction_servo_velocity_observer_f64(
+                servo, ctypes.c_double(velocity_observer), ctypes.byref(err))
         return status, err
     return run
 
@@ -211,6 +214,9 @@ CASES = [
      cli_identify("--cutoff", "600"), py_identify(cutoff=600.0), ValueError, None),
     ("velocity filter 1e9 at 1 kHz", "`velocity_filter`", "velocity_filter=", None,
      cli_servo("velocity_filter = 1e9"), py_compensator(velocity_filter=1e9), ValueError, None),
+    ("velocity observer at half the rate", "`velocity_observer`", "velocity_observer",
+     "velocity_observer", cli_servo("velocity_observer = 500"),
+     py_compensator(velocity_observer=500.0), ValueError, c_servo(velocity_observer=500.0)),
     ("theta_max 1e-300", "`theta_max`", '"theta_max"', None,
      cli_servo("theta_max = 1e-300"),
      lambda: py_compensator(adaptive={"theta_max": 1e-300})(), ValueError, None),
