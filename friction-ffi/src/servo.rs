@@ -685,8 +685,9 @@ pub extern "C" fn friction_servo_reset_f64(
 /// the backward difference reads 0 or a whole count on every tick
 /// (`friction_core::Compensator::with_velocity_observer`). Every kind of
 /// compensation; the axis's state restarts as [`friction_servo_reset_f32`]
-/// puts it, its parameters kept. A refusal (`FRICTION_NOT_POSITIVE`,
-/// `FRICTION_NOT_FINITE` or `FRICTION_NOT_BELOW`, the error naming
+/// puts it, its parameters kept (an external torque must be set again). A
+/// refusal (`FRICTION_NOT_POSITIVE`, `FRICTION_NOT_FINITE`,
+/// `FRICTION_NOT_BELOW` or `FRICTION_UNDERFLOW`, the error naming
 /// `velocity_observer` or `inertia`) leaves the axis as it was.
 #[no_mangle]
 pub extern "C" fn friction_servo_velocity_observer_f32(

@@ -2137,6 +2137,19 @@ fn the_velocity_observer_through_the_abi_is_the_cores() {
         friction_servo_init_f64(Some(&mut s), Some(&sp), Some(&m), 200.0, None, None),
         FRICTION_OK
     );
+    // a running axis: the switch restarts its state
+    let mut t = friction_tick_f64 {
+        command: 0.0,
+        friction: 0.0,
+    };
+    for k in 0..300 {
+        let r = friction_setpoint_f64 {
+            x: 1e-3,
+            v: 0.0,
+            a: 0.0,
+        };
+        friction_servo_tick_f64(Some(&mut s), 1e-5 * k as f64, r, Some(&mut t));
+    }
     let mut err = no_error();
     assert_eq!(
         friction_servo_velocity_observer_f64(Some(&mut s), 50.0, Some(&mut err)),
@@ -2167,16 +2180,10 @@ fn the_velocity_observer_through_the_abi_is_the_cores() {
         );
         t
     };
+    // a 12-bit encoder's reading of a position that lags a sine
     let at = |k: usize| {
-        let w = 2.0 * std::f64::consts::PI;
-        let t = k as f64 * 1e-3;
-        let r = Setpoint {
-            x: 0.1 * (w * t).sin(),
-            v: 0.1 * w * (w * t).cos(),
-            a: -0.1 * w * w * (w * t).sin(),
-        };
-        // a 12-bit encoder's reading of a position that lags the reference
-        ((r.x - 2e-3 * (w * t).cos()) / count).round() * count
+        let wt = 2.0 * std::f64::consts::PI * k as f64 * 1e-3;
+        ((0.1 * wt.sin() - 2e-3 * wt.cos()) / count).round() * count
     };
     let mut changed = false;
     for k in 0..runs(2000) {
@@ -2209,10 +2216,37 @@ fn the_velocity_observer_through_the_abi_is_the_cores() {
             status
         );
         assert_eq!(name(&err), named);
-        let (x, r) = (at(5000), Setpoint::default());
-        let mut original = friction_servo_f64 { opaque: s.opaque };
-        let (a, b) = (tick(&mut copy, x, r), tick(&mut original, x, r));
-        assert_eq!(a.command.to_bits(), b.command.to_bits());
+        assert_eq!(copy.opaque, s.opaque, "{bandwidth}");
+    }
+    // a re-tune keeps the observer: the next ticks are still the core's
+    let mut retuned = core;
+    let mut m2 = model_f64();
+    let faster = friction_lugre_params {
+        sigma2: 0.02,
+        ..olsson_abi()
+    };
+    assert_eq!(
+        friction_lugre_init_f64(Some(&mut m2), Some(&faster), sp.h, None),
+        FRICTION_OK
+    );
+    assert_eq!(
+        friction_servo_retune_f64(Some(&mut s), Some(&m2), 200.0, None, None),
+        FRICTION_OK
+    );
+    let mut plant = olsson;
+    plant.sigma2 = 0.02;
+    retuned
+        .retune(
+            &mut state,
+            FixedPeriod(
+                Observer::new(plant.build_fixed_step::<f64>(sp.h).unwrap(), 200.0).unwrap(),
+            ),
+        )
+        .unwrap();
+    for k in 2000..2200 {
+        let (x, r) = (at(k), Setpoint::default());
+        let (t, want) = (tick(&mut s, x, r), retuned.tick(&mut state, x, r));
+        assert_eq!(t.command.to_bits(), want.command.to_bits(), "tick {k}");
     }
     let mut still = friction_servo_f64 {
         opaque: [0; FRICTION_SERVO_F64_WORDS],

@@ -72,6 +72,9 @@ pub struct CommissionRun {
     pub runs: Vec<ServoRun>,
     /// The benchmark's tick times.
     pub trace_t: Vec<f64>,
+    /// What the benchmark's set-up chose for the user (the coarse
+    /// encoder's velocity), if anything.
+    pub note: Option<String>,
 }
 
 /// The routine's settings for the file: the `[commission]` keys over the
@@ -206,6 +209,7 @@ pub fn commission(file: &ParamFile, origin: &str, progress: bool) -> Result<Comm
         reference,
         runs,
         trace_t: (0..n).map(|k| k as f64 / cfg.rate).collect(),
+        note: cfg.coarse_encoder_note(),
     })
 }
 
@@ -398,6 +402,9 @@ impl CommissionRun {
                 s,
                 "\nNo `observer` row: the file's model has no observer form (a static map)."
             );
+        }
+        if let Some(note) = &self.note {
+            let _ = writeln!(s, "\nNote: {note}.");
         }
         s
     }

@@ -4,7 +4,6 @@
 
 use friction_host::commission::commission;
 use friction_host::params::{param_set, ParamFile};
-use std::path::Path;
 
 #[test]
 fn commissions_the_olsson_servo_and_compensates_with_the_result() {
@@ -44,11 +43,6 @@ fn actuator_with(name: &str, extra: &str) -> friction_host::commission::Commissi
     let text = std::fs::read_to_string(&path).unwrap();
     assert!(text.contains("[servo]\n"));
     let text = text.replace("[servo]\n", &format!("[servo]\n{extra}"));
-    // BAM's file is named relative to the parameter file
-    let text = text.replace(
-        "\"bam/",
-        &format!("\"{}/bam/", Path::new(&path).parent().unwrap().display()),
-    );
     let file = ParamFile::parse(&text, &path).unwrap();
     let run = commission(&file, &path, false).unwrap();
     println!("{name}:\n{}", run.table());
@@ -97,6 +91,9 @@ fn commissioned_adaptation_beats_static_on_the_actuator_files() {
 fn commissions_the_mx106_pendulum_with_the_default_velocity_observer() {
     let run = actuator("mx106-pendulum");
     assert!(run.result.identified.load, "{:?}", run.result);
+    // the run says which velocity it took
+    let note = run.note.as_deref().unwrap();
+    assert!(note.contains("observer at 50 Hz"), "{note}");
     let rms = |row: &str| run.run(row).unwrap().rms_half;
     let better = rms("static").min(rms("observer"));
     assert!(

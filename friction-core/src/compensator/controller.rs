@@ -281,7 +281,8 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
     /// ```
     ///
     /// Needs `J > 0`; `bandwidth_hz` finite, `> 0` and below half the sample
-    /// rate. Replaces a velocity filter.
+    /// rate, and large enough that the gains do not round to 0 in `f64` or
+    /// in the scalar (`Underflow`). Replaces a velocity filter.
     ///
     /// ```
     /// use friction_core::{CompensatorParams, NoCompensation, ParamError};
@@ -307,6 +308,11 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
         let alpha = 1.0 - theta * theta * theta;
         let beta = 1.5 * (1.0 - theta) * (1.0 - theta) * (1.0 + theta);
         let gamma = 0.5 * (1.0 - theta) * (1.0 - theta) * (1.0 - theta);
+        // a bandwidth so small that the gains round to 0 would leave the
+        // backward difference in place (`observer_alpha` 0 means off)
+        if gamma <= 0.0 {
+            return Err(ParamError::Underflow("velocity_observer"));
+        }
         Ok(Self {
             observer_alpha: convert("velocity_observer", alpha)?,
             observer_beta: Gain::new("velocity_observer", beta / h)?,

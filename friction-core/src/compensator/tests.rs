@@ -262,6 +262,18 @@ fn the_velocity_observer_is_safe_for_hostile_inputs() {
             .err(),
         Some(ParamError::NotFinite("velocity_observer"))
     );
+    // gains that round to 0 would leave the backward difference: refused
+    for tiny in [1e-300, 1e-13] {
+        assert_eq!(
+            params()
+                .build::<f32, _>(NoCompensation)
+                .unwrap()
+                .with_velocity_observer(tiny)
+                .err(),
+            Some(ParamError::Underflow("velocity_observer")),
+            "{tiny}"
+        );
+    }
 }
 
 #[test]

@@ -581,10 +581,14 @@ impl<S: Scalar> ParameterAdaptive<S> {
     /// stiffness error: the law learns only while the sliding samples
     /// (`|v|` above half the reference speed) agree with the steady curve,
     /// the mean of `min(|force - g^(v) d - sigma2^ v| / g, 1)` over about
-    /// 16 of them at most 0.1 (`g` the level at rest), or with the nominal
-    /// curve's the same mean at most 0.02 (the levels are known right,
-    /// though the tracking law's estimates may have taken up a stiffness
-    /// error: a nominal bristle too soft drags them off); a crossing ends
+    /// 16 of them at most 0.1 (`g` the level at rest), each sample's miss
+    /// the smaller of that and five times its miss from the nominal curve
+    /// (over the nominal level at rest): a nominal curve that the samples
+    /// meet within 0.02 says the levels are right even where the tracking
+    /// law's estimates have taken up a stiffness error (a nominal bristle
+    /// too soft drags them off). The sliding samples of a half-period
+    /// outnumber the mean's memory, so it speaks of the current direction;
+    /// a crossing ends
     /// once the measured rise exceeds the estimate's whole swing
     /// `g - F0^ d`; and samples where the bristle moves more than a quarter
     /// of `g / (κ sigma0)` in a period, which the samples cannot resolve,
@@ -746,9 +750,10 @@ const REVERSED: f64 = 0.5;
 /// mismatch is below this fraction of the level.
 const SETTLED: f64 = 0.1;
 
-/// The stricter bound on the nominal curve's mean mismatch, which opens
-/// the gate as well: the levels are known right though the tracking law's
-/// estimates have taken up a stiffness error.
+/// The stricter bound on a sample's miss from the nominal curve: it counts
+/// as `SETTLED / NOMINAL_SETTLED` times its miss where that is the smaller
+/// (the levels are known right though the tracking law's estimates have
+/// taken up a stiffness error).
 const NOMINAL_SETTLED: f64 = 0.02;
 
 /// The weight of each sliding sample in that mean.

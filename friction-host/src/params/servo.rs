@@ -426,7 +426,8 @@ impl ServoTable {
         };
         // a coarse encoder's velocity from the observer unless a velocity
         // key says otherwise
-        if self.velocity_observer.is_none() && c.velocity_filter == 0.0 && c.coarse_encoder() {
+        if self.velocity_observer.is_none() && self.velocity_filter.is_none() && c.coarse_encoder()
+        {
             c.velocity_observer = COARSE_ENCODER_OBSERVER_PER_HZ * c.rate;
         }
         if let Some(name) = &self.plant_bam {
@@ -848,7 +849,8 @@ impl ServoConfig {
             format!(
                 "the encoder moves {counts} counts per period at the peak speed, so the \
                  measured velocity is 0 or a whole count per period on every tick; \
-                 `velocity_observer = {}` (a twentieth of the rate, the default here) \
+                 `velocity_observer = {}` (a twentieth of the rate, the default on such \
+                 an encoder) \
                  estimates the speed between counts ({guide})",
                 self.rate * COARSE_ENCODER_OBSERVER_PER_HZ
             )
@@ -1008,13 +1010,24 @@ mod tests {
             .coarse_encoder_note()
             .unwrap();
         assert!(note.contains("8.192e-7 counts"), "{note}");
-        // a velocity filter is a velocity choice of its own
+        // a velocity filter is a velocity choice of its own, and so is
+        // `velocity_filter = 0` (the backward difference, with the note)
         let filtered = ServoTable {
             velocity_filter: Some(100.0),
             ..at(4096.0)
         };
         let c = filtered.resolve("p.toml").unwrap();
         assert_eq!((c.velocity_observer, c.coarse_encoder_note()), (0.0, None));
+        let unfiltered = ServoTable {
+            velocity_filter: Some(0.0),
+            ..at(4096.0)
+        };
+        let c = unfiltered.resolve("p.toml").unwrap();
+        assert_eq!(c.velocity_observer, 0.0);
+        assert!(c
+            .coarse_encoder_note()
+            .unwrap()
+            .contains("velocity_observer = 50"));
     }
 
     /// `load_max` defaults to `LOADED_AXIS_LOAD_MAX` on an axis with

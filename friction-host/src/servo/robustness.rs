@@ -267,6 +267,9 @@ pub fn run(params: Option<&Path>, output: &Path, points: usize) -> Result<bool> 
     bar.finish_and_clear();
     let m = result?;
     crate::out!("{}", m.markdown());
+    if let Some(note) = file.servo.resolve(&origin)?.coarse_encoder_note() {
+        crate::outln!("\nNote: {note}.");
+    }
     for path in m.write(output)? {
         crate::outln!("wrote: {}", path.display());
     }
