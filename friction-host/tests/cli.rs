@@ -1400,3 +1400,43 @@ fn commission_bad_settings_and_aborts_exit_2_naming_them() {
         assert!(!output.exists(), "{needle}: wrote {}", output.display());
     }
 }
+
+/// On a coarse encoder (4096 counts: 0.41 counts per period at the default
+/// reference's peak speed) `friction servo` and `friction robustness` say
+/// that the velocity comes from the observer, and how to get the backward
+/// difference back; with `velocity_observer = 0` the note names the
+/// observer instead.
+#[test]
+fn a_coarse_encoder_is_noted_by_servo_and_robustness() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = |name: &str| dir.path().join(name).display().to_string();
+    let p = servo_params(dir.path(), "duration = 0.5\nencoder_counts = 4096");
+    for args in [
+        vec!["servo", "--params", &p, "--output", &out("servo")],
+        vec![
+            "robustness",
+            "--params",
+            &p,
+            "--output",
+            &out("map"),
+            "--points",
+            "2",
+        ],
+    ] {
+        let run = friction(&args);
+        assert!(run.status.success(), "{args:?}");
+        let text = stdout(&run);
+        assert!(
+            text.contains("velocity observer at 50 Hz") && text.contains("`velocity_observer = 0`"),
+            "{args:?}: {text}"
+        );
+    }
+    let p = servo_params(
+        dir.path(),
+        "duration = 0.5\nencoder_counts = 4096\nvelocity_observer = 0",
+    );
+    let run = friction(&["servo", "--params", &p, "--output", &out("bd")]);
+    assert!(run.status.success());
+    let text = stdout(&run);
+    assert!(text.contains("`velocity_observer = 50`"), "{text}");
+}
