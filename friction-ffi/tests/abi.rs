@@ -2068,22 +2068,7 @@ fn an_external_torque_reaches_the_load_input_as_the_cores() {
     let core = parameter_core::<f64>(&sp);
     let mut state = Default::default();
     core.set_external_torque(&mut state, 1.5);
-    let tick = |s: &mut friction_servo_f64, x: f64, r: Setpoint<f64>| {
-        let mut t = friction_tick_f64 {
-            command: 0.0,
-            friction: 0.0,
-        };
-        let rf = friction_setpoint_f64 {
-            x: r.x,
-            v: r.v,
-            a: r.a,
-        };
-        assert_eq!(
-            friction_servo_tick_f64(Some(s), x, rf, Some(&mut t)),
-            FRICTION_OK
-        );
-        t.command
-    };
+    let tick = |s: &mut friction_servo_f64, x: f64, r: Setpoint<f64>| tick_f64(s, x, r).command;
     let mut apart = 0;
     asymmetric_plant(2, |k, x, r| {
         let command = tick(&mut told, x, r);
@@ -2138,17 +2123,12 @@ fn the_velocity_observer_through_the_abi_is_the_cores() {
         FRICTION_OK
     );
     // a running axis: the switch restarts its state
-    let mut t = friction_tick_f64 {
-        command: 0.0,
-        friction: 0.0,
-    };
     for k in 0..300 {
-        let r = friction_setpoint_f64 {
+        let r = Setpoint {
             x: 1e-3,
-            v: 0.0,
-            a: 0.0,
+            ..Setpoint::default()
         };
-        friction_servo_tick_f64(Some(&mut s), 1e-5 * k as f64, r, Some(&mut t));
+        tick_f64(&mut s, 1e-5 * k as f64, r);
     }
     let mut err = no_error();
     assert_eq!(
@@ -2164,22 +2144,6 @@ fn the_velocity_observer_through_the_abi_is_the_cores() {
         .unwrap();
     let mut state = Default::default();
     let count = 2.0 * std::f64::consts::PI / 4096.0;
-    let tick = |s: &mut friction_servo_f64, x: f64, r: Setpoint<f64>| {
-        let mut t = friction_tick_f64 {
-            command: 0.0,
-            friction: 0.0,
-        };
-        let r = friction_setpoint_f64 {
-            x: r.x,
-            v: r.v,
-            a: r.a,
-        };
-        assert_eq!(
-            friction_servo_tick_f64(Some(s), x, r, Some(&mut t)),
-            FRICTION_OK
-        );
-        t
-    };
     // a 12-bit encoder's reading of a position that lags a sine
     let at = |k: usize| {
         let wt = 2.0 * std::f64::consts::PI * k as f64 * 1e-3;
@@ -2193,7 +2157,7 @@ fn the_velocity_observer_through_the_abi_is_the_cores() {
             v: 0.0,
             a: 0.0,
         };
-        let t = tick(&mut s, x, r);
+        let t = tick_f64(&mut s, x, r);
         let want = core.tick(&mut state, x, r);
         assert_eq!(
             (t.command.to_bits(), t.friction.to_bits()),
@@ -2245,7 +2209,7 @@ fn the_velocity_observer_through_the_abi_is_the_cores() {
         .unwrap();
     for k in 2000..2200 {
         let (x, r) = (at(k), Setpoint::default());
-        let (t, want) = (tick(&mut s, x, r), retuned.tick(&mut state, x, r));
+        let (t, want) = (tick_f64(&mut s, x, r), retuned.tick(&mut state, x, r));
         assert_eq!(t.command.to_bits(), want.command.to_bits(), "tick {k}");
     }
     let mut still = friction_servo_f64 {
@@ -2273,4 +2237,23 @@ fn the_velocity_observer_through_the_abi_is_the_cores() {
         friction_servo_velocity_observer_f32(Some(&mut never), 50.0, None),
         FRICTION_NOT_INITIALISED
     );
+}
+
+/// One `double` servo tick through the ABI at measured position `x`
+/// towards `r`, required to be accepted.
+fn tick_f64(s: &mut friction_servo_f64, x: f64, r: Setpoint<f64>) -> friction_tick_f64 {
+    let mut t = friction_tick_f64 {
+        command: 0.0,
+        friction: 0.0,
+    };
+    let r = friction_setpoint_f64 {
+        x: r.x,
+        v: r.v,
+        a: r.a,
+    };
+    assert_eq!(
+        friction_servo_tick_f64(Some(s), x, r, Some(&mut t)),
+        FRICTION_OK
+    );
+    t
 }

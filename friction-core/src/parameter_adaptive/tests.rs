@@ -181,6 +181,18 @@ fn run_on_olsson(
     *s.friction()
 }
 
+/// The per-parameter law on `nominal` as the guide's measurements run it
+/// (the exact step, the levels' default rate) with the stiffness law on.
+fn learning_stiffness(nominal: LuGreParams) -> ParameterAdaptiveParams {
+    ParameterAdaptiveParams {
+        speed: 0.63,
+        rate: 16.0,
+        exact_step: true,
+        stiffness_rate: 100.0,
+        ..ParameterAdaptiveParams::new(nominal, 20.0)
+    }
+}
+
 /// The stiffness law finds a plant's `sigma0` from a nominal model
 /// 3x too stiff and 3x too soft (levels right, the exact step, the
 /// default rate of the guide's measurements): the learnt `κ sigma0`
@@ -193,13 +205,7 @@ fn the_stiffness_law_learns_the_plants_sigma0() {
     for factor in [3.0, 1.0 / 3.0, 1.0] {
         let mut nominal = plant;
         nominal.sigma0 *= factor;
-        let p = ParameterAdaptiveParams {
-            speed: 0.63,
-            rate: 16.0,
-            exact_step: true,
-            stiffness_rate: 100.0,
-            ..ParameterAdaptiveParams::new(nominal, 20.0)
-        };
+        let p = learning_stiffness(nominal);
         let s = run_on_olsson(p, plant, 20.0);
         let learnt = s.stiffness() * nominal.sigma0;
         let tolerance = if factor == 1.0 { 0.05 } else { 0.1 };
@@ -312,13 +318,7 @@ fn right_nominal_levels_let_the_stiffness_law_run_while_the_estimates_wander() {
     let plant = LuGreParams::OLSSON_1998;
     let mut nominal = plant;
     nominal.sigma0 *= 0.1;
-    let p = ParameterAdaptiveParams {
-        speed: 0.63,
-        rate: 16.0,
-        exact_step: true,
-        stiffness_rate: 100.0,
-        ..ParameterAdaptiveParams::new(nominal, 20.0)
-    };
+    let p = learning_stiffness(nominal);
     let early = run_on_olsson(p, plant, 10.0);
     let fc = plant.curve.fc;
     assert!(
