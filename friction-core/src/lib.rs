@@ -63,7 +63,10 @@ pub use models::gms::{
     Gms, GmsElement, GmsFixedStep, GmsFixedStepState, GmsParams, GmsSlipMode, GmsState,
 };
 pub use models::leuven::{Leuven, LeuvenParams, LeuvenReversal, LeuvenState};
-pub use models::lugre::{LuGre, LuGreFixedStep, LuGreFixedStepState, LuGreParams, LuGreState};
+pub use models::lugre::{
+    LuGre, LuGreFixedStep, LuGreFixedStepState, LuGreLoad, LuGreLoadParams, LuGreLoadState,
+    LuGreParams, LuGreState,
+};
 pub use models::reset_integrator::{ResetIntegrator, ResetIntegratorParams, ResetIntegratorState};
 pub use models::static_maps::{
     AsymmetricCoulombViscous, AsymmetricCoulombViscousParams, CoulombParams, CoulombViscous,

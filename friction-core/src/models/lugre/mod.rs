@@ -2,6 +2,7 @@
 //! [`LuGre`].
 
 mod fixed_step;
+mod load;
 #[cfg(test)]
 mod tests;
 mod variable_step;
@@ -15,6 +16,7 @@ use crate::stribeck::StribeckParams;
 use crate::Scalar;
 pub(crate) use fixed_step::{phi_series, phi_series_inlined, relax};
 pub use fixed_step::{LuGreFixedStep, LuGreFixedStepState};
+pub use load::{LuGreLoad, LuGreLoadParams, LuGreLoadState};
 pub use variable_step::{LuGre, LuGreState};
 
 /// LuGre parameters (`model = "lugre"`), in `f64`.

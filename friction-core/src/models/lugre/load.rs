@@ -1,0 +1,584 @@
+//! LuGre on a curve whose levels grow with the transmitted torque and differ
+//! by direction: [`LuGreLoad`] and [`LuGreLoadState`].
+
+use crate::load_friction::{LoadFriction, LoadFrictionParams};
+use crate::model::{
+    check_force, checked_inputs, convert, convert_derived, magnitude, magnitude_or_zero,
+    non_negative, positive, FrictionModel, ParamError,
+};
+use crate::Scalar;
+
+/// Parameters of [`LuGreLoad`], in `f64`.
+///
+/// ```
+/// use friction_core::{FrictionModel, LoadForm, LoadFrictionParams, LuGreLoadParams, LuGreLoadState};
+/// let curve = LoadFrictionParams {
+///     friction_base: 0.3, friction_stribeck: 0.1, friction_viscous: 0.02,
+///     dtheta_stribeck: 0.01, alpha: 2.0, load_friction_base: 0.05,
+///     ..LoadFrictionParams::zero(LoadForm::M3)
+/// };
+/// let params = LuGreLoadParams { backward: Some([0.35, 0.1]), ..LuGreLoadParams::new(curve, 1e4, 10.0, 20.0) };
+/// let model = params.build::<f32>()?;
+/// let mut state = LuGreLoadState::default();
+/// model.set_load(&mut state, 4.0, 0.0); // 4 N m through the gear train
+/// let mut f = 0.0;
+/// for _ in 0..1000 {
+///     f = model.step(&mut state, 0.5, 1e-3);
+/// }
+/// assert!((f - (0.3 + 0.05 * 4.0 + 0.02 * 0.5)).abs() < 1e-4); // the loaded level
+/// # Ok::<(), friction_core::ParamError>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LuGreLoadParams {
+    /// The curve: BAM's budget in any form `m1`-`m6` (its levels are the
+    /// forward direction's; `friction_viscous` is `sigma2`).
+    pub curve: LoadFrictionParams,
+    /// `[friction_base, friction_stribeck]` for `v < 0` (`None`: the
+    /// forward levels; errors name it `backward`); the load terms are shared.
+    pub backward: Option<[f64; 2]>,
+    /// Bristle stiffness `sigma0 > 0`.
+    pub sigma0: f64,
+    /// Micro-damping `sigma1 >= 0`.
+    pub sigma1: f64,
+    /// The largest `|tau|` of either torque input `> 0`; larger ones are
+    /// clamped to it.
+    pub torque_limit: f64,
+}
+
+impl LuGreLoadParams {
+    /// `curve` with the same levels both ways, stiffness `sigma0`, damping
+    /// `sigma1` and torque limit `torque_limit`.
+    pub const fn new(
+        curve: LoadFrictionParams,
+        sigma0: f64,
+        sigma1: f64,
+        torque_limit: f64,
+    ) -> Self {
+        Self {
+            curve,
+            backward: None,
+            sigma0,
+            sigma1,
+            torque_limit,
+        }
+    }
+
+    /// Checks every parameter; the error names the first offending one.
+    /// Each direction's `friction_base` must be `> 0` (the bristle's
+    /// deflection divides by the level).
+    pub fn validate(&self) -> Result<(), ParamError> {
+        self.curve.validate()?;
+        positive("friction_base", self.curve.friction_base)?;
+        if let Some([base, stribeck]) = self.backward {
+            positive("backward", base)?;
+            non_negative("backward", stribeck)?;
+        }
+        magnitude("sigma0", self.sigma0)?;
+        magnitude_or_zero("sigma1", self.sigma1)?;
+        positive("torque_limit", self.torque_limit)?;
+        Ok(())
+    }
+
+    /// The curve of direction `forward`.
+    fn side(&self, forward: bool) -> LoadFrictionParams {
+        match (forward, self.backward) {
+            (false, Some([friction_base, friction_stribeck])) => LoadFrictionParams {
+                friction_base,
+                friction_stribeck,
+                ..self.curve
+            },
+            _ => self.curve,
+        }
+    }
+
+    /// An upper bound of the budget at rest over torques within the limit.
+    fn largest_level(&self) -> f64 {
+        let c = &self.curve;
+        let t = self.torque_limit;
+        let [fwd, bwd] = [self.side(true), self.side(false)].map(|s| s.breakaway());
+        fwd.max(bwd)
+            + 2.0 * t * (c.load_friction_base + c.load_friction_stribeck)
+            + t * (c.load_friction_motor + c.load_friction_external)
+            + t * (c.load_friction_motor_stribeck + c.load_friction_external_stribeck)
+            + t * t * (c.load_friction_motor_quad + c.load_friction_external_quad)
+    }
+
+    /// Validates and builds the run-time model. Besides [`Self::validate`],
+    /// rejects what the scalar cannot carry: a least level over `sigma0`
+    /// that underflows (`Underflow("friction_base")`), and forces that
+    /// overflow at the velocity and torque limits (`ForceOverflow`).
+    pub fn build<S: Scalar>(&self) -> Result<LuGreLoad<S>, ParamError> {
+        self.validate()?;
+        let least = self
+            .side(true)
+            .friction_base
+            .min(self.side(false).friction_base);
+        convert_derived::<S>("friction_base", least / self.sigma0)?;
+        let limit = S::VELOCITY_LIMIT.to_f64();
+        check_force::<S>("torque_limit", self.largest_level())?;
+        check_force::<S>("friction_viscous", self.curve.friction_viscous * limit)?;
+        // |dz/dt| <= |v| (1 + z / r) with z / r bounded by the velocity limit
+        check_force::<S>("sigma1", self.sigma1 * limit * (1.0 + limit))?;
+        Ok(LuGreLoad {
+            forward: self.side(true).build()?,
+            backward: self.side(false).build()?,
+            least: convert_derived("friction_base", least)?,
+            sigma0: convert("sigma0", self.sigma0)?,
+            sigma1: convert("sigma1", self.sigma1)?,
+            sigma2: convert("friction_viscous", self.curve.friction_viscous)?,
+            torque_limit: convert("torque_limit", self.torque_limit)?,
+            params: *self,
+        })
+    }
+}
+
+/// LuGre (Canudas de Wit et al. 1995) on a load-dependent, directional curve:
+/// the levels of BAM's budget (Duclusaud, Passault et al. 2024; see
+/// [`LoadFriction`]) at the motor and external torques last set
+/// ([`LuGreLoad::set_load`]), the forward or backward levels by direction.
+///
+/// ```text
+/// g(v)  = budget(v, tau_m, tau_e) of the side: v > 0 forward, v < 0 backward (v = 0: the side of z)
+/// dz/dt = v - sigma0 |v| z / g(v)
+/// F     = sigma0 z + sigma1 dz/dt + Fv v
+/// ```
+///
+/// The step is LuGre's ([`crate::LuGre`]): exact for a velocity and load
+/// held over the step. `|z|` stays within the level at rest of the side
+/// it ends on, `g(0) / sigma0` at the current load (LuGre's bound `Fs /
+/// sigma0`; a load that falls lets the bristle slip to its new level), and
+/// `dz/dt` is 0 while held there. Its steady state is `g(v) sign(v) + Fv
+/// v`. Torques are clamped to the torque limit; a non-finite torque leaves
+/// the last one set, a non-finite velocity or period the state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LuGreLoad<S> {
+    forward: LoadFriction<S>,
+    backward: LoadFriction<S>,
+    least: S,
+    sigma0: S,
+    sigma1: S,
+    sigma2: S,
+    torque_limit: S,
+    params: LuGreLoadParams,
+}
+
+/// The state of [`LuGreLoad`]: the bristle and the torques last set.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LuGreLoadState<S> {
+    /// Bristle deflection `z`.
+    pub z: S,
+    /// The motor torque `tau_m`.
+    pub tau_m: S,
+    /// The external torque `tau_e` (gravity, a load; BAM's sign).
+    pub tau_e: S,
+}
+
+impl<S: Scalar> LuGreLoad<S> {
+    /// The parameters it was built from.
+    pub fn params(&self) -> &LuGreLoadParams {
+        &self.params
+    }
+
+    /// Sets the torques the transmission carries for the next steps; a
+    /// non-finite one keeps its last value.
+    pub fn set_load(&self, state: &mut LuGreLoadState<S>, tau_m: S, tau_e: S) {
+        if tau_m.is_finite() {
+            state.tau_m = tau_m.sat(self.torque_limit);
+        }
+        if tau_e.is_finite() {
+            state.tau_e = tau_e.sat(self.torque_limit);
+        }
+    }
+
+    /// `g(v)` on side `forward` at the state's torques, at least the least
+    /// base level.
+    #[inline]
+    pub fn level(&self, state: &LuGreLoadState<S>, forward: bool, v: S) -> S {
+        let curve = if forward {
+            &self.forward
+        } else {
+            &self.backward
+        };
+        curve.budget(v, state.tau_m, state.tau_e).0.max(self.least)
+    }
+
+    /// Steady-state friction `g(v) sign(v) + Fv v` at the state's torques.
+    pub fn steady_state(&self, state: &LuGreLoadState<S>, v: S) -> S {
+        self.level(state, v > S::ZERO, v) * v.sign() + self.sigma2 * v
+    }
+}
+
+impl<S: Scalar> FrictionModel<S> for LuGreLoad<S> {
+    type State = LuGreLoadState<S>;
+
+    fn step(&self, state: &mut LuGreLoadState<S>, v: S, h: S) -> S {
+        let Some(v) = checked_inputs(v, h) else {
+            return self.hold_force(state);
+        };
+        let forward = if v == S::ZERO {
+            state.z >= S::ZERO
+        } else {
+            v > S::ZERO
+        };
+        let r = self.level(state, forward, v) / self.sigma0;
+        let speed = v.abs();
+        let a = speed / r;
+        let x = a * h;
+        let z0 = state.z;
+        // exact for held v: z relaxes towards sign(v) r (formed without a,
+        // which may overflow at a stiff bristle)
+        let free = if x > S::ONE {
+            let z_eq = v.sign() * r;
+            z_eq + (z0 - z_eq) * (-x).exp()
+        } else if x > S::ZERO {
+            z0 + (v - a * z0) * (-(-x).exp_m1() / a)
+        } else {
+            z0 + v * h
+        };
+        let bound = self.level(state, free >= S::ZERO, S::ZERO) / self.sigma0;
+        let z = free.sat(bound);
+        state.z = z;
+        let mut rate = v - speed * (z / r).sat(S::VELOCITY_LIMIT);
+        if z.abs() >= bound && rate * z > S::ZERO {
+            rate = S::ZERO;
+        }
+        self.sigma0 * z + self.sigma1 * rate + self.sigma2 * v
+    }
+
+    /// `sigma0 z`.
+    fn hold_force(&self, state: &LuGreLoadState<S>) -> S {
+        self.sigma0 * state.z
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::load_friction::LoadForm;
+    use crate::models::lugre::{LuGreParams, LuGreState};
+
+    /// BAM's every term (the load-friction tests' set), stiff enough to
+    /// slide within a few steps at 1 rad/s.
+    fn curve(form: LoadForm) -> LoadFrictionParams {
+        LoadFrictionParams {
+            friction_base: 0.1,
+            friction_stribeck: 0.2,
+            friction_viscous: 0.3,
+            dtheta_stribeck: 2.0,
+            alpha: 2.0,
+            load_friction_motor: 0.05,
+            load_friction_external: 0.02,
+            load_friction_motor_stribeck: 0.04,
+            load_friction_external_stribeck: 0.01,
+            load_friction_motor_quad: 0.003,
+            load_friction_external_quad: 0.007,
+            load_friction_base: 0.11,
+            load_friction_stribeck: 0.13,
+            ..LoadFrictionParams::zero(form)
+        }
+    }
+
+    fn params(form: LoadForm) -> LuGreLoadParams {
+        LuGreLoadParams {
+            backward: Some([0.15, 0.25]),
+            ..LuGreLoadParams::new(curve(form), 1e4, 20.0, 50.0)
+        }
+    }
+
+    /// With one pair of levels and no load terms it is LuGre: Canudas de
+    /// Wit's set as BAM's m2, against [`crate::LuGre`] on random speeds.
+    #[test]
+    fn with_one_pair_of_levels_and_no_load_it_is_lugre() {
+        let p = LuGreParams::CANUDAS_1995;
+        let c = p.curve;
+        let load = LuGreLoadParams::new(
+            LoadFrictionParams {
+                friction_base: c.fc,
+                friction_stribeck: c.fs - c.fc,
+                friction_viscous: p.sigma2,
+                dtheta_stribeck: c.vs,
+                alpha: c.exponent,
+                ..LoadFrictionParams::zero(LoadForm::M2)
+            },
+            p.sigma0,
+            p.sigma1,
+            10.0,
+        )
+        .build::<f64>()
+        .unwrap();
+        let lugre = p.build::<f64>().unwrap();
+        let (mut a, mut b) = (LuGreLoadState::default(), LuGreState::default());
+        let mut next = crate::test_rng::xorshift64(0x5eed_1a0d);
+        for k in 0..20_000 {
+            let r = (next() >> 11) as f64 / (1u64 << 53) as f64;
+            let v = (r - 0.5) * [2e-3, 0.02, 1.0][k % 3];
+            let (fa, fb) = (load.step(&mut a, v, 1e-3), lugre.step(&mut b, v, 1e-3));
+            assert!((fa - fb).abs() <= 1e-9 * c.fs, "step {k}: {fa} vs {fb}");
+        }
+    }
+
+    /// Sliding at ±1 rad/s under `tau_m = 3`, `tau_e = -2`, each form ends
+    /// on its budget by hand (the load-friction tests' figures) plus `Fv v`;
+    /// backward with its own levels (0.15, 0.25 for 0.1, 0.2).
+    #[test]
+    fn it_slides_on_each_forms_budget_with_each_directions_levels() {
+        let s = 0.778_800_783_071_404_9_f64; // exp(-(1/2)^2)
+        let forward = [
+            (LoadForm::M1, 0.1, false),
+            (LoadForm::M2, 0.1 + 0.2 * s, true),
+            (LoadForm::M3, 0.1 + 0.11 * 5.0, false),
+            (
+                LoadForm::M4,
+                0.1 + 0.2 * s + 0.11 * 5.0 + 0.13 * s * 5.0,
+                true,
+            ),
+            (LoadForm::M5, 0.1 + 0.2 * s + 0.19 + s * 0.14, true),
+            (
+                LoadForm::M6,
+                0.1 + 0.2 * s + 0.19 + s * 0.14 + s * 0.007 * 4.0,
+                true,
+            ),
+        ];
+        for (form, level, stribeck) in forward {
+            let model = params(form).build::<f64>().unwrap();
+            for v in [1.0, -1.0] {
+                let mut state = LuGreLoadState::default();
+                model.set_load(&mut state, 3.0, -2.0);
+                let mut f = 0.0;
+                for _ in 0..2000 {
+                    f = model.step(&mut state, v, 1e-3);
+                }
+                let level = if v > 0.0 {
+                    level
+                } else {
+                    level + 0.05 + if stribeck { 0.05 * s } else { 0.0 }
+                };
+                let expected = level * v + 0.3 * v;
+                assert!(
+                    (f - expected).abs() < 1e-9,
+                    "{form:?} at {v}: {f} vs {expected}"
+                );
+                assert!((model.steady_state(&state, v) - expected).abs() < 1e-12);
+            }
+        }
+    }
+
+    /// Against an independent solver: the bristle's equation integrated by
+    /// fourth-order Runge-Kutta at a thousandth of the step, with the speed
+    /// and the torques held over each step as the exact step holds them and
+    /// the documented bound applied at each step's end, through reversals
+    /// and a load that swings both torques (the bound is reached as the
+    /// load falls).
+    #[test]
+    fn it_follows_an_independent_solver_through_reversals_and_load_swings() {
+        let p = LuGreLoadParams {
+            sigma0: 300.0,
+            ..params(LoadForm::M6)
+        };
+        let model = p.build::<f64>().unwrap();
+        let sides = [
+            p.side(true).build::<f64>().unwrap(),
+            p.side(false).build::<f64>().unwrap(),
+        ];
+        let h = 1e-3;
+        let mut state = LuGreLoadState::default();
+        let mut z = 0.0_f64;
+        let mut worst = 0.0_f64;
+        for k in 0..4000 {
+            let t = k as f64 * h;
+            let v = 0.05 * (core::f64::consts::TAU * t).sin();
+            let (tm, te) = (3.0 * (1.9 * t).sin(), -2.0 * (0.7 * t).cos());
+            model.set_load(&mut state, tm, te);
+            let f = model.step(&mut state, v, h);
+            // the reference: g from the side of v (of z at rest), RK4
+            let g = |z: f64| {
+                let forward = if v == 0.0 { z >= 0.0 } else { v > 0.0 };
+                sides[usize::from(!forward)].budget(v, tm, te).0
+            };
+            let rate = |z: f64| v - p.sigma0 * v.abs() * z / g(z);
+            let n = 1000;
+            let dt = h / f64::from(n);
+            for _ in 0..n {
+                let k1 = rate(z);
+                let k2 = rate(z + 0.5 * dt * k1);
+                let k3 = rate(z + 0.5 * dt * k2);
+                let k4 = rate(z + dt * k3);
+                z += dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+            }
+            // the documented bound at the step's end: the level at rest of
+            // the side z ends on, the rate 0 while held there
+            let bound = sides[usize::from(z < 0.0)].budget(0.0, tm, te).0 / p.sigma0;
+            z = z.clamp(-bound, bound);
+            let mut dz = rate(z);
+            if z.abs() >= bound && dz * z > 0.0 {
+                dz = 0.0;
+            }
+            let reference = p.sigma0 * z + p.sigma1 * dz + 0.3 * v;
+            worst = worst.max((f - reference).abs());
+        }
+        // the budget is about 0.5 N m here
+        assert!(worst < 1e-6, "worst difference {worst}");
+    }
+
+    /// 200,000 steps of hostile but finite inputs (speeds to the clamp and
+    /// beyond, torques far past the limit, periods to 1 s): the force is
+    /// finite and `|z|` within the largest level at rest; a non-finite speed
+    /// or period leaves the state, a non-finite torque its last value.
+    #[test]
+    fn hostile_inputs_keep_it_bounded_and_non_finite_ones_leave_the_state() {
+        let p = params(LoadForm::M6);
+        let model = p.build::<f64>().unwrap();
+        let z_max = p.largest_level() / p.sigma0;
+        let mut state = LuGreLoadState::default();
+        let mut next = crate::test_rng::xorshift64(0x0bad_f00d);
+        let mut uniform = move || (next() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        for _ in 0..200_000 {
+            let v = uniform() * 10f64.powf(12.0 * uniform().abs() - 3.0);
+            let (tm, te) = (uniform() * 1e12, uniform() * 100.0);
+            model.set_load(&mut state, tm, te);
+            let h = uniform().abs() * [1e-3, 1.0][usize::from(uniform() > 0.4)];
+            let f = model.step(&mut state, v, h);
+            assert!(
+                f.is_finite() && state.z.abs() <= z_max * (1.0 + 1e-12),
+                "{f} {state:?}"
+            );
+            assert!(state.tau_m.abs() <= p.torque_limit);
+        }
+        let kept = state;
+        assert_eq!(
+            model.step(&mut state, f64::NAN, 1e-3),
+            model.hold_force(&kept)
+        );
+        model.step(&mut state, 1.0, f64::INFINITY);
+        model.set_load(&mut state, f64::NAN, f64::NEG_INFINITY);
+        assert_eq!(state, kept);
+    }
+
+    #[test]
+    fn invalid_parameters_are_named() {
+        let p = params(LoadForm::M4);
+        let cases = [
+            (
+                LuGreLoadParams { sigma0: 0.0, ..p },
+                ParamError::NotPositive("sigma0"),
+            ),
+            (
+                LuGreLoadParams { sigma1: -1.0, ..p },
+                ParamError::Negative("sigma1"),
+            ),
+            (
+                LuGreLoadParams {
+                    torque_limit: f64::NAN,
+                    ..p
+                },
+                ParamError::NotFinite("torque_limit"),
+            ),
+            (
+                LuGreLoadParams {
+                    backward: Some([0.0, 0.1]),
+                    ..p
+                },
+                ParamError::NotPositive("backward"),
+            ),
+            (
+                LuGreLoadParams {
+                    backward: Some([0.1, -0.1]),
+                    ..p
+                },
+                ParamError::Negative("backward"),
+            ),
+            (
+                LuGreLoadParams {
+                    curve: LoadFrictionParams {
+                        friction_base: 0.0,
+                        ..p.curve
+                    },
+                    ..p
+                },
+                ParamError::NotPositive("friction_base"),
+            ),
+            (
+                LuGreLoadParams {
+                    curve: LoadFrictionParams {
+                        alpha: 0.0,
+                        ..p.curve
+                    },
+                    ..p
+                },
+                ParamError::NotPositive("alpha"),
+            ),
+        ];
+        for (bad, error) in cases {
+            assert_eq!(bad.build::<f64>().err(), Some(error));
+        }
+        // a force the scalar cannot carry at the torque limit
+        let huge = LuGreLoadParams {
+            torque_limit: 1e20,
+            ..p
+        };
+        assert_eq!(
+            huge.build::<f32>().err(),
+            Some(ParamError::ForceOverflow("torque_limit"))
+        );
+    }
+
+    /// f32 and Q16.16 follow f64 through reversals under a swinging load.
+    #[test]
+    fn f32_and_fixed_point_follow_f64() {
+        fn run<S: Scalar>(model: &LuGreLoad<S>, h: f64) -> std::vec::Vec<f64> {
+            let mut state = LuGreLoadState::default();
+            (0..4000)
+                .map(|k| {
+                    let t = k as f64 * 1e-3;
+                    let v = 0.5 * (core::f64::consts::TAU * t).sin();
+                    model.set_load(
+                        &mut state,
+                        S::from_f64(3.0 * (1.9 * t).sin()),
+                        S::from_f64(-2.0 * (0.7 * t).cos()),
+                    );
+                    model
+                        .step(&mut state, S::from_f64(v), S::from_f64(h))
+                        .to_f64()
+                })
+                .collect()
+        }
+        let p = LuGreLoadParams {
+            sigma0: 300.0,
+            ..params(LoadForm::M6)
+        };
+        let reference = run(&p.build::<f64>().unwrap(), 1e-3);
+        let worst = |run: &[f64]| {
+            run.iter()
+                .zip(&reference)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max)
+        };
+        let f32_worst = worst(&run(&p.build::<f32>().unwrap(), 1e-3));
+        assert!(f32_worst < 2e-5, "f32: {f32_worst}");
+        #[cfg(feature = "fixed")]
+        {
+            // the state is a deflection: in Q16.16 (a resolution of 1.5e-5)
+            // the least level over sigma0, 3.3e-4 here, is refused, being
+            // carried 2 % off; a soft bristle's is not
+            assert_eq!(
+                p.build::<crate::Fixed32>().err(),
+                Some(ParamError::Underflow("friction_base"))
+            );
+            // against f64 with the period Q16.16 carries (1e-3 is 0.99e-3)
+            let soft = LuGreLoadParams { sigma0: 2.0, ..p };
+            let h = crate::Fixed32::from_f64(1e-3).to_f64();
+            let reference = run(&soft.build::<f64>().unwrap(), h);
+            let fixed = run(&soft.build::<crate::Fixed32>().unwrap(), h);
+            let fixed_worst = fixed
+                .iter()
+                .zip(&reference)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            // the budget is about 0.5 N m
+            assert!(fixed_worst < 0.01, "Q16.16: {fixed_worst}");
+        }
+    }
+}
