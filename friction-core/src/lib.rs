@@ -64,8 +64,8 @@ pub use models::gms::{
 };
 pub use models::leuven::{Leuven, LeuvenParams, LeuvenReversal, LeuvenState};
 pub use models::lugre::{
-    LuGre, LuGreFixedStep, LuGreFixedStepState, LuGreLoad, LuGreLoadParams, LuGreLoadState,
-    LuGreParams, LuGreState,
+    LuGre, LuGreFixedStep, LuGreFixedStepState, LuGreLoad, LuGreLoadFixedStep,
+    LuGreLoadFixedStepState, LuGreLoadParams, LuGreLoadState, LuGreParams, LuGreState,
 };
 pub use models::reset_integrator::{ResetIntegrator, ResetIntegratorParams, ResetIntegratorState};
 pub use models::static_maps::{

@@ -1,11 +1,13 @@
 //! LuGre on a curve whose levels grow with the transmitted torque and differ
 //! by direction: [`LuGreLoad`] and [`LuGreLoadState`].
 
+use crate::fixed_step::{checked_velocity, period, FixedStepModel};
 use crate::load_friction::{LoadFriction, LoadFrictionParams};
 use crate::model::{
     check_force, checked_inputs, convert, convert_derived, magnitude, magnitude_or_zero,
     non_negative, positive, FrictionModel, ParamError,
 };
+use crate::models::lugre::relax;
 use crate::Scalar;
 
 /// Parameters of [`LuGreLoad`], in `f64`.
@@ -131,6 +133,55 @@ impl LuGreLoadParams {
             params: *self,
         })
     }
+
+    /// Validates and builds the fixed-step form for sample period `h` (s):
+    /// see [`LuGreLoadFixedStep`]. Its state is the elastic force, so in
+    /// fixed point the least level needs no resolution as a deflection;
+    /// besides [`Self::validate`] it rejects `sigma0 h` at the velocity
+    /// limit, the largest level or a damping force the scalar cannot carry
+    /// (`ForceOverflow`), and a least level that rounds off
+    /// (`Underflow("friction_base")`).
+    ///
+    /// ```
+    /// use friction_core::{FixedStepModel, LoadForm, LoadFrictionParams, LuGreLoadParams};
+    /// let curve = LoadFrictionParams {
+    ///     friction_base: 0.3, friction_stribeck: 0.1, friction_viscous: 0.02,
+    ///     dtheta_stribeck: 0.01, alpha: 2.0, load_friction_base: 0.05,
+    ///     ..LoadFrictionParams::zero(LoadForm::M3)
+    /// };
+    /// let model = LuGreLoadParams::new(curve, 1e4, 10.0, 20.0).build_fixed_step::<f32>(1e-3)?;
+    /// let mut state = Default::default();
+    /// model.set_load(&mut state, 4.0, 0.0);
+    /// let mut f = 0.0;
+    /// for _ in 0..1000 {
+    ///     f = model.step(&mut state, 0.5);
+    /// }
+    /// assert!((f - (0.3 + 0.05 * 4.0 + 0.02 * 0.5)).abs() < 1e-4);
+    /// # Ok::<(), friction_core::ParamError>(())
+    /// ```
+    pub fn build_fixed_step<S: Scalar>(&self, h: f64) -> Result<LuGreLoadFixedStep<S>, ParamError> {
+        self.validate()?;
+        let h = period(h)?;
+        let least = self
+            .side(true)
+            .friction_base
+            .min(self.side(false).friction_base);
+        let limit = S::VELOCITY_LIMIT.to_f64();
+        check_force::<S>("torque_limit", self.largest_level())?;
+        check_force::<S>("sigma0", self.sigma0 * h * limit)?;
+        check_force::<S>("friction_viscous", self.curve.friction_viscous * limit)?;
+        check_force::<S>("sigma1", self.sigma1 * limit * (1.0 + limit))?;
+        Ok(LuGreLoadFixedStep {
+            forward: self.side(true).build()?,
+            backward: self.side(false).build()?,
+            least: convert("friction_base", least)?,
+            sigma0_h: convert_derived("sigma0", self.sigma0 * h)?,
+            sigma1: convert("sigma1", self.sigma1)?,
+            sigma2: convert("friction_viscous", self.curve.friction_viscous)?,
+            torque_limit: convert("torque_limit", self.torque_limit)?,
+            h,
+        })
+    }
 }
 
 /// LuGre (Canudas de Wit et al. 1995) on a load-dependent, directional curve:
@@ -251,6 +302,106 @@ impl<S: Scalar> FrictionModel<S> for LuGreLoad<S> {
     /// `sigma0 z`.
     fn hold_force(&self, state: &LuGreLoadState<S>) -> S {
         self.sigma0 * state.z
+    }
+}
+
+/// [`LuGreLoad`] built for one sample period `h`
+/// ([`LuGreLoadParams::build_fixed_step`]), with the elastic force `w =
+/// sigma0 z` as its state (as [`crate::LuGreFixedStep`]):
+///
+/// ```text
+/// x  = sigma0 h |v| / g(v)
+/// w+ = w + (sign(v) g(v) - w) (1 - e^-x),  within the level at rest g(0) of its side
+/// F  = w+ + sigma1 dz/dt + Fv v,   dz/dt = v - |v| w+ / g(v)  (0 while held at the bound)
+/// ```
+///
+/// the variable form's exact step, `1 - e^-x` from a series at small `x`.
+/// The torques are set as in the variable form
+/// ([`LuGreLoadFixedStep::set_load`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LuGreLoadFixedStep<S> {
+    forward: LoadFriction<S>,
+    backward: LoadFriction<S>,
+    least: S,
+    sigma0_h: S,
+    sigma1: S,
+    sigma2: S,
+    torque_limit: S,
+    h: f64,
+}
+
+/// The state of [`LuGreLoadFixedStep`]: the elastic force and the torques.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LuGreLoadFixedStepState<S> {
+    /// The elastic force `w = sigma0 z`.
+    pub w: S,
+    /// The motor torque `tau_m`.
+    pub tau_m: S,
+    /// The external torque `tau_e`.
+    pub tau_e: S,
+}
+
+impl<S: Scalar> LuGreLoadFixedStep<S> {
+    /// [`LuGreLoad::set_load`].
+    pub fn set_load(&self, state: &mut LuGreLoadFixedStepState<S>, tau_m: S, tau_e: S) {
+        if tau_m.is_finite() {
+            state.tau_m = tau_m.sat(self.torque_limit);
+        }
+        if tau_e.is_finite() {
+            state.tau_e = tau_e.sat(self.torque_limit);
+        }
+    }
+
+    /// [`LuGreLoad::level`].
+    #[inline]
+    fn level(&self, state: &LuGreLoadFixedStepState<S>, forward: bool, v: S) -> S {
+        let curve = if forward {
+            &self.forward
+        } else {
+            &self.backward
+        };
+        curve.budget(v, state.tau_m, state.tau_e).0.max(self.least)
+    }
+}
+
+impl<S: Scalar> FixedStepModel<S> for LuGreLoadFixedStep<S> {
+    type State = LuGreLoadFixedStepState<S>;
+
+    fn period(&self) -> f64 {
+        self.h
+    }
+
+    fn step(&self, state: &mut LuGreLoadFixedStepState<S>, v: S) -> S {
+        let Some(v) = checked_velocity(v) else {
+            return self.hold_force(state);
+        };
+        let w0 = state.w;
+        let forward = if v == S::ZERO {
+            w0 >= S::ZERO
+        } else {
+            v > S::ZERO
+        };
+        let g = self.level(state, forward, v);
+        let speed = v.abs();
+        let x = self.sigma0_h * speed / g;
+        let (one_minus_e, _) = relax(x);
+        let target = if v < S::ZERO { -g } else { g };
+        let free = w0 + (target - w0) * one_minus_e;
+        let bound = self.level(state, free >= S::ZERO, S::ZERO);
+        let w = free.sat(bound);
+        state.w = w;
+        let mut rate = v - speed * (w / g).sat(S::VELOCITY_LIMIT);
+        if w.abs() >= bound && rate * w > S::ZERO {
+            rate = S::ZERO;
+        }
+        w + self.sigma1 * rate + self.sigma2 * v
+    }
+
+    /// `w`.
+    fn hold_force(&self, state: &LuGreLoadFixedStepState<S>) -> S {
+        state.w
     }
 }
 
@@ -579,6 +730,117 @@ mod tests {
                 .fold(0.0, f64::max);
             // the budget is about 0.5 N m
             assert!(fixed_worst < 0.01, "Q16.16: {fixed_worst}");
+        }
+    }
+
+    /// The speeds and torques of a run through reversals under a swinging
+    /// load, at 1 kHz.
+    fn swing(k: usize) -> (f64, f64, f64) {
+        let t = k as f64 * 1e-3;
+        let v = 0.5 * (core::f64::consts::TAU * t).sin();
+        (v, 3.0 * (1.9 * t).sin(), -2.0 * (0.7 * t).cos())
+    }
+
+    /// In `f64` the fixed-step form is the variable form (the same exact
+    /// step on `w = sigma0 z`), at a soft and at a stiff bristle.
+    #[test]
+    fn in_f64_the_fixed_step_form_is_the_variable_form() {
+        for sigma0 in [300.0, 1e4, 1e7] {
+            let p = LuGreLoadParams {
+                sigma0,
+                ..params(LoadForm::M6)
+            };
+            let (variable, fixed) = (
+                p.build::<f64>().unwrap(),
+                p.build_fixed_step::<f64>(1e-3).unwrap(),
+            );
+            let (mut a, mut b) = (
+                LuGreLoadState::default(),
+                LuGreLoadFixedStepState::default(),
+            );
+            for k in 0..4000 {
+                let (v, tm, te) = swing(k);
+                variable.set_load(&mut a, tm, te);
+                fixed.set_load(&mut b, tm, te);
+                let (fa, fb) = (variable.step(&mut a, v, 1e-3), fixed.step(&mut b, v));
+                assert!(
+                    (fa - fb).abs() < 1e-9,
+                    "sigma0 {sigma0}, step {k}: {fa} vs {fb}"
+                );
+            }
+        }
+    }
+
+    /// The fixed-step form in f32 and Q16.16 against f64 at a stiff bristle
+    /// (1e4: the variable form refuses it in Q16.16), and its bounds under
+    /// hostile inputs.
+    #[test]
+    fn the_fixed_step_form_follows_f64_in_every_scalar_and_stays_bounded() {
+        fn run<S: Scalar>(model: &LuGreLoadFixedStep<S>) -> std::vec::Vec<f64> {
+            let mut state = LuGreLoadFixedStepState::default();
+            (0..4000)
+                .map(|k| {
+                    let (v, tm, te) = swing(k);
+                    model.set_load(&mut state, S::from_f64(tm), S::from_f64(te));
+                    model.step(&mut state, S::from_f64(v)).to_f64()
+                })
+                .collect()
+        }
+        fn hostile<S: Scalar>(p: &LuGreLoadParams) {
+            let model = p.build_fixed_step::<S>(1e-3).unwrap();
+            let w_max = p.largest_level() * (1.0 + 1e-6) + 1e-4;
+            let mut state = LuGreLoadFixedStepState::default();
+            let mut next = crate::test_rng::xorshift64(0xfeed_beef);
+            let mut uniform = move || (next() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+            for _ in 0..100_000 {
+                let v = uniform() * 10f64.powf(12.0 * uniform().abs() - 3.0);
+                model.set_load(
+                    &mut state,
+                    S::from_f64(uniform() * 1e12),
+                    S::from_f64(uniform() * 100.0),
+                );
+                let f = model.step(&mut state, S::from_f64(v));
+                assert!(
+                    f.is_finite() && state.w.to_f64().abs() <= w_max,
+                    "{f:?} {state:?}"
+                );
+            }
+        }
+        let p = LuGreLoadParams {
+            sigma0: 1e4,
+            ..params(LoadForm::M6)
+        };
+        let reference = run(&p.build_fixed_step::<f64>(1e-3).unwrap());
+        let worst = |run: &[f64]| {
+            run.iter()
+                .zip(&reference)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max)
+        };
+        let f32_worst = worst(&run(&p.build_fixed_step::<f32>(1e-3).unwrap()));
+        assert!(f32_worst < 1e-5, "f32: {f32_worst}");
+        hostile::<f64>(&p);
+        hostile::<f32>(&p);
+        let kept = LuGreLoadFixedStepState {
+            w: 0.25,
+            tau_m: 1.0,
+            tau_e: -1.0,
+        };
+        let mut state = kept;
+        let model = p.build_fixed_step::<f64>(1e-3).unwrap();
+        assert_eq!(model.step(&mut state, f64::NAN), 0.25);
+        model.set_load(&mut state, f64::INFINITY, f64::NAN);
+        assert_eq!(state, kept);
+        #[cfg(feature = "fixed")]
+        {
+            // in Q16.16 the period 1e-3 is carried as such (sigma0 h is
+            // formed in f64); the budget is about 0.5 N m
+            let fixed_worst = worst(&run(&p.build_fixed_step::<crate::Fixed32>(1e-3).unwrap()));
+            assert!(fixed_worst < 2e-3, "Q16.16: {fixed_worst}");
+            hostile::<crate::Fixed32>(&LuGreLoadParams {
+                torque_limit: 10.0,
+                ..p
+            });
         }
     }
 }

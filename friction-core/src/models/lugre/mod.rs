@@ -16,7 +16,9 @@ use crate::stribeck::StribeckParams;
 use crate::Scalar;
 pub(crate) use fixed_step::{phi_series, phi_series_inlined, relax};
 pub use fixed_step::{LuGreFixedStep, LuGreFixedStepState};
-pub use load::{LuGreLoad, LuGreLoadParams, LuGreLoadState};
+pub use load::{
+    LuGreLoad, LuGreLoadFixedStep, LuGreLoadFixedStepState, LuGreLoadParams, LuGreLoadState,
+};
 pub use variable_step::{LuGre, LuGreState};
 
 /// LuGre parameters (`model = "lugre"`), in `f64`.
