@@ -65,6 +65,22 @@ pub trait FixedStepObservable<S: Scalar>: FixedStepModel<S> {
         let _ = old;
         *state = Self::State::default();
     }
+
+    /// [`Observable::LOADED`](crate::Observable::LOADED) for the fixed-step
+    /// form.
+    const LOADED: bool = false;
+
+    /// [`Observable::set_motor_torque`](crate::Observable::set_motor_torque)
+    /// for the fixed-step form.
+    fn set_motor_torque(&self, state: &mut Self::State, torque: S) {
+        let _ = (state, torque);
+    }
+
+    /// [`Observable::set_external_torque`](crate::Observable::set_external_torque)
+    /// for the fixed-step form.
+    fn set_external_torque(&self, state: &mut Self::State, torque: S) {
+        let _ = (state, torque);
+    }
 }
 
 /// Checks a design-time sample period: finite and `> 0`.

@@ -40,6 +40,26 @@ pub trait Observable<S: Scalar>: FrictionModel<S> {
         let _ = old;
         *state = Self::State::default();
     }
+
+    /// Whether the model's friction grows with the torque its transmission
+    /// carries ([`LuGreLoad`](crate::LuGreLoad)): a
+    /// [`Compensator`](crate::Compensator) running an observer on it then
+    /// tells it the motor torque `kc u` of each command issued
+    /// ([`Self::set_motor_torque`]) and the external torque it is given
+    /// ([`Compensator::set_external_torque`](crate::Compensator::set_external_torque)).
+    const LOADED: bool = false;
+
+    /// The motor torque for the next steps, for a model that is
+    /// [`LOADED`](Self::LOADED); the default ignores it.
+    fn set_motor_torque(&self, state: &mut Self::State, torque: S) {
+        let _ = (state, torque);
+    }
+
+    /// As [`Self::set_motor_torque`], the external torque
+    /// ([`Compensator::set_external_torque`](crate::Compensator::set_external_torque)).
+    fn set_external_torque(&self, state: &mut Self::State, torque: S) {
+        let _ = (state, torque);
+    }
 }
 
 /// An observer built around a model `M`.

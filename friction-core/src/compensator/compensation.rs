@@ -49,6 +49,16 @@ pub trait Compensation<S: Scalar> {
     #[inline]
     fn commanded(&self, _state: &mut Self::State, _command: S) {}
 
+    /// Whether the compensation is told the motor torque `kc u` of each
+    /// command issued ([`Compensation::motor_torque`]): an observer on a
+    /// model whose friction grows with the load
+    /// ([`Observable::LOADED`](crate::Observable::LOADED)).
+    const LOADED: bool = false;
+
+    /// Told the motor torque `kc u` of the command an accepted tick issued,
+    /// after [`Compensation::commanded`], when [`Self::LOADED`].
+    fn motor_torque(&self, _state: &mut Self::State, _torque: S) {}
+
     /// Told the external torque `τ_ext` on the axis (force units, finite),
     /// between ticks ([`Compensator::set_external_torque`](super::Compensator::set_external_torque)):
     /// a compensation whose friction grows with the torque the
@@ -136,12 +146,19 @@ impl<S: Scalar, F: FrictionModel<S, State = ()>> Compensation<S> for FeedForward
 /// the position error `e = x - x_ref`.
 impl<S: Scalar, M: Observable<S>> Compensation<S> for Observer<M, S> {
     type State = M::State;
+    const LOADED: bool = M::LOADED;
     #[inline]
     fn estimate(&self, state: &mut M::State, v: S, e: S, h: S) -> S {
         self.step(state, v, e, h)
     }
     fn carry_over(&self, old: &Self, state: &mut M::State) {
         self.model().carry_over(old.model(), state);
+    }
+    fn motor_torque(&self, state: &mut M::State, torque: S) {
+        self.model().set_motor_torque(state, torque);
+    }
+    fn set_external_torque(&self, state: &mut M::State, torque: S) {
+        self.model().set_external_torque(state, torque);
     }
 }
 
@@ -171,6 +188,7 @@ pub struct FixedPeriod<O>(pub O);
 
 impl<S: Scalar, M: FixedStepObservable<S>> Compensation<S> for FixedPeriod<Observer<M, S>> {
     type State = M::State;
+    const LOADED: bool = M::LOADED;
     const USES_H: bool = false;
     #[inline]
     fn estimate(&self, state: &mut M::State, v: S, e: S, _h: S) -> S {
@@ -181,5 +199,11 @@ impl<S: Scalar, M: FixedStepObservable<S>> Compensation<S> for FixedPeriod<Obser
     }
     fn carry_over(&self, old: &Self, state: &mut M::State) {
         self.0.model().carry_over(old.0.model(), state);
+    }
+    fn motor_torque(&self, state: &mut M::State, torque: S) {
+        self.0.model().set_motor_torque(state, torque);
+    }
+    fn set_external_torque(&self, state: &mut M::State, torque: S) {
+        self.0.model().set_external_torque(state, torque);
     }
 }

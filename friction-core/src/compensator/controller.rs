@@ -453,6 +453,10 @@ impl<S: Scalar, C: Compensation<S>> Compensator<S, C> {
     #[inline(always)]
     fn issued(&self, state: &mut CompensatorState<S, C::State>, command: S, f: S) {
         self.compensation.commanded(&mut state.friction, command);
+        if C::LOADED {
+            self.compensation
+                .motor_torque(&mut state.friction, self.kc.times(command));
+        }
         self.predict_acceleration(state, command, f);
         if C::LEARNS {
             state.command_before = state.command;

@@ -110,7 +110,7 @@ impl CompensatorParams {
             } else {
                 zero
             },
-            kc: if C::LEARNS {
+            kc: if C::LEARNS || C::LOADED {
                 Gain::new("torque_constant", self.torque_constant)?
             } else {
                 zero

@@ -813,3 +813,198 @@ fn the_compensator_passes_an_external_torque_to_the_load_input_through_the_super
         );
     }
 }
+
+/// The estimates of the law `p` in `S` (the variable form, or with
+/// `fixed` the fixed-step one of [`ParameterAdaptiveParams::build_fixed_step`]):
+/// `[nominal, start, end]`, where the run starts from `start` (set with
+/// `set_estimates`; the nominal values if `None`) and ends after one step
+/// per input `(v, e)` of `inputs`.
+fn estimates_over<S: Scalar>(
+    p: ParameterAdaptiveParams,
+    fixed: bool,
+    start: Option<[f64; PARAMETER_ADAPTIVE_ESTIMATES]>,
+    inputs: impl Iterator<Item = (f64, f64)>,
+) -> [[f64; PARAMETER_ADAPTIVE_ESTIMATES]; 3] {
+    let read = |x: [S; PARAMETER_ADAPTIVE_ESTIMATES]| x.map(|x| x.to_f64());
+    if fixed {
+        let a = p.build_fixed_step::<S>(&servo()).unwrap();
+        let mut s = a.initial();
+        let nominal = read(a.estimates(&s));
+        if let Some(x) = start {
+            a.set_estimates(&mut s, x);
+        }
+        let first = read(a.estimates(&s));
+        for (v, e) in inputs {
+            a.step(&mut s, S::from_f64(v), S::from_f64(e));
+        }
+        [nominal, first, read(a.estimates(&s))]
+    } else {
+        let a = p.build::<S>(&servo()).unwrap();
+        let mut s = a.initial();
+        let nominal = read(s.estimates());
+        if let Some(x) = start {
+            a.set_estimates(&mut s, x);
+        }
+        let first = read(s.estimates());
+        for (v, e) in inputs {
+            a.step(&mut s, S::from_f64(v), S::from_f64(e));
+        }
+        [nominal, first, read(s.estimates())]
+    }
+}
+
+/// `ticks` inputs `(v, e)` at 1 kHz: the velocity `speed(sin 2πt)`, the
+/// error `error(sin 2π 7t)` (a reversal every half second, an error that
+/// varies faster, so that its rate enters the signal too).
+fn inputs(
+    ticks: usize,
+    speed: impl Fn(f64) -> f64,
+    error: impl Fn(f64) -> f64,
+) -> impl Iterator<Item = (f64, f64)> {
+    let h = servo().h;
+    let w = 2.0 * core::f64::consts::PI;
+    (0..ticks).map(move |k| {
+        let t = k as f64 * h;
+        (speed(libm::sin(w * t)), error(libm::sin(7.0 * w * t)))
+    })
+}
+
+/// The largest change of the two Coulomb levels between `before` and
+/// `after`, relative to the nominal `Fc`.
+fn level_change([before, after]: [[f64; PARAMETER_ADAPTIVE_ESTIMATES]; 2], fc: f64) -> f64 {
+    (after[0] - before[0])
+        .abs()
+        .max((after[1] - before[1]).abs())
+        / fc
+}
+
+/// The dead zone stops the adaptation: errors strictly within it (a
+/// tenth to nine tenths of it) over two seconds of reversals leave every
+/// estimate bit-identical to its nominal value, while the same inputs
+/// with no dead zone, and errors just outside it (1.1 to 1.9 times it),
+/// move the Coulomb levels by more than 1 % of `Fc` (about 4 % here). In
+/// the variable form in `f64` and the fixed-step one in `f64` and `f32`.
+#[test]
+fn the_dead_zone_stops_adaptation_within_it() {
+    dead_zone_with::<f64>(false);
+    dead_zone_with::<f64>(true);
+    dead_zone_with::<f32>(true);
+}
+
+fn dead_zone_with<S: Scalar>(fixed: bool) {
+    // one count of a 16-bit encoder (rad)
+    let dead_zone = 2.0 * core::f64::consts::PI / 65536.0;
+    let p = ParameterAdaptiveParams {
+        dead_zone,
+        ..ParameterAdaptiveParams::new(LuGreParams::OLSSON_1998, 20.0)
+    };
+    let fc = p.model.curve.fc;
+    let ticks = 2000;
+    let speed = |s: f64| 0.3 * s;
+    let within = |s: f64| dead_zone * (0.5 + 0.4 * s);
+    let outside = |s: f64| dead_zone * (1.5 + 0.4 * s);
+    let [nominal, first, inside] =
+        estimates_over::<S>(p, fixed, None, inputs(ticks, speed, within));
+    assert_eq!(first, nominal);
+    assert_eq!(inside, nominal, "{fixed}");
+    let open = ParameterAdaptiveParams {
+        dead_zone: 0.0,
+        ..p
+    };
+    let [_, _, without] = estimates_over::<S>(open, fixed, None, inputs(ticks, speed, within));
+    let [_, _, beyond] = estimates_over::<S>(p, fixed, None, inputs(ticks, speed, outside));
+    for end in [without, beyond] {
+        let change = level_change([nominal, end], fc);
+        assert!(change > 0.01, "{fixed}: {change} {end:?}");
+    }
+}
+
+/// No adaptation below `min_speed`: speeds below it (up to nine tenths
+/// of it, through reversals) with an error a hundred times the dead zone
+/// of the test above leave every estimate bit-identical to its nominal
+/// value; the same inputs with `min_speed` 0, and speeds above it (1.1 to
+/// 2 times it, same reversals), move the Coulomb levels by more than 1 %
+/// of `Fc` (the box's edge, 5x, bounds the change).
+#[test]
+fn no_adaptation_below_min_speed() {
+    min_speed_with::<f64>(false);
+    min_speed_with::<f64>(true);
+    min_speed_with::<f32>(true);
+}
+
+fn min_speed_with<S: Scalar>(fixed: bool) {
+    // 5 % of the reference speed (1 rad/s)
+    let min_speed = 0.05;
+    let p = ParameterAdaptiveParams {
+        min_speed,
+        ..ParameterAdaptiveParams::new(LuGreParams::OLSSON_1998, 20.0)
+    };
+    let fc = p.model.curve.fc;
+    let ticks = 2000;
+    let slow = |s: f64| 0.9 * min_speed * s;
+    let fast = |s: f64| min_speed * (1.1 + 0.9 * s.abs()) * if s >= 0.0 { 1.0 } else { -1.0 };
+    let error = |s: f64| 1e-2 * (0.5 + 0.4 * s);
+    let [nominal, _, below] = estimates_over::<S>(p, fixed, None, inputs(ticks, slow, error));
+    assert_eq!(below, nominal, "{fixed}");
+    let open = ParameterAdaptiveParams {
+        min_speed: 0.0,
+        ..p
+    };
+    let [_, _, without] = estimates_over::<S>(open, fixed, None, inputs(ticks, slow, error));
+    let [_, _, above] = estimates_over::<S>(p, fixed, None, inputs(ticks, fast, error));
+    for end in [without, above] {
+        let change = level_change([nominal, end], fc);
+        assert!(change > 0.01, "{fixed}: {change} {end:?}");
+    }
+}
+
+/// Leakage pulls the estimates back to their nominal values: from every
+/// estimate displaced within its box (the levels, the excess, the viscous
+/// and the load coefficients, 2x or 0.5x nominal), with no adaptation
+/// signal (`e = 0`: the law adapts only while `|e|` exceeds the dead zone,
+/// 0 here) and reversals at 1 Hz, each distance to nominal after
+/// `T = 1 s` at `rho = 2 1/s` is `exp(-rho T)` of the first within 1 %
+/// (per tick the factor is `1 - rho h`: `(1 - rho h)^n` is `exp(-rho T)`
+/// to 0.2 % at 1 kHz). Without leakage the displaced estimates stay
+/// bit-identical. In the variable form in `f64` and the fixed-step one in
+/// `f64` and `f32`.
+#[test]
+fn leakage_pulls_the_estimates_back_to_nominal() {
+    leakage_with::<f64>(false);
+    leakage_with::<f64>(true);
+    leakage_with::<f32>(true);
+}
+
+fn leakage_with<S: Scalar>(fixed: bool) {
+    let (rho, seconds) = (2.0, 1.0);
+    let p = ParameterAdaptiveParams {
+        leakage: rho,
+        load: 0.1,
+        load_max: 0.3,
+        ..ParameterAdaptiveParams::new(LuGreParams::OLSSON_1998, 20.0)
+    };
+    let [fc, _, excess, sigma2, mu] = p.nominal();
+    let displaced = [2.0 * fc, 0.5 * fc, 2.0 * excess, 2.0 * sigma2, 2.0 * mu];
+    let ticks = (seconds / servo().h) as usize;
+    let speed = |s: f64| 0.3 * s;
+    let still = |_: f64| 0.0;
+    let [nominal, first, end] =
+        estimates_over::<S>(p, fixed, Some(displaced), inputs(ticks, speed, still));
+    let want = libm::exp(-rho * seconds);
+    for i in 0..PARAMETER_ADAPTIVE_ESTIMATES {
+        // displaced, within the box
+        assert!(
+            (first[i] - displaced[i]).abs() < 1e-6 * displaced[i],
+            "{i}: {first:?}"
+        );
+        let ratio = (end[i] - nominal[i]) / (first[i] - nominal[i]);
+        assert!(
+            (ratio / want - 1.0).abs() < 0.01,
+            "{fixed} {i}: {ratio} {want}"
+        );
+    }
+    let held = ParameterAdaptiveParams { leakage: 0.0, ..p };
+    let [_, first, end] =
+        estimates_over::<S>(held, fixed, Some(displaced), inputs(ticks, speed, still));
+    assert_eq!(end, first, "{fixed}");
+}
