@@ -137,6 +137,11 @@ enum Command {
         /// Grid points per axis (2 to 25).
         #[arg(long, default_value_t = 7)]
         points: usize,
+        /// The adaptive column's law: `parameters` (the per-parameter law,
+        /// column `adaptive`) or `theta` (one factor on the whole model,
+        /// column `adaptive-theta`).
+        #[arg(long, default_value = "parameters", value_parser = ["parameters", "theta"])]
+        law: String,
     },
     /// Validate every model against the reference solver and judge the experiments.
     ///
@@ -485,7 +490,17 @@ fn run(cli: Cli) -> Result<bool> {
             params,
             output,
             points,
-        } => friction_host::servo::robustness::run(params.as_deref(), &output, points),
+            law,
+        } => friction_host::servo::robustness::run(
+            params.as_deref(),
+            &output,
+            points,
+            if law == "theta" {
+                friction_host::servo::Law::Theta
+            } else {
+                friction_host::servo::Law::Parameters
+            },
+        ),
         Command::Validate { output, timings } => {
             friction_host::validate::run_with(&output, timings)
         }

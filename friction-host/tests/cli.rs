@@ -1189,6 +1189,64 @@ fn servo_rows_and_bounds_are_refused_by_key_and_row() {
     }
 }
 
+#[test]
+fn servo_refuses_bad_actuator_keys_naming_key_and_file() {
+    let dir = tempfile::tempdir().unwrap();
+    // a BAM file that exists but is not JSON, read relative to servo.toml
+    std::fs::write(dir.path().join("bad.json"), "{\"model\": \"m2\",\n oops}").unwrap();
+    for (servo, needles) in [
+        ("asymmetry = 1.0", &["`asymmetry`", "got 1"][..]),
+        ("asymmetry = -1.5", &["`asymmetry`", "got -1.5"]),
+        ("asymmetry = nan", &["`asymmetry`"]),
+        ("gravity = [-1.0, 0.0]", &["`gravity`", "got -1"]),
+        ("gravity = [1.0, inf]", &["`gravity`", "finite x0"]),
+        ("gravity = [1.0]", &["`gravity`: 1 elements"]),
+        (
+            "gravity_feedforward = [-1.0, 0.0]",
+            &["`gravity_feedforward`", "got -1"],
+        ),
+        (
+            "gravity_feedforward = [0.5, 0.1, 7]",
+            &["`gravity_feedforward`: 3 elements"],
+        ),
+        (
+            "ripple = [[0.7, 3.0], [0.5, 2.0]]",
+            &["`ripple`", "sum below 1", "got 1.2"],
+        ),
+        ("ripple = [[0.5, 3.0], [-0.5, 7.0]]", &["`ripple`", "got 1"]),
+        ("ripple = [[0.1, inf]]", &["`ripple`", "finite numbers"]),
+        (
+            "ripple = [[0.1, 4.0], [0.2]]",
+            &["`ripple` point 2: 1 elements"],
+        ),
+        (
+            "plant_bam = \"no-such-file.json\"",
+            &["`plant_bam` = no-such-file.json: cannot read"],
+        ),
+        (
+            "plant_bam = \"bad.json\"",
+            &["`plant_bam` = bad.json: not JSON at line 2, column 2"],
+        ),
+        ("presliding = 0", &["`presliding`", "got 0"]),
+        ("presliding = -1e-4", &["`presliding`", "got -0.0001"]),
+    ] {
+        let p = servo_params(dir.path(), servo);
+        let out = friction(&[
+            "servo",
+            "--params",
+            &p,
+            "--output",
+            dir.path().to_str().unwrap(),
+        ]);
+        assert_eq!(out.status.code(), Some(2), "{servo}: {}", stderr(&out));
+        let err = stderr(&out);
+        assert!(err.contains("servo.toml"), "{servo}: {err}");
+        for needle in needles {
+            assert!(err.contains(needle), "{servo}: {needle}: {err}");
+        }
+    }
+}
+
 /// The cells of a CSV file's data rows.
 fn cells(path: &Path) -> Vec<Vec<String>> {
     std::fs::read_to_string(path)
@@ -1439,4 +1497,58 @@ fn a_coarse_encoder_is_noted_by_servo_and_robustness() {
     assert!(run.status.success());
     let text = stdout(&run);
     assert!(text.contains("`velocity_observer = 50`"), "{text}");
+}
+
+/// `friction robustness --law theta` runs the θ law in the adaptive
+/// column, named `adaptive-theta` in the CSV and the summary, with figures
+/// of its own; an unknown law exits 2 naming `--law`.
+#[test]
+fn robustness_runs_the_theta_law_when_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = servo_params(dir.path(), "duration = 2");
+    let run = |name: &str, law: Option<&str>| {
+        let out_dir = dir.path().join(name);
+        let mut args = vec![
+            "robustness",
+            "--params",
+            &p,
+            "--output",
+            out_dir.to_str().unwrap(),
+            "--points",
+            "2",
+        ];
+        if let Some(law) = law {
+            args.extend(["--law", law]);
+        }
+        let out = friction(&args);
+        assert!(out.status.success(), "{law:?}: {}", stderr(&out));
+        let csv = std::fs::read_to_string(out_dir.join("robustness.csv")).unwrap();
+        (stdout(&out), csv)
+    };
+    let (text, csv) = run("theta", Some("theta"));
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    assert_eq!(header[5], "rms_mrad_adaptive-theta", "{header:?}");
+    assert!(text.contains("| adaptive-theta |"), "{text}");
+    let (text, default_csv) = run("parameters", None);
+    let header: Vec<&str> = default_csv.lines().next().unwrap().split(',').collect();
+    assert_eq!(header[5], "rms_mrad_adaptive", "{header:?}");
+    assert!(!text.contains("adaptive-theta"), "{text}");
+    let column = |csv: &str| -> Vec<String> {
+        csv.lines()
+            .skip(1)
+            .map(|l| l.split(',').nth(5).unwrap().to_string())
+            .collect()
+    };
+    assert_ne!(column(&csv), column(&default_csv));
+    let out = friction(&[
+        "robustness",
+        "--params",
+        &p,
+        "--output",
+        dir.path().join("bad").to_str().unwrap(),
+        "--law",
+        "gradient",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("--law"), "{}", stderr(&out));
 }

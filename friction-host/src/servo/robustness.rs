@@ -13,7 +13,7 @@
 //! cores (rayon), with a progress bar on a terminal. The CSV, the heat
 //! map and the Markdown are rendered in `robustness_render`.
 
-use super::{simulate, Row};
+use super::{simulate, Law, Row};
 use crate::params::ParamFile;
 use anyhow::{bail, Result};
 use rayon::prelude::*;
@@ -21,8 +21,18 @@ use std::path::Path;
 
 pub use super::robustness_render::report_section;
 
-/// The compensations of the map, in column order.
+/// The compensations of the map, in column order (with `--law theta` the
+/// fourth is `adaptive-theta`: [`RobustnessMap::names`]).
 pub const COMPENSATIONS: [&str; 5] = ["none", "static", "observer", "adaptive", "rls"];
+
+/// The map's compensations with the adaptive column running `law`.
+pub fn compensations(law: Law) -> [&'static str; 5] {
+    let mut names = COMPENSATIONS;
+    if law == Law::Theta {
+        names[3] = "adaptive-theta";
+    }
+    names
+}
 
 /// Allowed grid points per axis of `--points`.
 pub const POINTS: std::ops::RangeInclusive<usize> = 2..=25;
@@ -78,7 +88,7 @@ pub struct Cell {
     pub force: f64,
     /// Factor on the stiffness.
     pub stiffness: f64,
-    /// RMS error per compensation, in the order of [`COMPENSATIONS`].
+    /// RMS error per compensation, in the order of [`RobustnessMap::names`].
     pub rms: [f64; 5],
 }
 
@@ -91,6 +101,8 @@ pub struct RobustnessMap {
     pub cells: Vec<Cell>,
     /// The parameter file it was run from (for titles).
     pub origin: String,
+    /// The law of the adaptive column.
+    pub law: Law,
 }
 
 /// One simulation of the map.
@@ -102,24 +114,38 @@ struct Job {
 }
 
 impl Job {
-    /// The benchmark's row of this column's name, scaled to the cell
-    /// (every name of [`COMPENSATIONS`] is one of [`super::ROWS`]: tested).
-    fn row(&self) -> Row {
-        COMPENSATIONS
+    /// The benchmark's row of this column's name among `names`, scaled to
+    /// the cell (every name of [`compensations`] is one of
+    /// [`super::ROWS`]: tested).
+    fn row(&self, names: &[&str; 5]) -> Row {
+        names
             .get(self.column)
             .and_then(|name| Row::named(name))
             .map_or(Row::None, |row| row.scaled(self.force, self.stiffness))
     }
 }
 
-/// Runs the map for `file` (`origin` names it), calling `progress` with
-/// (runs done, runs in all) after each run.
+/// Runs the map for `file` (`origin` names it) with the per-parameter law
+/// in the adaptive column, calling `progress` with (runs done, runs in
+/// all) after each run.
 pub fn map(
     file: &ParamFile,
     origin: &str,
     grid: &Grid,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<RobustnessMap> {
+    map_with_law(file, origin, grid, Law::Parameters, progress)
+}
+
+/// [`map`] with `law` in the adaptive column.
+pub fn map_with_law(
+    file: &ParamFile,
+    origin: &str,
+    grid: &Grid,
+    law: Law,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<RobustnessMap> {
+    let names = compensations(law);
     let cfg = file.servo.resolve(origin)?;
     let spec = &file.model;
     // the distinct runs: none and rls once, static per force scale,
@@ -157,8 +183,8 @@ pub fn map(
     let results: Vec<Result<Option<f64>>> = jobs
         .par_iter()
         .map(|job| {
-            let name = COMPENSATIONS[job.column];
-            let run = simulate(name, &cfg, spec, job.row()).transpose();
+            let name = names[job.column];
+            let run = simulate(name, &cfg, spec, job.row(&names)).transpose();
             let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
             progress(n, total);
             Ok(run?.map(|r| r.rms_half))
@@ -196,6 +222,7 @@ pub fn map(
         grid: grid.clone(),
         cells,
         origin: origin.to_string(),
+        law,
     })
 }
 
@@ -221,9 +248,14 @@ impl RobustnessMap {
         })
     }
 
-    /// The summary of `compensation` (a name of [`COMPENSATIONS`]).
+    /// The names of its columns ([`compensations`] of its law).
+    pub fn names(&self) -> [&'static str; 5] {
+        compensations(self.law)
+    }
+
+    /// The summary of `compensation` (a name of [`Self::names`]).
     pub fn summary(&self, compensation: &str) -> Option<Summary> {
-        let column = COMPENSATIONS.iter().position(|c| *c == compensation)?;
+        let column = self.names().iter().position(|c| *c == compensation)?;
         let values: Vec<f64> = self
             .cells
             .iter()
@@ -254,13 +286,13 @@ impl RobustnessMap {
 }
 
 /// `friction robustness`: runs the map for the file (or the built-in
-/// `olsson1998-servo` set), prints the summary and writes the CSV and the
-/// heat map.
-pub fn run(params: Option<&Path>, output: &Path, points: usize) -> Result<bool> {
+/// `olsson1998-servo` set) with `law` in the adaptive column, prints the
+/// summary and writes the CSV and the heat map.
+pub fn run(params: Option<&Path>, output: &Path, points: usize, law: Law) -> Result<bool> {
     let grid = Grid::new(points)?;
     let (file, origin) = super::load(params, output, &OUTPUTS)?;
     let bar = progress_bar();
-    let result = map(&file, &origin, &grid, &|done, total| {
+    let result = map_with_law(&file, &origin, &grid, law, &|done, total| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
     });
@@ -295,32 +327,39 @@ mod tests {
     use super::super::NAMES;
     use super::*;
 
+    /// Every column is a benchmark row; `--law theta` puts the θ law in
+    /// the adaptive column, named `adaptive-theta`.
     #[test]
     fn the_map_uses_benchmark_rows() {
-        for name in COMPENSATIONS {
-            assert!(NAMES.contains(&name), "{name}");
-        }
-        let cell = |column| {
-            Job {
-                column,
-                force: 0.5,
-                stiffness: 3.0,
+        for law in [Law::Parameters, Law::Theta] {
+            let names = compensations(law);
+            for name in names {
+                assert!(NAMES.contains(&name), "{name}");
             }
-            .row()
-        };
-        assert_eq!(cell(1), Row::Static { scale: 0.5 });
-        let observer = Row::Observer {
-            scale: 0.5,
-            stiffness: 3.0,
-            damping: true,
-        };
-        assert_eq!(cell(2), observer);
-        let adaptive = Row::Adaptive {
-            scale: 0.5,
-            stiffness: 3.0,
-            law: super::super::Law::Parameters,
-        };
-        assert_eq!((cell(0), cell(3), cell(4)), (Row::None, adaptive, Row::Rls));
+            let cell = |column| {
+                Job {
+                    column,
+                    force: 0.5,
+                    stiffness: 3.0,
+                }
+                .row(&names)
+            };
+            assert_eq!(cell(1), Row::Static { scale: 0.5 });
+            let observer = Row::Observer {
+                scale: 0.5,
+                stiffness: 3.0,
+                damping: true,
+            };
+            assert_eq!(cell(2), observer);
+            let adaptive = Row::Adaptive {
+                scale: 0.5,
+                stiffness: 3.0,
+                law,
+            };
+            assert_eq!((cell(0), cell(3), cell(4)), (Row::None, adaptive, Row::Rls));
+        }
+        assert_eq!(compensations(Law::Parameters), COMPENSATIONS);
+        assert_eq!(compensations(Law::Theta)[3], "adaptive-theta");
     }
 
     #[test]

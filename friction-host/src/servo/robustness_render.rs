@@ -2,7 +2,7 @@
 //! Markdown of [`RobustnessMap`], and the validation report's section; the
 //! map itself is run in [`robustness`](super::robustness).
 
-use super::robustness::{map, Grid, RobustnessMap, COMPENSATIONS, OUTPUTS, UNSTABLE};
+use super::robustness::{map, Grid, RobustnessMap, OUTPUTS, UNSTABLE};
 use crate::io::write_cells;
 use anyhow::{anyhow, Context, Result};
 use plotters::prelude::*;
@@ -15,13 +15,14 @@ impl RobustnessMap {
     pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>> {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
         let mut headers = vec!["force_scale".to_string(), "stiffness_scale".to_string()];
-        headers.extend(COMPENSATIONS.iter().map(|c| format!("rms_mrad_{c}")));
+        let names = self.names();
+        headers.extend(names.iter().map(|c| format!("rms_mrad_{c}")));
         let headers: Vec<&str> = headers.iter().map(String::as_str).collect();
         let mut columns: Vec<Vec<f64>> = vec![
             self.cells.iter().map(|c| c.force).collect(),
             self.cells.iter().map(|c| c.stiffness).collect(),
         ];
-        for k in 0..COMPENSATIONS.len() {
+        for k in 0..names.len() {
             columns.push(self.cells.iter().map(|c| 1e3 * c.rms[k]).collect());
         }
         let columns: Vec<&[f64]> = columns.iter().map(Vec::as_slice).collect();
@@ -66,7 +67,7 @@ impl RobustnessMap {
                 .map_err(|e| err(&e))?;
             for (area, &column) in root.split_evenly((2, 2)).iter().zip(&panels) {
                 let mut chart = ChartBuilder::on(area)
-                    .caption(COMPENSATIONS[column], ("sans-serif", 18))
+                    .caption(self.names()[column], ("sans-serif", 18))
                     .margin(10)
                     .x_label_area_size(40)
                     .y_label_area_size(55)
@@ -134,7 +135,8 @@ impl RobustnessMap {
         md.push_str("| compensation | nominal [mrad] | median [mrad] | worst [mrad] | beats static | unstable |\n");
         md.push_str("|---|---:|---:|---:|---:|---:|\n");
         let nominal = self.nominal();
-        for (k, name) in COMPENSATIONS.iter().enumerate() {
+        let names = self.names();
+        for (k, name) in names.iter().enumerate() {
             if let Some(s) = self.summary(name) {
                 let at = nominal.map_or(f64::NAN, |c| c.rms[k]);
                 let _ = writeln!(
@@ -148,7 +150,7 @@ impl RobustnessMap {
                 );
             }
         }
-        for (k, name) in [(3usize, "adaptive"), (2, "observer")] {
+        for (k, name) in [(3usize, names[3]), (2, names[2])] {
             let _ = writeln!(
                 md,
                 "\n`{name}` / `none` (rows: friction level scale; columns: stiffness scale):\n"
