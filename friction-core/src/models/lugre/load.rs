@@ -121,8 +121,9 @@ impl LuGreLoadParams {
 
     /// Validates and builds the run-time model. Besides [`Self::validate`],
     /// rejects what the scalar cannot carry: a least level over `sigma0`
-    /// that underflows (`Underflow("friction_base")`), and forces that
-    /// overflow at the velocity and torque limits (`ForceOverflow`).
+    /// that underflows (`Underflow("friction_base")`), a largest one that
+    /// overflows (`NotRepresentable("sigma0")`), and forces that overflow
+    /// at the velocity and torque limits (`ForceOverflow`).
     pub fn build<S: Scalar>(&self) -> Result<LuGreLoad<S>, ParamError> {
         self.validate()?;
         let least = self
@@ -130,6 +131,8 @@ impl LuGreLoadParams {
             .friction_base
             .min(self.side(false).friction_base);
         convert_derived::<S>("friction_base", least / self.sigma0)?;
+        // the largest deflection, the bound of z, must be a number too
+        convert::<S>("sigma0", self.largest_level() / self.sigma0)?;
         let limit = S::VELOCITY_LIMIT.to_f64();
         check_force::<S>("torque_limit", self.largest_level())?;
         check_force::<S>("friction_viscous", self.curve.friction_viscous * limit)?;
@@ -802,6 +805,17 @@ mod tests {
         for (bad, error) in cases {
             assert_eq!(bad.build::<f64>().err(), Some(error));
         }
+        // a deflection bound f32 cannot hold (f64 can)
+        let soft = LuGreLoadParams {
+            sigma0: 1e-20,
+            torque_limit: 3e10,
+            ..params(LoadForm::M6)
+        };
+        assert!(soft.build::<f64>().is_ok());
+        assert_eq!(
+            soft.build::<f32>().err(),
+            Some(ParamError::NotRepresentable("sigma0"))
+        );
         // a force the scalar cannot carry at the torque limit
         let huge = LuGreLoadParams {
             torque_limit: 1e20,
