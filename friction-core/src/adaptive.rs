@@ -382,6 +382,17 @@ impl<S: Scalar, M: FixedStepObservable<S>> AdaptiveObserver<M, S> {
 /// The adaptive observer on a variable-step model as the compensation.
 impl<S: Scalar, M: Observable<S>> Compensation<S> for AdaptiveObserver<M, S> {
     type State = AdaptiveState<M::State, S>;
+    const LOADED: bool = M::LOADED;
+    fn motor_torque(&self, state: &mut Self::State, torque: S) {
+        self.observer
+            .model()
+            .set_motor_torque(&mut state.model, torque);
+    }
+    fn set_external_torque(&self, state: &mut Self::State, torque: S) {
+        self.observer
+            .model()
+            .set_external_torque(&mut state.model, torque);
+    }
     #[inline]
     fn estimate(&self, state: &mut Self::State, v: S, e: S, h: S) -> S {
         self.step(state, v, e, h)
@@ -408,6 +419,19 @@ impl<S: Scalar, M: FixedStepObservable<S>> Compensation<S>
 {
     type State = AdaptiveState<M::State, S>;
     const USES_H: bool = false;
+    const LOADED: bool = M::LOADED;
+    fn motor_torque(&self, state: &mut Self::State, torque: S) {
+        self.0
+            .observer
+            .model()
+            .set_motor_torque(&mut state.model, torque);
+    }
+    fn set_external_torque(&self, state: &mut Self::State, torque: S) {
+        self.0
+            .observer
+            .model()
+            .set_external_torque(&mut state.model, torque);
+    }
     #[inline]
     fn estimate(&self, state: &mut Self::State, v: S, e: S, _h: S) -> S {
         self.0.step_fixed(state, v, e)

@@ -143,26 +143,44 @@ impl LoadFrictionParams {
             }
     }
 
-    /// Validates and builds the run-time form.
+    /// Validates and builds the run-time form. A coefficient, `alpha` or
+    /// `1 / dtheta_stribeck` the scalar cannot hold is refused
+    /// (`NotRepresentable`, named); one below its resolution rounds (to 0
+    /// in Q16.16 below 1.5e-5: a term that small is no friction).
     pub fn build<S: Scalar>(&self) -> Result<LoadFriction<S>, ParamError> {
         self.validate()?;
-        let f = |x: f64| S::from_f64(x);
+        let f = |name: &'static str, x: f64| match S::try_from_f64(x) {
+            Err(crate::scalar::ScalarConversion::Overflow) => {
+                Err(ParamError::NotRepresentable(name))
+            }
+            _ if !x.is_finite() => Err(ParamError::NotRepresentable(name)),
+            _ => Ok(S::from_f64(x)),
+        };
         Ok(LoadFriction {
             form: self.form,
-            base: f(self.friction_base),
-            stribeck: f(self.friction_stribeck),
-            viscous: f(self.friction_viscous),
-            inv_vs: f(1.0 / self.dtheta_stribeck),
-            alpha: f(self.alpha),
+            base: f("friction_base", self.friction_base)?,
+            stribeck: f("friction_stribeck", self.friction_stribeck)?,
+            viscous: f("friction_viscous", self.friction_viscous)?,
+            inv_vs: f("dtheta_stribeck", 1.0 / self.dtheta_stribeck)?,
+            alpha: f("alpha", self.alpha)?,
             k: [
-                f(self.load_friction_base),
-                f(self.load_friction_stribeck),
-                f(self.load_friction_motor),
-                f(self.load_friction_external),
-                f(self.load_friction_motor_stribeck),
-                f(self.load_friction_external_stribeck),
-                f(self.load_friction_motor_quad),
-                f(self.load_friction_external_quad),
+                f("load_friction_base", self.load_friction_base)?,
+                f("load_friction_stribeck", self.load_friction_stribeck)?,
+                f("load_friction_motor", self.load_friction_motor)?,
+                f("load_friction_external", self.load_friction_external)?,
+                f(
+                    "load_friction_motor_stribeck",
+                    self.load_friction_motor_stribeck,
+                )?,
+                f(
+                    "load_friction_external_stribeck",
+                    self.load_friction_external_stribeck,
+                )?,
+                f("load_friction_motor_quad", self.load_friction_motor_quad)?,
+                f(
+                    "load_friction_external_quad",
+                    self.load_friction_external_quad,
+                )?,
             ],
             params: *self,
         })
@@ -341,6 +359,35 @@ mod tests {
             bad.validate(),
             Err(ParamError::NotPositive("dtheta_stribeck"))
         );
+        // a coefficient or 1 / dtheta_stribeck the scalar cannot hold is
+        // refused (it turned the budget into NaN), even one the form
+        // does not use
+        let unused = LoadFrictionParams {
+            friction_stribeck: 1e39,
+            ..LoadFrictionParams {
+                form: LoadForm::M1,
+                ..m6()
+            }
+        };
+        assert_eq!(
+            unused.build::<f32>().err(),
+            Some(ParamError::NotRepresentable("friction_stribeck"))
+        );
+        let narrow = LoadFrictionParams {
+            dtheta_stribeck: 1e-310,
+            ..m6()
+        };
+        assert_eq!(
+            narrow.build::<f64>().err(),
+            Some(ParamError::NotRepresentable("dtheta_stribeck"))
+        );
+        let f = LoadFrictionParams {
+            dtheta_stribeck: 1e-300,
+            ..m6()
+        }
+        .build::<f64>()
+        .unwrap();
+        assert!(f.budget(0.0, 1.0, -1.0).0.is_finite());
         // non-finite inputs count as 0
         let f = m6().build::<f64>().unwrap();
         assert_eq!(

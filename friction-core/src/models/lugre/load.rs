@@ -3,7 +3,7 @@
 
 use crate::fixed_step::{carried, FixedStepObservable};
 use crate::fixed_step::{checked_velocity, period, FixedStepModel};
-use crate::load_friction::{LoadFriction, LoadFrictionParams};
+use crate::load_friction::{LoadForm, LoadFriction, LoadFrictionParams};
 use crate::model::{
     check_force, checked_inputs, convert, convert_derived, magnitude, magnitude_or_zero,
     non_negative, positive, FrictionModel, ParamError,
@@ -101,11 +101,36 @@ impl LuGreLoadParams {
         let c = &self.curve;
         let t = self.torque_limit;
         let [fwd, bwd] = [self.side(true), self.side(false)].map(|s| s.breakaway());
-        fwd.max(bwd)
-            + 2.0 * t * (c.load_friction_base + c.load_friction_stribeck)
-            + t * (c.load_friction_motor + c.load_friction_external)
-            + t * (c.load_friction_motor_stribeck + c.load_friction_external_stribeck)
-            + t * t * (c.load_friction_motor_quad + c.load_friction_external_quad)
+        // the form's own terms, each only where its coefficients are not 0
+        // (t t may overflow)
+        let term = |k: f64, x: f64| if k > 0.0 { k * x } else { 0.0 };
+        let (load, directional, quadratic) = match c.form {
+            LoadForm::M1 | LoadForm::M2 => (0.0, 0.0, 0.0),
+            LoadForm::M3 | LoadForm::M4 => (
+                term(c.load_friction_base + c.load_friction_stribeck, 2.0 * t),
+                0.0,
+                0.0,
+            ),
+            LoadForm::M5 | LoadForm::M6 => (
+                0.0,
+                term(
+                    c.load_friction_motor
+                        + c.load_friction_external
+                        + c.load_friction_motor_stribeck
+                        + c.load_friction_external_stribeck,
+                    t,
+                ),
+                if c.form == LoadForm::M6 {
+                    term(
+                        c.load_friction_motor_quad + c.load_friction_external_quad,
+                        t * t,
+                    )
+                } else {
+                    0.0
+                },
+            ),
+        };
+        fwd.max(bwd) + load + directional + quadratic
     }
 
     /// `1 + min(largest / least, limit)`: the bristle's rate is
@@ -304,12 +329,14 @@ impl<S: Scalar> LuGreLoad<S> {
         let a = speed / r;
         let x = a * h;
         let z0 = state.z;
-        // the bound of the side z starts on: the equilibrium u / a, formed
-        // without a (which may overflow at a stiff bristle), lies beyond it
-        // only with a correction
+        // the equilibrium u / a, formed without a (which may overflow at a
+        // stiff bristle), lies beyond the bounds only with a correction
         let start = self.level(state, z0 >= S::ZERO, S::ZERO) / self.sigma0;
         let free = if x > S::ONE {
-            let z_eq = (u / speed * r).sat(start + start);
+            // within twice the larger of the start's bound and the sliding
+            // level (after a reversal from the weaker side r is the larger)
+            let reach = start.max(r);
+            let z_eq = (u / speed * r).sat(reach + reach);
             z_eq + (z0 - z_eq) * (-x).exp()
         } else if x > S::ZERO {
             z0 + (u - a * z0) * (-(-x).exp_m1() / a)
@@ -548,7 +575,6 @@ impl<S: Scalar> FixedStepObservable<S> for LuGreLoadFixedStep<S> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::load_friction::LoadForm;
     use crate::models::lugre::{LuGreParams, LuGreState};
 
     /// BAM's every term (the load-friction tests' set), stiff enough to
@@ -816,10 +842,16 @@ mod tests {
             soft.build::<f32>().err(),
             Some(ParamError::NotRepresentable("sigma0"))
         );
+        // a torque limit whose square overflows, with no quadratic term
+        let no_quad = LuGreLoadParams {
+            torque_limit: 1e200,
+            ..params(LoadForm::M4)
+        };
+        assert!(no_quad.build::<f64>().is_ok());
         // a force the scalar cannot carry at the torque limit
         let huge = LuGreLoadParams {
             torque_limit: 1e20,
-            ..p
+            ..params(LoadForm::M6)
         };
         assert_eq!(
             huge.build::<f32>().err(),
@@ -893,12 +925,18 @@ mod tests {
     }
 
     /// In `f64` the fixed-step form is the variable form (the same exact
-    /// step on `w = sigma0 z`), at a soft and at a stiff bristle.
+    /// step on `w = sigma0 z`), at a soft and at a stiff bristle, with the
+    /// backward levels above the forward ones and far below them (a
+    /// reversal from the weaker side must reach the stronger level).
     #[test]
     fn in_f64_the_fixed_step_form_is_the_variable_form() {
-        for sigma0 in [300.0, 1e4, 1e7] {
+        for (sigma0, backward) in [300.0, 1e4, 1e7]
+            .into_iter()
+            .flat_map(|s| [(s, [0.15, 0.25]), (s, [0.02, 0.01])])
+        {
             let p = LuGreLoadParams {
                 sigma0,
+                backward: Some(backward),
                 ..params(LoadForm::M6)
             };
             let (variable, fixed) = (
