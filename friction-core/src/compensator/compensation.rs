@@ -52,7 +52,7 @@ pub trait Compensation<S: Scalar> {
     /// Whether the compensation is told the motor torque `kc u` of each
     /// command issued ([`Compensation::motor_torque`]): an observer on a
     /// model whose friction grows with the load
-    /// ([`Observable::LOADED`](crate::Observable::LOADED)).
+    /// ([`Observable::LOADED`]).
     const LOADED: bool = false;
 
     /// Told the motor torque `kc u` of the command an accepted tick issued,
