@@ -274,10 +274,11 @@ impl<S: Scalar> LoadFriction<S> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn m6() -> LoadFrictionParams {
+    /// Every coefficient non-zero and distinct (the hand-computed cases').
+    pub(crate) fn m6() -> LoadFrictionParams {
         LoadFrictionParams {
             friction_base: 0.1,
             friction_stribeck: 0.2,

@@ -1199,23 +1199,6 @@ mod tests {
         libm::sqrt(x.iter().map(|e| e * e).sum::<f64>() / x.len() as f64)
     }
 
-    /// Finite values of every size up to `max` (the scalar's largest).
-    fn hostile(seed: u64, max: f64) -> impl FnMut() -> f64 {
-        let mut rng = crate::test_rng::xorshift64(seed);
-        move || {
-            let r = rng();
-            let unit = (r >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
-            match r % 6 {
-                0 => max,
-                1 => -max,
-                2 => 0.0,
-                3 => unit * 1e-3,
-                4 => unit * 1e3,
-                _ => unit * max,
-            }
-        }
-    }
-
     /// 1e6 ticks of the supervised per-parameter adaptive servo on hostile
     /// finite positions and setpoints of every size up to the scalar's
     /// largest, with a hostile external torque every 97 ticks: the command
@@ -1227,7 +1210,7 @@ mod tests {
         let boxes = adaptive_law().boxes();
         let limit = servo().limit;
         let mut s = CompensatorState::default();
-        let mut pick = hostile(21, max);
+        let mut pick = crate::test_rng::hostile(21, max);
         for k in 0..ticks {
             if k % 97 == 0 {
                 ctl.set_external_torque(&mut s, S::from_f64(pick()));

@@ -883,24 +883,6 @@ mod tests {
         }
     }
 
-    /// Finite values of every size up to `max` (the scalar's largest), as
-    /// the hostile inputs draw them.
-    fn hostile(seed: u64, max: f64) -> impl FnMut() -> f64 {
-        let mut rng = crate::test_rng::xorshift64(seed);
-        move || {
-            let r = rng();
-            let unit = (r >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
-            match r % 6 {
-                0 => max,
-                1 => -max,
-                2 => 0.0,
-                3 => unit * 1e-3,
-                4 => unit * 1e3,
-                _ => unit * max,
-            }
-        }
-    }
-
     /// 1e6 random ticks of finite inputs of every size (velocity, error,
     /// command, external torque): every estimate in its box, the output
     /// finite and within [`ParameterAdaptiveFixedStep::bound`]; NaN and infinite
@@ -923,7 +905,7 @@ mod tests {
         let ulp = if S::SCALES_FORCES { 2.0 / 65536.0 } else { 0.0 };
         let boxes = p.boxes();
         let mut s = ParameterAdaptiveFixedStepState::default();
-        let mut pick = hostile(11, max);
+        let mut pick = crate::test_rng::hostile(11, max);
         for k in 0..ticks {
             let (v, e, u) = (pick(), pick(), pick());
             if k % 97 == 0 {
@@ -969,7 +951,7 @@ mod tests {
         let ulp = if S::SCALES_FORCES { 2.0 / 65536.0 } else { 0.0 };
         let limit = servo().limit;
         let mut s = CompensatorState::default();
-        let mut pick = hostile(12, max);
+        let mut pick = crate::test_rng::hostile(12, max);
         for k in 0..ticks {
             let r = Setpoint {
                 x: S::from_f64(pick()),

@@ -5,6 +5,7 @@ use super::{ParameterAdaptiveParams, PARAMETER_ADAPTIVE_ESTIMATES};
 use crate::bits::Flag;
 use crate::compensator::{Compensation, FrictionSample};
 use crate::fixed_step::carried;
+use crate::models::lugre::relaxed;
 use crate::Scalar;
 
 /// The state: the bristle, the estimates, the last error, the transmitted
@@ -378,21 +379,10 @@ impl<S: Scalar> ParameterAdaptive<S> {
         let sigma0 = self.sigma0_of(state);
         let r = g / sigma0; // > 0: g is at least the boxes' smallest level
         let speed = v.abs();
-        let a = speed / r;
-        let x = a * self.h;
-        let z0 = state.z;
-        // the level at rest of the side the bristle starts on
+        // the equilibrium within twice the level at rest of the side the
+        // bristle starts on (g, and so r, is that side's)
         let start = self.level(state, S::ONE) / sigma0;
-        let free = if x > S::ONE {
-            // the equilibrium u / a, formed without a; beyond the bound
-            // only with a correction
-            let z_eq = (drive / speed * r).sat(start + start);
-            z_eq + (z0 - z_eq) * (-x).exp()
-        } else if x > S::ZERO {
-            z0 + (drive - a * z0) * (-(-x).exp_m1() / a)
-        } else {
-            z0 + drive * self.h
-        };
+        let free = relaxed(state.z, drive, speed, r, self.h, start + start);
         // within the level at rest of the side the bristle ends on (where
         // the levels differ by direction, the side it started on would let
         // it past its own level by their difference for a tick)

@@ -8,7 +8,7 @@ use crate::model::{
     check_force, checked_inputs, convert, convert_derived, magnitude, magnitude_or_zero,
     non_negative, positive, FrictionModel, ParamError,
 };
-use crate::models::lugre::relax;
+use crate::models::lugre::{relax, relaxed};
 use crate::observer::Observable;
 use crate::Scalar;
 
@@ -326,23 +326,12 @@ impl<S: Scalar> LuGreLoad<S> {
         let r = self.level(state, forward, v) / self.sigma0;
         let speed = v.abs();
         let u = v - c;
-        let a = speed / r;
-        let x = a * h;
-        let z0 = state.z;
-        // the equilibrium u / a, formed without a (which may overflow at a
-        // stiff bristle), lies beyond the bounds only with a correction
-        let start = self.level(state, z0 >= S::ZERO, S::ZERO) / self.sigma0;
-        let free = if x > S::ONE {
-            // within twice the larger of the start's bound and the sliding
-            // level (after a reversal from the weaker side r is the larger)
-            let reach = start.max(r);
-            let z_eq = (u / speed * r).sat(reach + reach);
-            z_eq + (z0 - z_eq) * (-x).exp()
-        } else if x > S::ZERO {
-            z0 + (u - a * z0) * (-(-x).exp_m1() / a)
-        } else {
-            z0 + u * h
-        };
+        // the equilibrium within twice the larger of the start's bound and
+        // the sliding level (after a reversal from the weaker side r is the
+        // larger)
+        let start = self.level(state, state.z >= S::ZERO, S::ZERO) / self.sigma0;
+        let reach = start.max(r);
+        let free = relaxed(state.z, u, speed, r, h, reach + reach);
         let bound = self.level(state, free >= S::ZERO, S::ZERO) / self.sigma0;
         let z = free.sat(bound);
         state.z = z;
@@ -577,24 +566,11 @@ mod tests {
     use super::*;
     use crate::models::lugre::{LuGreParams, LuGreState};
 
-    /// BAM's every term (the load-friction tests' set), stiff enough to
-    /// slide within a few steps at 1 rad/s.
+    /// BAM's every term (the load-friction tests' set) in `form`.
     fn curve(form: LoadForm) -> LoadFrictionParams {
         LoadFrictionParams {
-            friction_base: 0.1,
-            friction_stribeck: 0.2,
-            friction_viscous: 0.3,
-            dtheta_stribeck: 2.0,
-            alpha: 2.0,
-            load_friction_motor: 0.05,
-            load_friction_external: 0.02,
-            load_friction_motor_stribeck: 0.04,
-            load_friction_external_stribeck: 0.01,
-            load_friction_motor_quad: 0.003,
-            load_friction_external_quad: 0.007,
-            load_friction_base: 0.11,
-            load_friction_stribeck: 0.13,
-            ..LoadFrictionParams::zero(form)
+            form,
+            ..crate::load_friction::tests::m6()
         }
     }
 
@@ -605,27 +581,29 @@ mod tests {
         }
     }
 
+    /// LuGre's curve and viscous coefficient as BAM's m2 (`Fb = Fc`, `Fs -
+    /// Fc` the Stribeck excess).
+    fn m2_of(p: &LuGreParams) -> LoadFrictionParams {
+        let c = p.curve;
+        LoadFrictionParams {
+            friction_base: c.fc,
+            friction_stribeck: c.fs - c.fc,
+            friction_viscous: p.sigma2,
+            dtheta_stribeck: c.vs,
+            alpha: c.exponent,
+            ..LoadFrictionParams::zero(LoadForm::M2)
+        }
+    }
+
     /// With one pair of levels and no load terms it is LuGre: Canudas de
     /// Wit's set as BAM's m2, against [`crate::LuGre`] on random speeds.
     #[test]
     fn with_one_pair_of_levels_and_no_load_it_is_lugre() {
         let p = LuGreParams::CANUDAS_1995;
         let c = p.curve;
-        let load = LuGreLoadParams::new(
-            LoadFrictionParams {
-                friction_base: c.fc,
-                friction_stribeck: c.fs - c.fc,
-                friction_viscous: p.sigma2,
-                dtheta_stribeck: c.vs,
-                alpha: c.exponent,
-                ..LoadFrictionParams::zero(LoadForm::M2)
-            },
-            p.sigma0,
-            p.sigma1,
-            10.0,
-        )
-        .build::<f64>()
-        .unwrap();
+        let load = LuGreLoadParams::new(m2_of(&p), p.sigma0, p.sigma1, 10.0)
+            .build::<f64>()
+            .unwrap();
         let lugre = p.build::<f64>().unwrap();
         let (mut a, mut b) = (LuGreLoadState::default(), LuGreState::default());
         let mut next = crate::test_rng::xorshift64(0x5eed_1a0d);
@@ -1037,21 +1015,18 @@ mod tests {
     /// 0.02 per N m of `|tau_e - tau_m|`) and a backward Coulomb level of
     /// 0.33 for 0.28.
     fn olsson_loaded() -> LuGreLoadParams {
+        let o = LuGreParams::OLSSON_1998;
         LuGreLoadParams {
-            backward: Some([0.33, 0.05]),
+            backward: Some([0.33, o.curve.fs - o.curve.fc]),
             ..LuGreLoadParams::new(
                 LoadFrictionParams {
-                    friction_base: 0.28,
-                    friction_stribeck: 0.05,
-                    friction_viscous: 0.0176,
-                    dtheta_stribeck: 0.01,
-                    alpha: 2.0,
+                    form: LoadForm::M4,
                     load_friction_base: 0.1,
                     load_friction_stribeck: 0.02,
-                    ..LoadFrictionParams::zero(LoadForm::M4)
+                    ..m2_of(&o)
                 },
-                260.0,
-                0.6,
+                o.sigma0,
+                o.sigma1,
                 20.0,
             )
         }
@@ -1128,23 +1103,13 @@ mod tests {
     /// fixed-step form in f32 tracks as the variable one in f64.
     #[test]
     fn an_observer_told_the_torques_carries_the_load_dependence() {
-        use crate::{FixedPeriod, LuGreParams, NoCompensation, Observer, StribeckParams};
+        use crate::{FixedPeriod, NoCompensation, Observer};
         let p = olsson_loaded();
         let exact = Observer::new(p.build::<f64>().unwrap(), 200.0).unwrap();
         // told the external torque only
         let untold = Unloaded(Observer::new(p.build::<f64>().unwrap(), 200.0).unwrap());
-        let zero_load = LuGreParams {
-            curve: StribeckParams {
-                fc: 0.28,
-                fs: 0.33,
-                vs: 0.01,
-                exponent: 2.0,
-            },
-            sigma0: 260.0,
-            sigma1: 0.6,
-            sigma2: 0.0176,
-            vd: None,
-        };
+        // Olsson's LuGre is the plant's forward curve at zero load
+        let zero_load = LuGreParams::OLSSON_1998;
         let nominal = Observer::new(zero_load.build::<f64>().unwrap(), 200.0).unwrap();
         let (exact, untold, nominal, none) = (
             loaded_servo_rms::<f64, _>(exact),

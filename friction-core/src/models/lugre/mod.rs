@@ -19,6 +19,7 @@ pub use fixed_step::{LuGreFixedStep, LuGreFixedStepState};
 pub use load::{
     LuGreLoad, LuGreLoadFixedStep, LuGreLoadFixedStepState, LuGreLoadParams, LuGreLoadState,
 };
+pub(crate) use variable_step::relaxed;
 pub use variable_step::{LuGre, LuGreState};
 
 /// LuGre parameters (`model = "lugre"`), in `f64`.

@@ -97,18 +97,7 @@ impl<S: Scalar> LuGre<S> {
         let u = v - c;
         let mut z = state.z;
         if h > S::ZERO {
-            let a = speed / r; // possibly +inf
-            let x = a * h; // never NaN: h > 0
-            let z_free = if x > S::ONE {
-                // equilibrium u/a, formed without a; beyond the bound only
-                // with a correction
-                let z_eq = (u / speed * r).sat(self.z_max + self.z_max);
-                z_eq + (z - z_eq) * (-x).exp()
-            } else if x > S::ZERO {
-                z + (u - a * z) * (-(-x).exp_m1() / a)
-            } else {
-                z + u * h
-            };
+            let z_free = relaxed(z, u, speed, r, h, self.z_max + self.z_max);
             z = z_free.sat(self.z_max);
             state.z = z;
         }
@@ -122,6 +111,26 @@ impl<S: Scalar> LuGre<S> {
             f = f + self.damping(v) * dz;
         }
         f
+    }
+}
+
+/// The bristle `z0` after `h > 0` of `dz/dt = u - a z` with `a = speed / r`
+/// held (`r > 0`), solved exactly: relaxation towards the equilibrium
+/// `u / a`, formed without `a` (which may overflow at a stiff bristle) and
+/// within `±cap` (beyond the bounds it lies only with an observer's
+/// correction in `u`). LuGre's step and the bristles that share it (the
+/// per-parameter observer's exact step, [`crate::LuGreLoad`]).
+#[inline(always)]
+pub(crate) fn relaxed<S: Scalar>(z0: S, u: S, speed: S, r: S, h: S, cap: S) -> S {
+    let a = speed / r; // possibly +inf
+    let x = a * h; // never NaN: h > 0
+    if x > S::ONE {
+        let z_eq = (u / speed * r).sat(cap);
+        z_eq + (z0 - z_eq) * (-x).exp()
+    } else if x > S::ZERO {
+        z0 + (u - a * z0) * (-(-x).exp_m1() / a)
+    } else {
+        z0 + u * h
     }
 }
 
